@@ -26,11 +26,11 @@ struct Basis {
 };
 
 struct ImageGrid {
-  std::string file;                // relative to the manifest
-  glm::dvec2 origin{0.0};          // (sx0, sy0)
-  glm::dvec2 size{1.0};            // (Sx, Sy)
+  std::string file;                     // relative to the manifest
+  glm::dvec2 origin{0.0};               // (sx0, sy0)
+  glm::dvec2 size{1.0};                 // (Sx, Sy)
   std::array<int, 2> resolution{1, 1};  // Nx, Ny
-  double scale = 1.0;              // applied to pixels when read (images below are scaled)
+  double scale = 1.0;                   // applied to pixels when read (images below are scaled)
 };
 
 struct Luminaire {
@@ -49,13 +49,13 @@ struct Luminaire {
 // Per-luminaire precomputation (DESIGN.md §3.6); see kernels/shared/luminaire.h for layouts.
 struct Precomputed {
   NfLuminaire params{};
-  std::vector<std::int64_t> sat;      // num_images * params.sat_stride
-  std::vector<float> quantum;         // num_images
-  std::vector<float> chroma;          // empty when monochrome, else num_images * Nx * Ny * 4
-  std::vector<double> total_flux;     // per image: A_m over the whole image rectangle (Y * m^2)
-  std::vector<glm::dvec3> ref_lights; // (W + n - 1) * (H + n - 1) positions on S, cell (ci, cj) at cj * (W+n-1) + ci
+  std::vector<std::int64_t> sat;       // num_images * params.sat_stride
+  std::vector<float> quantum;          // num_images
+  std::vector<float> chroma;           // empty when monochrome, else num_images * Nx * Ny * 4
+  std::vector<double> total_flux;      // per image: A_m over the whole image rectangle (Y * m^2)
+  std::vector<glm::dvec3> ref_lights;  // (W + n - 1) * (H + n - 1) positions on S, cell (ci, cj) at cj * (W+n-1) + ci
   double precompute_ms = 0.0;
-  std::size_t bytes() const;          // device-relevant bytes: sat + quantum + chroma
+  std::size_t bytes() const;  // device-relevant bytes: sat + quantum + chroma
 };
 
 }  // namespace nf::lum
