@@ -1,0 +1,83 @@
+#include "gl/gbuffer.h"
+
+#include <epoxy/gl.h>
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "gl/shader.h"
+
+namespace nf::gl {
+
+GBuffer::GBuffer(int width, int height)
+    : fb_(width, height, {GL_RGBA32F, GL_RGBA32F, GL_RGBA32F}, true),
+      program_(build_program("gbuffer.vert.glsl", "gbuffer.frag.glsl")) {}
+
+GBuffer::~GBuffer() {
+  if (program_) glDeleteProgram(program_);
+}
+
+void GBuffer::render(const SceneGpu& scene, const scene::Camera& camera) {
+  if (camera.width != width() || camera.height != height())
+    fail(fmt::format("G-buffer is {}x{} but the camera asks for {}x{}", width(), height(), camera.width,
+                     camera.height));
+  ReversedZScope depth_state;
+  fb_.bind();
+  const float zero[4] = {0, 0, 0, 0};
+  for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fb_.id(), GL_COLOR, i, zero);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glUseProgram(program_);
+  scene.draw(camera_projection(camera) * camera_view(camera), true, false);
+  glUseProgram(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>& materials,
+                                              const scene::Camera& camera) const {
+  const Image pos = fb_.read(0), nrm = fb_.read(1), mat = fb_.read(2);
+  const std::size_t n = static_cast<std::size_t>(width()) * height();
+  std::vector<NfSurface> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    NfSurface s{};
+    const float* p = &pos.pixels[4 * i];
+    const int id = static_cast<int>(std::lround(p[3])) - 1;
+    if (id >= 0 && id < static_cast<int>(materials.size())) {
+      const float* q = &nrm.pixels[4 * i];
+      const float* m = &mat.pixels[4 * i];
+      s.px = p[0];
+      s.py = p[1];
+      s.pz = p[2];
+      s.valid = 1;
+      glm::dvec3 nn(q[0], q[1], q[2]);
+      const double len = glm::length(nn);
+      nn = len > 0.0 ? nn / len : glm::dvec3(0.0, 0.0, 1.0);
+      s.nx = static_cast<float>(nn.x);
+      s.ny = static_cast<float>(nn.y);
+      s.nz = static_cast<float>(nn.z);
+      const glm::dvec3 v = glm::normalize(camera.position - glm::dvec3(p[0], p[1], p[2]));
+      s.vx = static_cast<float>(v.x);
+      s.vy = static_cast<float>(v.y);
+      s.vz = static_cast<float>(v.z);
+      const bool ggx = materials[static_cast<std::size_t>(id)].kind == scene::MaterialKind::ggx;
+      s.brdf = ggx ? NF_BRDF_GGX : NF_BRDF_LAMBERT;
+      s.base_r = m[0];
+      s.base_g = m[1];
+      s.base_b = m[2];
+      s.roughness = ggx ? m[3] : 1.0f;
+      s.metallic = ggx ? q[3] : 0.0f;
+    }
+    out[i] = s;
+  }
+  return out;
+}
+
+std::vector<MemoryItem> GBuffer::memory() const {
+  const std::size_t px = static_cast<std::size_t>(width()) * height();
+  return {{"gbuffer position (RGBA32F)", px * 16},
+          {"gbuffer normal (RGBA32F)", px * 16},
+          {"gbuffer material (RGBA32F)", px * 16},
+          {"gbuffer depth (D32F)", px * 4}};
+}
+
+}  // namespace nf::gl

@@ -1,0 +1,52 @@
+#pragma once
+// Step 0 G-buffer (Lu et al. 2015 §6.1): the scene's meshes rasterised from the camera into
+// three RGBA32F targets, read back and converted to NfSurface records for OpenCL (no GL/CL
+// sharing on PoCL: readback + upload).
+//
+//   attachment 0 "position": world position xyz (metres), w = material index + 1 (0: no surface)
+//   attachment 1 "normal":   unit world normal xyz, turned to the side the camera sees
+//                            (two-sided: back faces get the flipped normal), w = metallic
+//   attachment 2 "material": linear base colour rgb (factor x sRGB-decoded texture), a = roughness
+//   depth: D32F, reversed Z (see scene_gpu.h)
+//
+// The direction to the viewer is not stored: read_surfaces() computes it per pixel in double
+// precision from the camera position (v = normalize(camera - p)).
+#include <cstdint>
+#include <vector>
+
+#include "gl/framebuffer.h"
+#include "gl/scene_gpu.h"
+#include "kernels/shared/surface.h"
+#include "scene/geometry.h"
+
+namespace nf::gl {
+
+class GBuffer {
+ public:
+  GBuffer(int width, int height);  // needs a current context
+  ~GBuffer();
+  GBuffer(const GBuffer&) = delete;
+  GBuffer& operator=(const GBuffer&) = delete;
+
+  // Rasterises `scene` from `camera` (whose resolution must equal this G-buffer's size).
+  void render(const SceneGpu& scene, const scene::Camera& camera);
+
+  // Reads the targets back: one NfSurface per pixel, index y * width + x with row 0 at the TOP
+  // of the image. Background pixels are all zero (valid = 0). brdf is NF_BRDF_LAMBERT or
+  // NF_BRDF_GGX from the material kind; lambert surfaces get metallic 0, roughness 1.
+  std::vector<NfSurface> read_surfaces(const std::vector<scene::Material>& materials,
+                                       const scene::Camera& camera) const;
+
+  int width() const { return fb_.width(); }
+  int height() const { return fb_.height(); }
+  unsigned position_texture() const { return fb_.texture(0); }
+  unsigned normal_texture() const { return fb_.texture(1); }
+  unsigned material_texture() const { return fb_.texture(2); }
+  std::vector<MemoryItem> memory() const;
+
+ private:
+  Framebuffer fb_;
+  unsigned program_ = 0;
+};
+
+}  // namespace nf::gl

@@ -1,0 +1,182 @@
+#include "gl/shadow_maps.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <limits>
+
+#include "core/error.h"
+#include "gl/shader.h"
+
+namespace nf::gl {
+
+ShadowFrustum shadow_frustum_for(const NfLuminaire& lum, double max_half_angle_deg, double margin) {
+  if (!(lum.delta > 0.0f)) fail("shadow maps: luminaire delta must be > 0");
+  const double cells_x = lum.count_x + lum.support - 1, cells_y = lum.count_y + lum.support - 1;
+  const double u0x = lum.basis_origin_x, u1x = lum.basis_origin_x + cells_x * lum.cell_x;
+  const double u0y = lum.basis_origin_y, u1y = lum.basis_origin_y + cells_y * lum.cell_y;
+  const double s0x = lum.image_origin_x, s1x = lum.image_origin_x + lum.image_size_x;
+  const double s0y = lum.image_origin_y, s1y = lum.image_origin_y + lum.image_size_y;
+  const double d = lum.delta;
+  const double lim = std::tan(std::clamp(max_half_angle_deg, 1.0, 89.0) * 3.14159265358979323846 / 180.0);
+  const auto range = [&](double lo, double hi, double& out_lo, double& out_hi) {
+    const double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo) * (1.0 + margin) + 1e-6;
+    out_lo = std::clamp(c - h, -lim, lim);
+    out_hi = std::clamp(c + h, -lim, lim);
+    if (out_hi - out_lo < 1e-3) {  // all emission beyond the limit: keep a sliver at the edge
+      out_lo = std::min(out_lo, lim - 1e-3);
+      out_hi = out_lo + 1e-3;
+    }
+  };
+  ShadowFrustum f;
+  range((s0x - u1x) / d, (s1x - u0x) / d, f.left, f.right);
+  range((s0y - u1y) / d, (s1y - u0y) / d, f.bottom, f.top);
+  return f;
+}
+
+ShadowMapSpec make_shadow_map_spec(const NfLuminaire& lum, const std::vector<glm::dvec3>& ref_lights,
+                                   const glm::dmat4& to_world, int size) {
+  ShadowMapSpec s;
+  s.cells_x = lum.count_x + lum.support - 1;
+  s.cells_y = lum.count_y + lum.support - 1;
+  s.lights = ref_lights;
+  s.to_world = to_world;
+  s.size = size;
+  s.frustum = shadow_frustum_for(lum);
+  return s;
+}
+
+ShadowMaps::ShadowMaps(ShadowMapSpec spec) : spec_(std::move(spec)) {
+  const int n = cells();
+  if (spec_.cells_x <= 0 || spec_.cells_y <= 0 || static_cast<std::size_t>(n) != spec_.lights.size())
+    fail(fmt::format("shadow maps: {}x{} cells but {} reference lights", spec_.cells_x, spec_.cells_y,
+                     spec_.lights.size()));
+  if (spec_.size < 1 || spec_.size > 16384) fail(fmt::format("shadow maps: size {} out of range", spec_.size));
+  const auto& f = spec_.frustum;
+  if (!(f.right > f.left) || !(f.top > f.bottom) || !(f.near > 0.0)) fail("shadow maps: invalid frustum");
+  GLint max_layers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  if (n > max_layers) fail(fmt::format("shadow maps: {} cells exceed GL_MAX_ARRAY_TEXTURE_LAYERS = {}", n, max_layers));
+
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &depth_);
+  glTextureStorage3D(depth_, 1, GL_DEPTH_COMPONENT32F, spec_.size, spec_.size, n);
+  glTextureParameteri(depth_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(depth_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(depth_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  glCreateFramebuffers(1, &fbo_);
+  glNamedFramebufferDrawBuffer(fbo_, GL_NONE);
+  glNamedFramebufferReadBuffer(fbo_, GL_NONE);
+
+  std::vector<float> lights(static_cast<std::size_t>(n) * 4, 0.0f);
+  for (int c = 0; c < n; ++c)
+    for (int k = 0; k < 3; ++k)
+      lights[static_cast<std::size_t>(c) * 4 + static_cast<std::size_t>(k)] =
+          static_cast<float>(spec_.lights[static_cast<std::size_t>(c)][k]);
+  glCreateBuffers(1, &lights_ssbo_);
+  glNamedBufferStorage(lights_ssbo_, static_cast<GLsizeiptr>(lights.size() * sizeof(float)), lights.data(), 0);
+
+  depth_program_ = build_program("shadow_depth.vert.glsl", "shadow_depth.frag.glsl");
+  vis_program_ = build_compute_program("visibility.comp.glsl");
+}
+
+ShadowMaps::~ShadowMaps() {
+  if (depth_) glDeleteTextures(1, &depth_);
+  if (fbo_) glDeleteFramebuffers(1, &fbo_);
+  if (lights_ssbo_) glDeleteBuffers(1, &lights_ssbo_);
+  if (vis_ssbo_) glDeleteBuffers(1, &vis_ssbo_);
+  if (depth_program_) glDeleteProgram(depth_program_);
+  if (vis_program_) glDeleteProgram(vis_program_);
+}
+
+glm::dmat4 ShadowMaps::light_clip(int cell) const {
+  const auto& f = spec_.frustum;
+  const glm::dmat4 to_light =
+      glm::translate(glm::dmat4(1.0), -spec_.lights[static_cast<std::size_t>(cell)]) * glm::inverse(spec_.to_world);
+  return reversed_z_frustum(f.left, f.right, f.bottom, f.top, f.near) * to_light;
+}
+
+void ShadowMaps::render(const SceneGpu& scene) {
+  ReversedZScope depth_state;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, spec_.size, spec_.size);
+  glUseProgram(depth_program_);
+  for (int c = 0; c < cells(); ++c) {
+    glNamedFramebufferTextureLayer(fbo_, GL_DEPTH_ATTACHMENT, depth_, 0, c);
+    if (c == 0) {
+      const GLenum status = glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER);
+      if (status != GL_FRAMEBUFFER_COMPLETE) fail(fmt::format("shadow-map framebuffer incomplete: 0x{:x}", status));
+    }
+    glClear(GL_DEPTH_BUFFER_BIT);
+    scene.draw(light_clip(c), false, true);
+  }
+  glUseProgram(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+std::vector<std::uint32_t> ShadowMaps::visibility(const GBuffer& gbuffer) {
+  const int w = gbuffer.width(), h = gbuffer.height();
+  const std::size_t words = static_cast<std::size_t>(w) * h * static_cast<std::size_t>(words_per_pixel());
+  const std::size_t bytes = std::max<std::size_t>(words * sizeof(std::uint32_t), 4);
+  if (bytes != vis_bytes_) {
+    if (vis_ssbo_) glDeleteBuffers(1, &vis_ssbo_);
+    glCreateBuffers(1, &vis_ssbo_);
+    glNamedBufferStorage(vis_ssbo_, static_cast<GLsizeiptr>(bytes), nullptr, GL_MAP_READ_BIT);
+    vis_bytes_ = bytes;
+  }
+  const auto& f = spec_.frustum;
+  const glm::mat4 world_to_local(glm::inverse(spec_.to_world));
+  glUseProgram(vis_program_);
+  glBindTextureUnit(0, gbuffer.position_texture());
+  glBindTextureUnit(1, gbuffer.normal_texture());
+  glBindTextureUnit(2, depth_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lights_ssbo_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, vis_ssbo_);
+  glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(world_to_local));
+  glUniform2i(1, w, h);
+  glUniform1i(2, cells());
+  glUniform1i(3, words_per_pixel());
+  glUniform1i(4, spec_.size);
+  glUniform4f(5, static_cast<float>(f.left), static_cast<float>(f.right), static_cast<float>(f.bottom),
+              static_cast<float>(f.top));
+  glUniform1f(6, static_cast<float>(f.near));
+  glUniform3f(7, static_cast<float>(spec_.bias.constant), static_cast<float>(spec_.bias.depth_texels),
+              static_cast<float>(spec_.bias.normal_texels));
+  const GLuint groups = static_cast<GLuint>((static_cast<std::size_t>(w) * h + 63) / 64);
+  glDispatchCompute(groups, 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::vector<std::uint32_t> out(words);
+  if (words) glGetNamedBufferSubData(vis_ssbo_, 0, static_cast<GLsizeiptr>(words * sizeof(std::uint32_t)), out.data());
+  glUseProgram(0);
+  return out;
+}
+
+std::vector<float> ShadowMaps::read_depth(int cell) const {
+  if (cell < 0 || cell >= cells()) fail(fmt::format("shadow maps: cell {} out of range", cell));
+  const int s = spec_.size;
+  std::vector<float> raw(static_cast<std::size_t>(s) * s);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureSubImage(depth_, 0, 0, 0, cell, s, s, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                       static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
+  std::vector<float> out(raw.size());
+  for (int y = 0; y < s; ++y)
+    for (int x = 0; x < s; ++x) {
+      const float d = raw[static_cast<std::size_t>(s - 1 - y) * s + x];
+      out[static_cast<std::size_t>(y) * s + x] =
+          d > 0.0f ? static_cast<float>(spec_.frustum.near / d) : std::numeric_limits<float>::infinity();
+    }
+  return out;
+}
+
+std::vector<MemoryItem> ShadowMaps::memory() const {
+  const std::size_t maps = static_cast<std::size_t>(spec_.size) * spec_.size * static_cast<std::size_t>(cells()) * 4;
+  std::vector<MemoryItem> m{{fmt::format("shadow maps ({} x {}^2 D32F)", cells(), spec_.size), maps},
+                            {"shadow reference lights", static_cast<std::size_t>(cells()) * 16}};
+  if (vis_bytes_) m.push_back({"visibility bitmask", vis_bytes_});
+  return m;
+}
+
+}  // namespace nf::gl

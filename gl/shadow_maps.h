@@ -1,0 +1,98 @@
+#pragma once
+// Step 0 shadow maps and the per-pixel visibility bitmask (Lu et al. 2015 §6.2).
+//
+// One luminaire instance has (W + n - 1) x (H + n - 1) cells; each cell has a reference light
+// position on plane S (luminaire-local, z = 0) and one depth map rendered from there. Light
+// leaves the luminaire towards +z local, so each map is a perspective projection looking along
+// +z local (x right, y up in the map) with an asymmetric frustum that holds every direction the
+// light field can emit in (shadow_frustum_for), at most `max_half_angle` off axis per side.
+// Depth is reversed-Z D32F (near / z), all cells in one GL_TEXTURE_2D_ARRAY, layer = cell index
+// = cj * (W + n - 1) + ci.
+//
+// Visibility (a compute pass over the G-buffer): per pixel and cell, bit (cell % 32) of word
+// (cell / 32) of the pixel's NF_VIS_WORDS(cells) words (kernels/shared/surface.h) is set when
+// the point is lit from that cell's reference light:
+//   p' = p + n * normal_texels * texel(z)          (normal offset; n = G-buffer normal)
+//   q  = p' in the cell's light frame (luminaire-local minus the reference light), z = q.z
+//   lit  if z <= near, or q is outside the frustum, or the map texel at q is empty,
+//   else lit iff z <= z_map + constant + depth_texels * texel(z)
+// where texel(z) = z * max(r - l, t - b) / size is the world size of one map texel at distance z
+// and z_map = near / depth is the nearest-texel occluder distance (no filtering: the paper's
+// v_m averages n^2 binary tests). Points the maps know nothing about (behind S, outside the
+// frustum) count as lit: the estimator decides whether light reaches them at all.
+// Background pixels (G-buffer valid = 0) get all bits 0.
+#include <cstdint>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "gl/gbuffer.h"
+#include "gl/scene_gpu.h"
+#include "kernels/shared/luminaire.h"
+
+namespace nf::gl {
+
+// Frustum in tangents: x/z in [left, right], y/z in [bottom, top] (luminaire-local, z > 0).
+struct ShadowFrustum {
+  double left = -1.0, right = 1.0, bottom = -1.0, top = 1.0;
+  double near = 0.005;  // metres along +z from the reference light; closer occluders are missed
+};
+
+// The frustum that holds every direction light can take from S: through s in the image
+// rectangle away from u on the basis support on U, i.e. (s - u).xy / delta, widened by
+// `margin` (relative) and clamped to max_half_angle_deg off axis per side.
+ShadowFrustum shadow_frustum_for(const NfLuminaire& luminaire, double max_half_angle_deg = 75.0,
+                                 double margin = 0.1);
+
+struct ShadowBias {
+  double constant = 0.001;    // metres
+  double depth_texels = 0.5;  // depth bias in map texels (at the receiver's distance)
+  double normal_texels = 1.5; // normal offset in map texels (at the receiver's distance)
+};
+
+struct ShadowMapSpec {
+  std::vector<glm::dvec3> lights;  // per cell, luminaire-local (on S); index cj * cells_x + ci
+  int cells_x = 0, cells_y = 0;    // W + n - 1, H + n - 1
+  glm::dmat4 to_world{1.0};        // rigid luminaire-instance transform
+  int size = 256;                  // map resolution (square)
+  ShadowFrustum frustum;
+  ShadowBias bias;
+};
+
+// Spec for a precomputed luminaire: `ref_lights` as in nf::lum::Precomputed::ref_lights.
+ShadowMapSpec make_shadow_map_spec(const NfLuminaire& luminaire, const std::vector<glm::dvec3>& ref_lights,
+                                   const glm::dmat4& to_world, int size);
+
+class ShadowMaps {
+ public:
+  // Allocates the depth array (size^2 x cells x 4 bytes); needs a current context.
+  explicit ShadowMaps(ShadowMapSpec spec);
+  ~ShadowMaps();
+  ShadowMaps(const ShadowMaps&) = delete;
+  ShadowMaps& operator=(const ShadowMaps&) = delete;
+
+  // Renders one depth map per cell from the shadow-casting instances.
+  void render(const SceneGpu& scene);
+  // Computes the bitmask for every G-buffer pixel and reads it back: width * height *
+  // words_per_pixel() words, pixel y * width + x with row 0 at the top.
+  std::vector<std::uint32_t> visibility(const GBuffer& gbuffer);
+
+  int cells() const { return spec_.cells_x * spec_.cells_y; }
+  int words_per_pixel() const { return NF_VIS_WORDS(cells()); }
+  const ShadowMapSpec& spec() const { return spec_; }
+  void set_to_world(const glm::dmat4& to_world) { spec_.to_world = to_world; }
+  // Reads back the depth map of one cell as linear distance along +z (metres; +inf where empty),
+  // rows from the top (+y up in the map). For tests and debugging.
+  std::vector<float> read_depth(int cell) const;
+  std::vector<MemoryItem> memory() const;
+
+ private:
+  glm::dmat4 light_clip(int cell) const;  // world -> clip of one cell's map
+  ShadowMapSpec spec_;
+  unsigned depth_ = 0, fbo_ = 0, lights_ssbo_ = 0, vis_ssbo_ = 0;
+  std::size_t vis_bytes_ = 0;
+  unsigned depth_program_ = 0, vis_program_ = 0;
+};
+
+}  // namespace nf::gl

@@ -1,0 +1,64 @@
+#pragma once
+// Step 0 of the frame (DESIGN.md §5), all of it: the scene on the GPU, the G-buffer and — only
+// when the scene needs them (render.visibility == "shadowmaps" and something can occlude) —
+// one set of shadow maps per luminaire instance, their visibility bitmasks, and the readbacks
+// the OpenCL steps upload. Shadow maps depend only on the geometry and the luminaires, so they
+// are rendered on the first run() and again only after invalidate_shadow_maps().
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "gl/gbuffer.h"
+#include "gl/scene_gpu.h"
+#include "gl/shadow_maps.h"
+#include "kernels/shared/surface.h"
+#include "scene/scene.h"
+
+namespace nf::gl {
+
+struct Step0Timings {  // milliseconds of the last run(), each pass finished with glFinish
+  double gbuffer_ms = 0, gbuffer_readback_ms = 0, shadow_maps_ms = 0, visibility_ms = 0;
+  double total() const { return gbuffer_ms + gbuffer_readback_ms + shadow_maps_ms + visibility_ms; }
+};
+
+class Step0 {
+ public:
+  // Uploads the scene; needs a current context. `shadow_specs`: one per luminaire instance (in
+  // scene.luminaires order, or empty); ignored, and nothing allocated for them, unless
+  // scene.needs_shadow_maps().
+  Step0(const scene::Scene& scene, std::vector<ShadowMapSpec> shadow_specs);
+  ~Step0();
+  Step0(const Step0&) = delete;
+  Step0& operator=(const Step0&) = delete;
+
+  // Renders the G-buffer from `camera` (resizing it to the camera's resolution when needed),
+  // the shadow maps if invalid, the visibility bitmasks, and reads everything back.
+  void run(const scene::Camera& camera);
+  void invalidate_shadow_maps() { shadow_maps_valid_ = false; }
+
+  bool has_shadow_maps() const { return !shadow_maps_.empty(); }
+  // One NfSurface per pixel (row 0 at the top); see GBuffer::read_surfaces.
+  const std::vector<NfSurface>& surfaces() const { return surfaces_; }
+  // Luminaire i's bitmask, words_per_pixel(i) words per pixel; empty without shadow maps.
+  const std::vector<std::uint32_t>& visibility(std::size_t luminaire) const;
+  int words_per_pixel(std::size_t luminaire) const;
+  ShadowMaps* shadow_maps(std::size_t luminaire) const;  // nullptr without shadow maps
+
+  const Step0Timings& timings() const { return timings_; }
+  // GPU bytes per buffer (scene, G-buffer, shadow maps, bitmasks) and host readback bytes.
+  std::vector<MemoryItem> memory() const;
+  const SceneGpu& scene_gpu() const { return *scene_; }
+  GBuffer* gbuffer() const { return gbuffer_.get(); }
+
+ private:
+  std::unique_ptr<SceneGpu> scene_;
+  std::vector<scene::Material> materials_;
+  std::unique_ptr<GBuffer> gbuffer_;
+  std::vector<std::unique_ptr<ShadowMaps>> shadow_maps_;
+  bool shadow_maps_valid_ = false;
+  std::vector<NfSurface> surfaces_;
+  std::vector<std::vector<std::uint32_t>> visibility_;
+  Step0Timings timings_;
+};
+
+}  // namespace nf::gl

@@ -1,0 +1,136 @@
+#pragma once
+// Scene geometry as the GL passes consume it: meshes, materials, textures, instances and the
+// camera. Header-only on purpose: gl/ (which links only nf_core) includes it, so nothing here
+// may need a symbol from the nf_scene library. World frame: right-handed, metres; the scenes the
+// project ships use +y as up (glTF's convention), but nothing below depends on that.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace nf::scene {
+
+// An 8-bit RGBA texture, rows top to bottom (as in the image file). Base-colour textures hold
+// sRGB-encoded colour (glTF 2.0 §3.9.2); metallic-roughness textures hold linear values
+// (G = roughness, B = metallic).
+struct Texture {
+  std::string name;  // file name or "<model>#image<i>"
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba8;  // width * height * 4
+  std::size_t bytes() const { return rgba8.size(); }
+};
+
+enum class MaterialKind {
+  lambert,  // f_r = base / pi                                   (NF_BRDF_LAMBERT)
+  ggx       // glTF metallic-roughness: GGX/Smith + Lambert diffuse (NF_BRDF_GGX)
+};
+
+// Effective values are factor × texture (glTF semantics): base = base_color × decoded texel,
+// roughness = roughness × texel.g, metallic = metallic × texel.b.
+struct Material {
+  std::string name;
+  MaterialKind kind = MaterialKind::lambert;
+  glm::vec3 base_color{0.8f};  // linear RGB in [0, 1]
+  float metallic = 0.0f;       // [0, 1]; always 0 for lambert
+  float roughness = 1.0f;      // perceptual roughness [0, 1] (alpha = roughness^2)
+  int base_color_texture = -1;          // index into Geometry::textures, -1 none
+  int metallic_roughness_texture = -1;  // index into Geometry::textures, -1 none
+};
+
+// Triangles in the mesh's own frame. normals.size() == positions.size(); uvs empty or the same size.
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<std::uint32_t> indices;  // 3 per triangle, counter-clockwise = front
+  std::size_t vertex_count() const { return positions.size(); }
+  std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// One placement of a mesh with a material. A scene object becomes one instance per mesh it
+// contains (a glTF file gives one per primitive per node).
+struct Instance {
+  int mesh = 0;
+  int material = 0;
+  glm::dmat4 to_world{1.0};
+  int object = 0;             // index into the scene file's /objects
+  bool planar = false;        // flat (plane, disk): cannot shadow itself
+  bool casts_shadows = true;  // drawn into the shadow maps
+};
+
+struct Geometry {
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Instance> instances;
+
+  // Axis-aligned world bounds of all instances (empty: min > max).
+  void bounds(glm::dvec3& lo, glm::dvec3& hi) const {
+    lo = glm::dvec3(std::numeric_limits<double>::max());
+    hi = -lo;
+    for (const auto& inst : instances)
+      for (const auto& p : meshes[static_cast<std::size_t>(inst.mesh)].positions) {
+        const glm::dvec3 w = glm::dvec3(inst.to_world * glm::dvec4(glm::dvec3(p), 1.0));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+  }
+
+  // Whether anything can cast a shadow on anything (DESIGN §5: build shadow maps only then):
+  // a shadow-casting instance that is not planar can shadow itself or others; a planar one can
+  // shadow any other instance. One lone plane or disk, or nothing that casts, cannot occlude.
+  bool can_occlude() const {
+    bool planar_caster = false;
+    for (const auto& inst : instances) {
+      if (!inst.casts_shadows) continue;
+      if (!inst.planar) return true;
+      planar_caster = true;
+    }
+    return planar_caster && instances.size() > 1;
+  }
+};
+
+// A pinhole camera. Pixel (x, y) counts x to the right and y DOWN from the top-left corner of
+// the image (row 0 = top, as in images and NfSurface buffers); pixel (i, j) covers
+// [i, i+1] x [j, j+1] and its centre is (i + 0.5, j + 0.5).
+struct Camera {
+  glm::dvec3 position{0.0, 1.0, 5.0};
+  glm::dvec3 target{0.0};
+  glm::dvec3 up{0.0, 1.0, 0.0};
+  double fov_y_deg = 45.0;  // vertical field of view, degrees
+  int width = 640, height = 360;
+  double near = 0.01;  // near clipping distance along the view axis, metres (no far plane)
+
+  struct Ray {
+    glm::dvec3 origin;
+    glm::dvec3 direction;  // unit
+  };
+
+  double aspect() const { return static_cast<double>(width) / static_cast<double>(height); }
+  double tan_half_fov_y() const { return std::tan(fov_y_deg * 0.5 * 3.14159265358979323846 / 180.0); }
+  glm::dvec3 forward() const { return glm::normalize(target - position); }
+  glm::dvec3 right() const { return glm::normalize(glm::cross(forward(), up)); }
+  glm::dvec3 true_up() const { return glm::cross(right(), forward()); }
+
+  // The primary ray through continuous pixel coordinates (x, y) (see above).
+  Ray ray(double x, double y) const {
+    const double ty = tan_half_fov_y(), tx = ty * aspect();
+    const double ndc_x = 2.0 * x / width - 1.0;
+    const double ndc_y = 1.0 - 2.0 * y / height;
+    const glm::dvec3 d = forward() + right() * (ndc_x * tx) + true_up() * (ndc_y * ty);
+    return {position, glm::normalize(d)};
+  }
+  // The ray through the centre of pixel (i, j).
+  Ray pixel_ray(int i, int j) const { return ray(i + 0.5, j + 0.5); }
+};
+
+}  // namespace nf::scene

@@ -1,0 +1,514 @@
+// Scene files: JSON (nlohmann_json) -> nf::scene::Scene. Format: docs/scenes.md.
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "scene/loaders.h"
+
+namespace nf::scene {
+namespace {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+// RFC 6901 escaping of one reference token.
+std::string token(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+std::string at(const std::string& ptr, const std::string& key) { return ptr + "/" + token(key); }
+std::string at(const std::string& ptr, std::size_t i) { return ptr + "/" + std::to_string(i); }
+
+const char* type_name(const json& v) {
+  switch (v.type()) {
+    case json::value_t::null: return "null";
+    case json::value_t::boolean: return "a boolean";
+    case json::value_t::string: return "a string";
+    case json::value_t::array: return "an array";
+    case json::value_t::object: return "an object";
+    case json::value_t::number_integer:
+    case json::value_t::number_unsigned:
+    case json::value_t::number_float: return "a number";
+    default: return "an unsupported value";
+  }
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
+  return s;
+}
+
+class Parser {
+ public:
+  Parser(std::string name, fs::path base_dir) : name_(std::move(name)), base_(std::move(base_dir)) {}
+
+  [[noreturn]] void error(const std::string& ptr, const std::string& message) const {
+    fail(fmt::format("{}: {}: {}", name_, ptr.empty() ? "/" : ptr, message));
+  }
+
+  Scene parse(const json& root) {
+    Scene s;
+    object(root, "", {"format", "version", "description", "camera", "materials", "objects", "luminaires",
+                      "environment", "render"});
+    if (root.contains("format") && string(root["format"], "/format") != "nearfield-scene")
+      error("/format", "expected \"nearfield-scene\"");
+    if (root.contains("version") && integer(root["version"], "/version", 0, 1 << 30) != 1)
+      error("/version", fmt::format("unsupported scene format version {} (this build reads 1)",
+                                    root["version"].get<long long>()));
+    if (root.contains("description")) s.description = string(root["description"], "/description");
+    if (!root.contains("camera")) error("", "missing 'camera'");
+    s.camera = camera(root["camera"], "/camera");
+    if (root.contains("materials")) materials(root["materials"], "/materials", s.geometry);
+    if (root.contains("objects")) {
+      const json& objs = root["objects"];
+      if (!objs.is_array()) error("/objects", fmt::format("expected an array, got {}", type_name(objs)));
+      for (std::size_t i = 0; i < objs.size(); ++i) object_entry(objs[i], at("/objects", i), i, s.geometry);
+    }
+    if (root.contains("luminaires")) {
+      const json& lums = root["luminaires"];
+      if (!lums.is_array()) error("/luminaires", fmt::format("expected an array, got {}", type_name(lums)));
+      for (std::size_t i = 0; i < lums.size(); ++i) s.luminaires.push_back(luminaire(lums[i], at("/luminaires", i), i));
+    }
+    if (root.contains("environment")) s.environment = environment(root["environment"], "/environment");
+    if (root.contains("render")) s.render = render(root["render"], "/render");
+    return s;
+  }
+
+ private:
+  // ---- typed access ---------------------------------------------------------
+  void object(const json& v, const std::string& ptr, std::initializer_list<const char*> allowed) const {
+    if (!v.is_object()) error(ptr, fmt::format("expected an object, got {}", type_name(v)));
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return it.key() == k; })) {
+        std::vector<std::string> names(allowed.begin(), allowed.end());
+        error(at(ptr, it.key()), fmt::format("unknown key '{}' (allowed here: {})", it.key(), join(names)));
+      }
+    }
+  }
+  const json& require(const json& obj, const std::string& ptr, const char* key) const {
+    if (!obj.contains(key)) error(ptr, fmt::format("missing '{}'", key));
+    return obj[key];
+  }
+  double number(const json& v, const std::string& ptr, double lo = -1e300, double hi = 1e300) const {
+    if (!v.is_number()) error(ptr, fmt::format("expected a number, got {}", type_name(v)));
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) error(ptr, "expected a finite number");
+    if (d < lo || d > hi) error(ptr, fmt::format("{} is out of range [{}, {}]", d, lo, hi));
+    return d;
+  }
+  int integer(const json& v, const std::string& ptr, long long lo, long long hi) const {
+    if (!v.is_number_integer()) {
+      if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 1e15) {
+        // 64.0 is accepted as 64
+      } else {
+        error(ptr, fmt::format("expected an integer, got {}", v.is_number() ? fmt::format("{}", v.get<double>())
+                                                                                : std::string(type_name(v))));
+      }
+    }
+    const long long i = v.is_number_integer() ? v.get<long long>() : static_cast<long long>(v.get<double>());
+    if (i < lo || i > hi) error(ptr, fmt::format("{} is out of range [{}, {}]", i, lo, hi));
+    return static_cast<int>(i);
+  }
+  bool boolean(const json& v, const std::string& ptr) const {
+    if (!v.is_boolean()) error(ptr, fmt::format("expected true or false, got {}", type_name(v)));
+    return v.get<bool>();
+  }
+  std::string string(const json& v, const std::string& ptr) const {
+    if (!v.is_string()) error(ptr, fmt::format("expected a string, got {}", type_name(v)));
+    return v.get<std::string>();
+  }
+  std::string choice(const json& v, const std::string& ptr, const std::vector<std::string>& allowed) const {
+    const std::string s = string(v, ptr);
+    if (std::find(allowed.begin(), allowed.end(), s) == allowed.end())
+      error(ptr, fmt::format("unknown value '{}' (allowed: {})", s, join(allowed)));
+    return s;
+  }
+  std::vector<double> numbers(const json& v, const std::string& ptr, std::size_t n, double lo = -1e300,
+                              double hi = 1e300) const {
+    if (!v.is_array() || v.size() != n)
+      error(ptr, fmt::format("expected an array of {} numbers, got {}", n,
+                             v.is_array() ? fmt::format("{} elements", v.size()) : std::string(type_name(v))));
+    std::vector<double> out(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = number(v[i], at(ptr, i), lo, hi);
+    return out;
+  }
+  glm::dvec3 vec3(const json& v, const std::string& ptr) const {
+    const auto a = numbers(v, ptr, 3);
+    return {a[0], a[1], a[2]};
+  }
+  fs::path existing_file(const json& v, const std::string& ptr) const {
+    const std::string rel = string(v, ptr);
+    if (rel.empty()) error(ptr, "empty file name");
+    fs::path p = fs::path(rel).is_absolute() ? fs::path(rel) : base_ / rel;
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) error(ptr, fmt::format("file not found: '{}'", p.string()));
+    return fs::weakly_canonical(p, ec).empty() ? p : fs::weakly_canonical(p, ec);
+  }
+
+  // ---- sections -------------------------------------------------------------
+  Camera camera(const json& v, const std::string& ptr) const {
+    object(v, ptr, {"position", "target", "up", "fov_y", "resolution", "near"});
+    Camera c;
+    c.position = vec3(require(v, ptr, "position"), at(ptr, "position"));
+    c.target = vec3(require(v, ptr, "target"), at(ptr, "target"));
+    if (v.contains("up")) c.up = vec3(v["up"], at(ptr, "up"));
+    c.fov_y_deg = number(require(v, ptr, "fov_y"), at(ptr, "fov_y"), 0.0, 179.0);
+    if (c.fov_y_deg <= 0.0) error(at(ptr, "fov_y"), "must be > 0 degrees");
+    const json& res = require(v, ptr, "resolution");
+    if (!res.is_array() || res.size() != 2)
+      error(at(ptr, "resolution"), "expected [width, height]");
+    c.width = integer(res[0], at(at(ptr, "resolution"), 0), 1, 16384);
+    c.height = integer(res[1], at(at(ptr, "resolution"), 1), 1, 16384);
+    if (v.contains("near")) {
+      c.near = number(v["near"], at(ptr, "near"), 0.0, 1e6);
+      if (c.near <= 0.0) error(at(ptr, "near"), "must be > 0");
+    }
+    const glm::dvec3 d = c.target - c.position;
+    if (glm::length(d) < 1e-12) error(at(ptr, "target"), "target equals position");
+    if (glm::length(c.up) < 1e-12) error(at(ptr, "up"), "up is the zero vector");
+    if (glm::length(glm::cross(glm::normalize(d), glm::normalize(c.up))) < 1e-9)
+      error(at(ptr, "up"), "up is parallel to the viewing direction");
+    return c;
+  }
+
+  Material material_def(const json& v, const std::string& ptr, const std::string& name) {
+    if (!v.is_object()) error(ptr, fmt::format("expected an object, got {}", type_name(v)));
+    const std::string kind = choice(require(v, ptr, "type"), at(ptr, "type"), {"lambert", "ggx"});
+    Material m;
+    m.name = name;
+    if (kind == "lambert") {
+      object(v, ptr, {"type", "base_color", "base_color_texture"});
+      m.kind = MaterialKind::lambert;
+      m.metallic = 0.0f;
+      m.roughness = 1.0f;
+    } else {
+      object(v, ptr, {"type", "base_color", "base_color_texture", "metallic", "roughness"});
+      m.kind = MaterialKind::ggx;
+      m.roughness = 0.5f;
+      if (v.contains("metallic")) m.metallic = static_cast<float>(number(v["metallic"], at(ptr, "metallic"), 0, 1));
+      if (v.contains("roughness")) m.roughness = static_cast<float>(number(v["roughness"], at(ptr, "roughness"), 0, 1));
+    }
+    if (v.contains("base_color")) {
+      const auto c = numbers(v["base_color"], at(ptr, "base_color"), 3, 0.0, 1.0);
+      m.base_color = glm::vec3(static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]));
+    }
+    if (v.contains("base_color_texture")) {
+      const std::string tptr = at(ptr, "base_color_texture");
+      const fs::path file = existing_file(v["base_color_texture"], tptr);
+      try {
+        geometry_->textures.push_back(load_texture_file(file));
+      } catch (const Error& e) {
+        error(tptr, e.what());
+      }
+      m.base_color_texture = static_cast<int>(geometry_->textures.size() - 1);
+    }
+    return m;
+  }
+
+  void materials(const json& v, const std::string& ptr, Geometry& g) {
+    geometry_ = &g;
+    if (!v.is_object()) error(ptr, fmt::format("expected an object (name -> material), got {}", type_name(v)));
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      if (it.key().empty()) error(ptr, "empty material name");
+      g.materials.push_back(material_def(it.value(), at(ptr, it.key()), it.key()));
+      material_index_[it.key()] = static_cast<int>(g.materials.size() - 1);
+    }
+  }
+
+  // Index of the material an object names (string) or defines inline (object).
+  int material_ref(const json& v, const std::string& ptr, const std::string& object_name, Geometry& g) {
+    geometry_ = &g;
+    if (v.is_string()) {
+      const std::string name = v.get<std::string>();
+      if (auto it = material_index_.find(name); it != material_index_.end()) return it->second;
+      if (name == "default") return default_material(g);
+      error(ptr, fmt::format("unknown material '{}'", name));
+    }
+    if (v.is_object()) {
+      g.materials.push_back(material_def(v, ptr, object_name + "/material"));
+      return static_cast<int>(g.materials.size() - 1);
+    }
+    error(ptr, fmt::format("expected a material name or an inline material object, got {}", type_name(v)));
+  }
+
+  int default_material(Geometry& g) {
+    if (default_material_ < 0) {
+      Material m;
+      m.name = "default";
+      g.materials.push_back(m);
+      default_material_ = static_cast<int>(g.materials.size() - 1);
+    }
+    return default_material_;
+  }
+
+  // T * R * S. rotate: [rx, ry, rz] Euler degrees applied X, then Y, then Z (R = Rz Ry Rx), or
+  // {"axis": [x, y, z], "angle": degrees}. scale: a number or [sx, sy, sz], no component 0.
+  glm::dmat4 transform(const json& v, const std::string& ptr, bool rigid) const {
+    object(v, ptr, {"translate", "rotate", "scale"});
+    glm::dmat4 t(1.0), r(1.0), s(1.0);
+    if (v.contains("translate")) t = glm::translate(glm::dmat4(1.0), vec3(v["translate"], at(ptr, "translate")));
+    if (v.contains("rotate")) {
+      const json& rv = v["rotate"];
+      const std::string rptr = at(ptr, "rotate");
+      if (rv.is_array()) {
+        const glm::dvec3 e = vec3(rv, rptr) * (kPi / 180.0);
+        r = glm::rotate(glm::dmat4(1.0), e.z, {0, 0, 1}) * glm::rotate(glm::dmat4(1.0), e.y, {0, 1, 0}) *
+            glm::rotate(glm::dmat4(1.0), e.x, {1, 0, 0});
+      } else if (rv.is_object()) {
+        object(rv, rptr, {"axis", "angle"});
+        const glm::dvec3 axis = vec3(require(rv, rptr, "axis"), at(rptr, "axis"));
+        if (glm::length(axis) < 1e-12) error(at(rptr, "axis"), "rotation axis is the zero vector");
+        const double angle = number(require(rv, rptr, "angle"), at(rptr, "angle"));
+        r = glm::rotate(glm::dmat4(1.0), angle * kPi / 180.0, glm::normalize(axis));
+      } else {
+        error(rptr, fmt::format("expected [rx, ry, rz] (Euler degrees) or {{\"axis\": [x, y, z], \"angle\": degrees}}, "
+                                "got {}",
+                                type_name(rv)));
+      }
+    }
+    if (v.contains("scale")) {
+      const json& sv = v["scale"];
+      const std::string sptr = at(ptr, "scale");
+      glm::dvec3 sc(1.0);
+      if (sv.is_number()) {
+        sc = glm::dvec3(number(sv, sptr));
+      } else {
+        sc = vec3(sv, sptr);
+      }
+      if (rigid && glm::length(sc - glm::dvec3(1.0)) > 1e-12)
+        error(sptr, "luminaire transforms must be rigid (rotation and translation only; scale 1)");
+      for (int i = 0; i < 3; ++i)
+        if (std::fabs(sc[i]) < 1e-9) error(sptr, "degenerate transform: a scale component is zero");
+      s = glm::scale(glm::dmat4(1.0), sc);
+    }
+    return t * r * s;
+  }
+
+  void object_entry(const json& v, const std::string& ptr, std::size_t index, Geometry& g) {
+    geometry_ = &g;
+    if (!v.is_object()) error(ptr, fmt::format("expected an object, got {}", type_name(v)));
+    const std::string type = choice(require(v, ptr, "type"), at(ptr, "type"), {"gltf", "plane", "box", "sphere", "disk"});
+    const std::string name =
+        v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("{}{}", type, index);
+    const auto common = {"type", "name", "transform", "material", "casts_shadows"};
+    auto allowed = [&](std::initializer_list<const char*> extra) {
+      std::vector<const char*> keys(common.begin(), common.end());
+      keys.insert(keys.end(), extra.begin(), extra.end());
+      for (auto it = v.begin(); it != v.end(); ++it)
+        if (std::none_of(keys.begin(), keys.end(), [&](const char* k) { return it.key() == k; })) {
+          std::vector<std::string> names(keys.begin(), keys.end());
+          error(at(ptr, it.key()), fmt::format("unknown key '{}' for a {} (allowed: {})", it.key(), type, join(names)));
+        }
+    };
+    const glm::dmat4 to_world = v.contains("transform") ? transform(v["transform"], at(ptr, "transform"), false)
+                                                        : glm::dmat4(1.0);
+    const bool casts = v.contains("casts_shadows") ? boolean(v["casts_shadows"], at(ptr, "casts_shadows")) : true;
+    const int object = static_cast<int>(index);
+    const std::size_t first_instance = g.instances.size();
+
+    if (type == "gltf") {
+      allowed({"file"});
+      const fs::path file = existing_file(require(v, ptr, "file"), at(ptr, "file"));
+      const int mat = v.contains("material") ? material_ref(v["material"], at(ptr, "material"), name, g) : -1;
+      try {
+        const GltfLoadStats st = load_gltf(file, to_world, object, mat, g);
+        if (st.instances == 0) log::warn("{}: {}: '{}' has no triangles", name_, at(ptr, "file"), file.string());
+      } catch (const Error& e) {
+        error(at(ptr, "file"), e.what());
+      }
+    } else {
+      Mesh mesh;
+      bool planar = false;
+      if (type == "plane") {
+        allowed({"size"});
+        const auto sz = v.contains("size") ? numbers(v["size"], at(ptr, "size"), 2) : std::vector<double>{1.0, 1.0};
+        if (!(sz[0] > 0 && sz[1] > 0)) error(at(ptr, "size"), "plane size must be > 0");
+        mesh = make_plane(sz[0], sz[1]);
+        planar = true;
+      } else if (type == "box") {
+        allowed({"size"});
+        const glm::dvec3 sz = v.contains("size") ? vec3(v["size"], at(ptr, "size")) : glm::dvec3(1.0);
+        if (!(sz.x > 0 && sz.y > 0 && sz.z > 0)) error(at(ptr, "size"), "box size must be > 0");
+        mesh = make_box(sz);
+      } else if (type == "sphere") {
+        allowed({"radius", "segments", "rings"});
+        const double r = v.contains("radius") ? number(v["radius"], at(ptr, "radius")) : 0.5;
+        if (!(r > 0)) error(at(ptr, "radius"), "radius must be > 0");
+        const int seg = v.contains("segments") ? integer(v["segments"], at(ptr, "segments"), 3, 4096) : 48;
+        const int rings = v.contains("rings") ? integer(v["rings"], at(ptr, "rings"), 2, 4096) : 24;
+        mesh = make_sphere(r, seg, rings);
+      } else {  // disk
+        allowed({"radius", "segments"});
+        const double r = v.contains("radius") ? number(v["radius"], at(ptr, "radius")) : 0.5;
+        if (!(r > 0)) error(at(ptr, "radius"), "radius must be > 0");
+        const int seg = v.contains("segments") ? integer(v["segments"], at(ptr, "segments"), 3, 65536) : 64;
+        mesh = make_disk(r, seg);
+        planar = true;
+      }
+      mesh.name = name;
+      Instance inst;
+      inst.material = v.contains("material") ? material_ref(v["material"], at(ptr, "material"), name, g)
+                                             : default_material(g);
+      g.meshes.push_back(std::move(mesh));
+      inst.mesh = static_cast<int>(g.meshes.size() - 1);
+      inst.to_world = to_world;
+      inst.object = object;
+      inst.planar = planar;
+      g.instances.push_back(inst);
+    }
+    for (std::size_t i = first_instance; i < g.instances.size(); ++i) g.instances[i].casts_shadows = casts;
+  }
+
+  LuminaireRef luminaire(const json& v, const std::string& ptr, std::size_t index) const {
+    object(v, ptr, {"name", "manifest", "preset", "transform", "intensity"});
+    LuminaireRef l;
+    l.name = v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("luminaire{}", index);
+    const bool has_manifest = v.contains("manifest"), has_preset = v.contains("preset");
+    if (has_manifest == has_preset) error(ptr, "give exactly one of 'manifest' (a file) and 'preset' (a generator name)");
+    if (has_manifest) {
+      l.manifest = existing_file(v["manifest"], at(ptr, "manifest"));
+    } else {
+      l.preset = string(v["preset"], at(ptr, "preset"));
+      if (l.preset.empty() || !std::all_of(l.preset.begin(), l.preset.end(), [](unsigned char c) {
+            return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+          }))
+        error(at(ptr, "preset"), fmt::format("'{}' is not a preset name", l.preset));
+    }
+    if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
+    if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "luminaire transforms must be rigid");
+    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, 1e300);
+    return l;
+  }
+
+  Environment environment(const json& v, const std::string& ptr) const {
+    object(v, ptr, {"file", "rotation", "intensity"});
+    Environment e;
+    e.file = existing_file(require(v, ptr, "file"), at(ptr, "file"));
+    if (v.contains("rotation")) e.rotation_deg = number(v["rotation"], at(ptr, "rotation"));
+    if (v.contains("intensity")) e.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, 1e300);
+    return e;
+  }
+
+  RenderSettings render(const json& v, const std::string& ptr) const {
+    object(v, ptr, {"method", "sampler", "spp", "kmax", "search_depth", "search", "balance", "visibility",
+                    "shadow_map_size", "seed", "tonemap"});
+    RenderSettings r;
+    if (v.contains("method")) r.method = choice(v["method"], at(ptr, "method"), allowed_methods());
+    if (v.contains("sampler")) r.sampler = choice(v["sampler"], at(ptr, "sampler"), allowed_samplers());
+    if (v.contains("spp")) r.spp = integer(v["spp"], at(ptr, "spp"), 1, 1 << 24);
+    if (v.contains("kmax")) r.kmax = integer(v["kmax"], at(ptr, "kmax"), 1, 1 << 24);
+    if (v.contains("search_depth")) r.search_depth = integer(v["search_depth"], at(ptr, "search_depth"), 1, 64);
+    if (v.contains("search")) r.search = choice(v["search"], at(ptr, "search"), allowed_searches());
+    if (v.contains("balance")) r.balance = choice(v["balance"], at(ptr, "balance"), allowed_balances());
+    if (v.contains("visibility")) r.visibility = choice(v["visibility"], at(ptr, "visibility"), allowed_visibilities());
+    if (v.contains("shadow_map_size"))
+      r.shadow_map_size = integer(v["shadow_map_size"], at(ptr, "shadow_map_size"), 16, 4096);
+    if (v.contains("seed")) r.seed = static_cast<std::uint32_t>(integer(v["seed"], at(ptr, "seed"), 0, 2147483647));
+    if (v.contains("tonemap")) {
+      const json& t = v["tonemap"];
+      const std::string tptr = at(ptr, "tonemap");
+      object(t, tptr, {"exposure", "gamma"});
+      if (t.contains("exposure")) {
+        r.tonemap.exposure = number(t["exposure"], at(tptr, "exposure"), 0.0, 1e300);
+        if (r.tonemap.exposure <= 0.0) error(at(tptr, "exposure"), "must be > 0");
+      }
+      if (t.contains("gamma")) {
+        r.tonemap.gamma = number(t["gamma"], at(tptr, "gamma"), 0.0, 100.0);
+        if (r.tonemap.gamma <= 0.0) error(at(tptr, "gamma"), "must be > 0");
+      }
+    }
+    return r;
+  }
+
+  std::string name_;
+  fs::path base_;
+  Geometry* geometry_ = nullptr;
+  std::map<std::string, int> material_index_;
+  int default_material_ = -1;
+};
+
+}  // namespace
+
+bool is_rigid(const glm::dmat4& m, double tolerance) {
+  const glm::dmat3 r(m);
+  const glm::dmat3 rtr = glm::transpose(r) * r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (std::fabs(rtr[i][j] - (i == j ? 1.0 : 0.0)) > tolerance) return false;
+  if (glm::determinant(r) < 0.0) return false;
+  return std::fabs(m[0][3]) <= tolerance && std::fabs(m[1][3]) <= tolerance && std::fabs(m[2][3]) <= tolerance &&
+         std::fabs(m[3][3] - 1.0) <= tolerance;
+}
+
+Scene parse_scene(const std::string& json_text, const std::string& name, const std::filesystem::path& base_dir) {
+  json root;
+  try {
+    root = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    // e.byte is 1-based; turn it into line and column.
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < json_text.size(); ++i) {
+      if (json_text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    std::string what = e.what();
+    if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
+    fail(fmt::format("{}: JSON syntax error at line {}, column {}: {}", name, line, col, what));
+  }
+  Parser parser(name, base_dir);
+  Scene s = parser.parse(root);
+  return s;
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(fmt::format("{}: cannot open scene file", file.string()));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  Scene s = parse_scene(ss.str(), file.string(), file.has_parent_path() ? file.parent_path() : fs::path("."));
+  s.file = file;
+  return s;
+}
+
+SceneCounts count(const Scene& scene) {
+  SceneCounts c;
+  const auto& g = scene.geometry;
+  int max_object = -1;
+  for (const auto& inst : g.instances) {
+    max_object = std::max(max_object, inst.object);
+    c.vertices += g.meshes[static_cast<std::size_t>(inst.mesh)].vertex_count();
+    c.triangles += g.meshes[static_cast<std::size_t>(inst.mesh)].triangle_count();
+  }
+  c.objects = static_cast<std::size_t>(max_object + 1);
+  c.instances = g.instances.size();
+  c.meshes = g.meshes.size();
+  c.textures = g.textures.size();
+  for (const auto& t : g.textures) c.texture_bytes += t.bytes();
+  return c;
+}
+
+}  // namespace nf::scene

@@ -1,0 +1,101 @@
+#pragma once
+// Scene files (DESIGN.md §6, format in docs/scenes.md): JSON with a camera, objects (glTF 2.0
+// files or built-in primitives), materials, luminaire instances, an optional environment and
+// render settings. Every error names the scene file and the JSON pointer of the bad value,
+// e.g. "scene.json: /objects/2/material: unknown material 'foo'".
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "core/tonemap.h"
+#include "scene/geometry.h"
+
+namespace nf::scene {
+
+// One luminaire instance. Exactly one of `manifest` and `preset` is set.
+struct LuminaireRef {
+  std::string name;                  // "name" or "luminaire<i>"
+  std::filesystem::path manifest;    // absolute (resolved against the scene file's folder); must exist
+  std::string preset;                // a generator preset (`nearfield luminaire gen --preset`), made on demand
+  glm::dmat4 to_world{1.0};          // rigid: luminaire-local frame (S at z = 0, light towards +z) -> world
+  double intensity = 1.0;            // multiplies the luminaire's radiance, >= 0
+};
+
+struct Environment {
+  std::filesystem::path file;  // absolute; must exist (not read by the scene loader)
+  double rotation_deg = 0.0;   // about the world +y axis
+  double intensity = 1.0;      // >= 0
+};
+
+// Render settings (DESIGN.md §4, §5) as written in the file; the render layer interprets them.
+// Strings are validated against the allowed sets below.
+struct RenderSettings {
+  std::string method = "ours";       // ours | paper | uniform | global
+  std::string sampler = "halton";    // halton | halton-scrambled | random
+  int spp = 64;                      // K, samples per pixel per frame, >= 1
+  int kmax = 64;                     // K_max, cap of samples per image per pixel, >= 1
+  int search_depth = 16;             // CDF inversion depth limit, 1..64
+  std::string search = "secant";     // secant | binary
+  std::string balance = "min1";      // paper | min1 | roulette (min1 and roulette are unbiased)
+  std::string visibility = "shadowmaps";  // none | shadowmaps
+  int shadow_map_size = 256;         // pixels per side of each cell's shadow map, 16..4096
+  std::uint32_t seed = 0;            // sampler seed (random, halton-scrambled)
+  TonemapParams tonemap;             // exposure, gamma
+};
+
+inline const std::vector<std::string>& allowed_methods() {
+  static const std::vector<std::string> v{"ours", "paper", "uniform", "global"};
+  return v;
+}
+inline const std::vector<std::string>& allowed_samplers() {
+  static const std::vector<std::string> v{"halton", "halton-scrambled", "random"};
+  return v;
+}
+inline const std::vector<std::string>& allowed_balances() {
+  static const std::vector<std::string> v{"paper", "min1", "roulette"};
+  return v;
+}
+inline const std::vector<std::string>& allowed_searches() {
+  static const std::vector<std::string> v{"secant", "binary"};
+  return v;
+}
+inline const std::vector<std::string>& allowed_visibilities() {
+  static const std::vector<std::string> v{"none", "shadowmaps"};
+  return v;
+}
+
+struct Scene {
+  std::filesystem::path file;  // the scene file as given (empty when parsed from a string)
+  std::string description;
+  Camera camera;
+  Geometry geometry;
+  std::vector<LuminaireRef> luminaires;
+  std::optional<Environment> environment;
+  RenderSettings render;
+
+  // Step 0 builds shadow maps only when this holds (DESIGN.md §5).
+  bool needs_shadow_maps() const { return render.visibility == "shadowmaps" && geometry.can_occlude(); }
+};
+
+// Reads and validates a scene file; loads its glTF files and textures. Throws nf::Error.
+Scene load_scene(const std::filesystem::path& file);
+
+// The same from JSON text. `name` is used in messages (as the file name would be) and relative
+// paths resolve against `base_dir`.
+Scene parse_scene(const std::string& json_text, const std::string& name, const std::filesystem::path& base_dir);
+
+// Counts for logs and stats.
+struct SceneCounts {
+  std::size_t objects = 0, instances = 0, meshes = 0, vertices = 0, triangles = 0, textures = 0, texture_bytes = 0;
+};
+SceneCounts count(const Scene& scene);
+
+// A rigid-transform check used for luminaires: orthonormal rotation (det +1) and a translation,
+// within `tolerance` on the matrix entries.
+bool is_rigid(const glm::dmat4& m, double tolerance = 1e-9);
+
+}  // namespace nf::scene
