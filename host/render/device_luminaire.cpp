@@ -1,0 +1,67 @@
+#include "render/device_luminaire.h"
+
+#include <fmt/format.h>
+
+#include "cl/cl_error.h"
+#include "core/error.h"
+
+namespace nf::render {
+namespace {
+
+template <typename T>
+::cl::Buffer upload(cl::Runtime& rt, const std::vector<T>& v, const char* what, std::size_t& bytes) {
+  const std::size_t n = v.size() * sizeof(T);
+  if (n > rt.info().max_alloc_bytes && rt.info().max_alloc_bytes > 0)
+    fail(fmt::format("luminaire upload: {} needs {} MiB, more than the device's largest buffer ({} MiB on {})", what,
+                     n >> 20, rt.info().max_alloc_bytes >> 20, rt.info().name));
+  bytes += n;
+  try {
+    return ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n, const_cast<T*>(v.data()));
+  } catch (const ::cl::Error& e) {
+    cl::check(e.err(), fmt::format("luminaire upload: creating the {} buffer ({} bytes)", what, n));
+  }
+  return {};
+}
+
+}  // namespace
+
+DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : params_(pc.params) {
+  const NfLuminaire& p = params_;
+  const std::size_t M = static_cast<std::size_t>(p.num_images);
+  if (p.num_images < 1 || p.res_x < 1 || p.res_y < 1 || p.count_x < 1 || p.count_y < 1 ||
+      p.count_x * p.count_y != p.num_images)
+    fail(fmt::format("luminaire upload: bad parameters ({} x {} images, {} x {} pixels)", p.count_x, p.count_y, p.res_x,
+                     p.res_y));
+  if (p.sat_stride != (p.res_x + 1) * (p.res_y + 1))
+    fail(fmt::format("luminaire upload: sat_stride {} != (Nx+1)(Ny+1)", p.sat_stride));
+  if (pc.sat.size() != M * static_cast<std::size_t>(p.sat_stride))
+    fail(fmt::format("luminaire upload: SAT has {} entries, expected {}", pc.sat.size(), M * p.sat_stride));
+  if (pc.quantum.size() != M) fail(fmt::format("luminaire upload: {} quanta for {} images", pc.quantum.size(), M));
+  const std::size_t pixels = static_cast<std::size_t>(p.res_x) * static_cast<std::size_t>(p.res_y);
+  if (p.has_chroma && pc.chroma.size() != M * pixels * 4)
+    fail(fmt::format("luminaire upload: chroma has {} floats, expected {}", pc.chroma.size(), M * pixels * 4));
+  if (!(p.delta > 0.0f)) fail(fmt::format("luminaire upload: delta must be > 0, got {}", p.delta));
+
+  // Per-image flux from the SAT itself (exact integer total), so `global` is consistent with it.
+  flux_.resize(M + 1);
+  flux_total_ = 0.0;
+  for (std::size_t m = 0; m < M; ++m) {
+    const std::int64_t total = pc.sat[m * p.sat_stride + p.sat_stride - 1];
+    const double f = static_cast<double>(total) * static_cast<double>(pc.quantum[m]) * p.pixel_area;
+    flux_[m] = static_cast<float>(f);
+    flux_total_ += f;
+  }
+  flux_[M] = static_cast<float>(flux_total_);
+
+  sat_ = upload(rt, pc.sat, "SAT", bytes_);
+  quantum_ = upload(rt, pc.quantum, "quantum", bytes_);
+  flux_buf_ = upload(rt, flux_, "flux", bytes_);
+  if (p.has_chroma) {
+    chroma_ = upload(rt, pc.chroma, "chroma", bytes_);
+  } else {
+    const std::vector<float> dummy(4, 1.0f);
+    chroma_ = upload(rt, dummy, "chroma placeholder", bytes_);
+  }
+}
+
+}  // namespace nf::render

@@ -1,0 +1,40 @@
+#pragma once
+// One luminaire's precomputed data on an OpenCL device (DESIGN.md §3.6, kernels/shared/luminaire.h):
+// uploaded once, shared by every instance of the luminaire.
+#include <cstddef>
+#include <vector>
+
+#include "cl/runtime.h"
+#include "kernels/shared/luminaire.h"
+#include "luminaire/luminaire.h"
+
+namespace nf::render {
+
+class DeviceLuminaire {
+ public:
+  // Checks the Precomputed sizes against its params (nf::Error naming the mismatch) and uploads
+  // sat (int64), quantum, per-image flux and, for RGB luminaires, chroma.
+  DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc);
+
+  const NfLuminaire& params() const { return params_; }
+  bool has_chroma() const { return params_.has_chroma != 0; }
+  int num_images() const { return params_.num_images; }
+  double flux_total() const { return flux_total_; }  // sum of the image fluxes, Y m^2
+  const std::vector<float>& flux() const { return flux_; }
+
+  const ::cl::Buffer& sat() const { return sat_; }
+  const ::cl::Buffer& quantum() const { return quantum_; }
+  const ::cl::Buffer& flux_buffer() const { return flux_buf_; }
+  const ::cl::Buffer& chroma() const { return chroma_; }  // a 16-byte placeholder when monochrome
+
+  std::size_t bytes() const { return bytes_; }  // device memory held
+
+ private:
+  NfLuminaire params_{};
+  std::vector<float> flux_;
+  double flux_total_ = 0.0;
+  ::cl::Buffer sat_, quantum_, flux_buf_, chroma_;
+  std::size_t bytes_ = 0;
+};
+
+}  // namespace nf::render

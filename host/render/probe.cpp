@@ -1,0 +1,56 @@
+#include "render/probe.h"
+
+#include <fmt/format.h>
+#include <cmath>
+
+#include "core/error.h"
+#include "render/device_luminaire.h"
+#include "render/sampler.h"
+
+namespace nf::render {
+
+NfSurface probe_surface(double px, double py, double pz, double nx, double ny, double nz, bool scalar) {
+  NfSurface s{};
+  s.px = static_cast<float>(px);
+  s.py = static_cast<float>(py);
+  s.pz = static_cast<float>(pz);
+  s.valid = 1;
+  const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+  const double k = len > 0.0 ? 1.0 / len : 0.0;
+  s.nx = static_cast<float>(nx * k);
+  s.ny = static_cast<float>(ny * k);
+  s.nz = static_cast<float>(nz * k);
+  s.brdf = scalar ? NF_BRDF_SCALAR : NF_BRDF_IRRADIANCE;
+  s.vx = s.nx;
+  s.vy = s.ny;
+  s.vz = s.nz;
+  s.roughness = 1.0f;
+  s.base_r = s.base_g = s.base_b = 1.0f;
+  s.metallic = 0.0f;
+  return s;
+}
+
+std::vector<glm::dvec3> probe_estimate(cl::Runtime& rt, const lum::Precomputed& pc,
+                                       const std::vector<NfSurface>& surfaces, const ProbeSettings& settings) {
+  if (settings.passes < 1) fail(fmt::format("probe: passes must be >= 1, got {}", settings.passes));
+  settings.sampling.validate();
+  std::vector<glm::dvec3> out(surfaces.size(), glm::dvec3(0.0));
+  if (surfaces.empty()) return out;
+  const DeviceLuminaire lum(rt, pc);
+  Sampler sampler(rt);
+  const ::cl::Buffer buf = upload_surfaces(rt, surfaces);
+  LightInstance li;
+  li.luminaire = &lum;
+  const int count = static_cast<int>(surfaces.size());
+  for (int f = 0; f < settings.passes; ++f) {
+    SamplingSettings s = settings.sampling;
+    s.frame = settings.sampling.frame + static_cast<std::uint32_t>(f);
+    sampler.run(buf, count, std::span<const LightInstance>(&li, 1), s);
+    const auto rgb = sampler.read_radiance();
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] += glm::dvec3(rgb[i].x, rgb[i].y, rgb[i].z);
+  }
+  for (auto& v : out) v /= static_cast<double>(settings.passes);
+  return out;
+}
+
+}  // namespace nf::render

@@ -1,0 +1,331 @@
+#include "render/sampler.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <climits>
+#include <cmath>
+
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include "cl/cl_error.h"
+#include "core/error.h"
+#include "core/timer.h"
+
+namespace nf::render {
+namespace {
+
+constexpr const char* kFile = "lightfield.cl";
+constexpr int kLocal = 64;
+
+// Radical inverses in base 3 of 0 .. 3^10 - 1 (the low-digit table of nf_ri3).
+std::vector<float> halton3_table() {
+  std::vector<float> t(NF_HALTON3_TABLE);
+  for (int i = 0; i < NF_HALTON3_TABLE; ++i) {
+    double r = 0.0, f = 1.0 / 3.0;
+    for (int k = i; k > 0; k /= 3, f /= 3.0) r += f * (k % 3);
+    t[i] = static_cast<float>(r);
+  }
+  return t;
+}
+
+int method_code(Method m) {
+  switch (m) {
+    case Method::ours:
+      return NF_METHOD_OURS;
+    case Method::paper:
+      return NF_METHOD_PAPER;
+    case Method::uniform:
+      return NF_METHOD_UNIFORM;
+    case Method::global:
+      return NF_METHOD_GLOBAL;
+  }
+  return NF_METHOD_OURS;
+}
+int sampler_code(SamplerKind s) {
+  switch (s) {
+    case SamplerKind::halton:
+      return NF_SEQ_HALTON;
+    case SamplerKind::halton_scrambled:
+      return NF_SEQ_HALTON_SCRAMBLED;
+    case SamplerKind::random:
+      return NF_SEQ_RANDOM;
+  }
+  return NF_SEQ_HALTON;
+}
+int balance_code(Balance b) {
+  switch (b) {
+    case Balance::paper:
+      return NF_BALANCE_PAPER;
+    case Balance::min1:
+      return NF_BALANCE_MIN1;
+    case Balance::roulette:
+      return NF_BALANCE_ROULETTE;
+  }
+  return NF_BALANCE_ROULETTE;
+}
+
+template <typename F>
+void cl_call(F&& f, const char* what) {
+  try {
+    f();
+  } catch (const ::cl::Error& e) {
+    cl::check(e.err(), what);
+  }
+}
+
+}  // namespace
+
+NfInstance make_instance(const glm::dmat4& w2l, double intensity) {
+  NfInstance in{};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) in.to_local[4 * r + c] = static_cast<float>(w2l[c][r]);  // glm is column-major
+  const glm::dmat3 lin(w2l);
+  const double det = glm::determinant(lin);
+  glm::dmat3 nm(0.0);
+  if (std::isfinite(det) && std::abs(det) > 1e-300) nm = glm::transpose(glm::inverse(lin));
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) in.normal[4 * r + c] = static_cast<float>(nm[c][r]);
+  in.intensity = static_cast<float>(intensity);
+  return in;
+}
+
+NfInstance identity_instance(double intensity) { return make_instance(glm::dmat4(1.0), intensity); }
+
+::cl::Buffer upload_surfaces(cl::Runtime& rt, const std::vector<NfSurface>& surfaces) {
+  const std::vector<NfSurface> one(1, NfSurface{});
+  const auto& v = surfaces.empty() ? one : surfaces;
+  ::cl::Buffer b;
+  cl_call(
+      [&] {
+        b = ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(NfSurface),
+                         const_cast<NfSurface*>(v.data()));
+      },
+      "uploading surfaces");
+  return b;
+}
+
+Sampler::Sampler(cl::Runtime& rt) : rt_(rt) {
+  const auto t3 = halton3_table();
+  cl_call(
+      [&] {
+        halton3_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t3.size() * sizeof(float),
+                                const_cast<float*>(t3.data()));
+        const nf_uint zero = 0;
+        dummy_vis_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(zero),
+                                  const_cast<nf_uint*>(&zero));
+      },
+      "Sampler: creating buffers");
+}
+
+std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool visibility) {
+  return fmt::format("-DNF_METHOD={} -DNF_SEQ={} -DNF_BALANCE={} -DNF_SEARCH={} -DNF_HAS_CHROMA={} -DNF_HAS_VIS={}",
+                     method_code(s.method), sampler_code(s.sampler), balance_code(s.balance),
+                     s.search == SearchKind::secant ? NF_SEARCH_SECANT : NF_SEARCH_BINARY, chroma ? 1 : 0,
+                     visibility ? 1 : 0);
+}
+
+::cl::Kernel& Sampler::kernel(const std::string& name, const std::string& options) {
+  const std::string key = name + "|" + options;
+  if (auto it = kernels_.find(key); it != kernels_.end()) return it->second;
+  return kernels_.emplace(key, rt_.kernel(kFile, name, options)).first->second;
+}
+
+NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const {
+  NfSampleParams p{};
+  p.count = count;
+  p.spp = s.spp;
+  p.k_max = s.k_max > 0 ? s.k_max : std::max(s.spp, 1);
+  p.search_depth = s.search_depth < 0 ? INT_MAX / 2 : s.search_depth;
+  p.seed = s.seed;
+  p.frame = s.frame;
+  // Halton indices per image and frame: the largest K_m possible (round(K A_m/A) <= K; min1 >= 1).
+  p.block = static_cast<nf_uint>(std::max(1, std::min(s.spp, p.k_max)));
+  p.image = 0;
+  p.band = static_cast<float>(s.band);
+  p.vis_words = vis_words;
+  p.flux_total = static_cast<float>(lum.flux_total());
+  return p;
+}
+
+void Sampler::ensure(int count) {
+  count_ = count;
+  if (count <= capacity_) return;
+  const int cap = std::max(count, 1);
+  cl_call(
+      [&] {
+        rgb_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(cap) * 4 * sizeof(float));
+        a_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(cap) * sizeof(float));
+        a_inst_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(cap) * sizeof(float));
+        k_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(cap) * sizeof(nf_uint));
+      },
+      "Sampler: creating output buffers");
+  capacity_ = cap;
+}
+
+::cl::NDRange Sampler::global_range(int count) const {
+  const int g = (std::max(count, 1) + kLocal - 1) / kLocal * kLocal;
+  return ::cl::NDRange(static_cast<std::size_t>(g));
+}
+
+void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightInstance& li,
+                         const ::cl::Buffer& surfaces) {
+  const DeviceLuminaire& lum = *li.luminaire;
+  k.setArg(0, sizeof(NfSampleParams), &p);
+  k.setArg(1, sizeof(NfLuminaire), &lum.params());
+  k.setArg(2, sizeof(NfInstance), &li.instance);
+  k.setArg(3, surfaces);
+  k.setArg(4, lum.sat());
+  k.setArg(5, lum.quantum());
+  k.setArg(6, lum.flux_buffer());
+  k.setArg(7, lum.chroma());
+  k.setArg(8, li.visibility && li.vis_words > 0 ? *li.visibility : dummy_vis_);
+  k.setArg(9, halton3_);
+}
+
+FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
+                        const SamplingSettings& s) {
+  s.validate();
+  if (count < 0) fail(fmt::format("Sampler::run: negative surface count {}", count));
+  Timer timer;
+  ensure(count);
+  FrameStats st;
+  if (count == 0) return st;
+  auto& q = rt_.queue();
+  std::vector<::cl::Event> clears, step1, step2;
+  cl_call(
+      [&] {
+        const float zf = 0.0f;
+        const nf_uint zu = 0;
+        clears.emplace_back();
+        q.enqueueFillBuffer(rgb_, zf, 0, static_cast<std::size_t>(count) * 4 * sizeof(float), nullptr, &clears.back());
+        clears.emplace_back();
+        q.enqueueFillBuffer(a_, zf, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr, &clears.back());
+        clears.emplace_back();
+        q.enqueueFillBuffer(k_, zu, 0, static_cast<std::size_t>(count) * sizeof(nf_uint), nullptr, &clears.back());
+      },
+      "Sampler: clearing outputs");
+  const ::cl::NDRange global = global_range(count);
+  const bool several = lights.size() > 1;
+  for (const LightInstance& li : lights) {
+    if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
+    const DeviceLuminaire& lum = *li.luminaire;
+    const bool vis = li.visibility != nullptr && li.vis_words > 0;
+    const std::string opts = build_options(s, lum.has_chroma(), vis);
+    NfSampleParams p = params(s, lum, count, vis ? li.vis_words : 0);
+    if (s.structure == Structure::fused) {
+      ::cl::Kernel& k = kernel("lf_fused", opts);
+      set_common(k, p, li, surfaces);
+      k.setArg(10, a_);
+      k.setArg(11, rgb_);
+      k.setArg(12, k_);
+      step2.push_back(rt_.launch(k, global));
+      continue;
+    }
+    ::cl::Buffer& A = several ? a_inst_ : a_;
+    if (several) {
+      cl_call(
+          [&] {
+            clears.emplace_back();
+            q.enqueueFillBuffer(a_inst_, 0.0f, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr,
+                                &clears.back());
+          },
+          "Sampler: clearing A");
+    }
+    ::cl::Kernel& k1 = kernel("lf_step1_image", opts);
+    ::cl::Kernel& k2 = kernel("lf_step2_image", opts);
+    set_common(k1, p, li, surfaces);
+    k1.setArg(10, A);
+    for (int m = 0; m < lum.num_images(); ++m) {
+      p.image = m;
+      k1.setArg(0, sizeof(NfSampleParams), &p);
+      step1.push_back(rt_.launch(k1, global));
+    }
+    set_common(k2, p, li, surfaces);
+    k2.setArg(10, A);
+    k2.setArg(11, rgb_);
+    k2.setArg(12, k_);
+    for (int m = 0; m < lum.num_images(); ++m) {
+      p.image = m;
+      k2.setArg(0, sizeof(NfSampleParams), &p);
+      step2.push_back(rt_.launch(k2, global));
+    }
+    if (several) {
+      ::cl::Kernel& ka = kernel("lf_add", opts);
+      ka.setArg(0, a_inst_);
+      ka.setArg(1, a_);
+      ka.setArg(2, count);
+      clears.push_back(rt_.launch(ka, global));
+    }
+  }
+  cl_call([&] { q.finish(); }, "Sampler: waiting for the device");
+  for (const auto& e : step1) st.step1_ms += cl::Runtime::event_ms(e);
+  for (const auto& e : step2) st.step2_ms += cl::Runtime::event_ms(e);
+  for (const auto& e : clears) st.other_ms += cl::Runtime::event_ms(e);
+  st.launches = static_cast<int>(step1.size() + step2.size() + clears.size());
+  st.wall_ms = timer.ms();
+  return st;
+}
+
+std::vector<glm::vec4> Sampler::read_radiance() {
+  std::vector<glm::vec4> out(count_);
+  if (count_ > 0)
+    cl_call([&] { rt_.queue().enqueueReadBuffer(rgb_, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data()); },
+            "Sampler: reading radiance");
+  return out;
+}
+
+std::vector<float> Sampler::read_a() {
+  std::vector<float> out(count_);
+  if (count_ > 0)
+    cl_call([&] { rt_.queue().enqueueReadBuffer(a_, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
+            "Sampler: reading A");
+  return out;
+}
+
+std::vector<std::uint32_t> Sampler::read_k() {
+  std::vector<std::uint32_t> out(count_);
+  if (count_ > 0)
+    cl_call([&] { rt_.queue().enqueueReadBuffer(k_, CL_TRUE, 0, out.size() * sizeof(std::uint32_t), out.data()); },
+            "Sampler: reading K");
+  return out;
+}
+
+std::uint64_t Sampler::total_samples() {
+  std::uint64_t n = 0;
+  for (auto v : read_k()) n += v;
+  return n;
+}
+
+std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, const NfSurface& surface, int m, int n,
+                                                  const SamplingSettings& s, const NfInstance& instance) {
+  s.validate();
+  if (m < 0 || m >= lum.num_images())
+    fail(fmt::format("debug_samples: image {} out of range (0..{})", m, lum.num_images() - 1));
+  if (n < 1) return {};
+  const std::string opts = build_options(s, lum.has_chroma(), false);
+  NfSampleParams p = params(s, lum, 1, 0);
+  p.image = m;
+  p.block = static_cast<nf_uint>(n);
+  ::cl::Buffer surf = upload_surfaces(rt_, {surface});
+  ::cl::Buffer out;
+  cl_call(
+      [&] {
+        out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, static_cast<std::size_t>(n) * sizeof(NfSampleDebug));
+      },
+      "debug_samples: output buffer");
+  LightInstance li;
+  li.luminaire = &lum;
+  li.instance = instance;
+  ::cl::Kernel& k = kernel("lf_debug_samples", opts);
+  set_common(k, p, li, surf);
+  k.setArg(10, out);
+  k.setArg(11, n);
+  rt_.launch(k, global_range(n));
+  std::vector<NfSampleDebug> v(n);
+  cl_call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(NfSampleDebug), v.data()); },
+          "debug_samples: reading");
+  return v;
+}
+
+}  // namespace nf::render

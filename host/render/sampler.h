@@ -1,0 +1,96 @@
+#pragma once
+// The OpenCL sampling pipeline (paper §6.1 Steps 1 and 2, DESIGN.md §3.4-§5): for a buffer of
+// NfSurface (G-buffer texels or probe points) and a list of luminaire instances it computes,
+// per surface, the reflected radiance of Eq. 14 (RGB), A(p) and the number of samples K(p).
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "cl/runtime.h"
+#include "kernels/shared/sampling.h"
+#include "kernels/shared/surface.h"
+#include "render/device_luminaire.h"
+#include "render/settings.h"
+
+namespace nf::render {
+
+// world_to_local: the rigid (or any invertible affine) map from the surfaces' frame to the
+// luminaire-local frame. Normals use the inverse transpose of its 3x3 part; a singular 3x3 gives
+// zero normals (such surfaces then reflect nothing; SCALAR probes are unaffected).
+NfInstance make_instance(const glm::dmat4& world_to_local, double intensity = 1.0);
+NfInstance identity_instance(double intensity = 1.0);
+
+struct LightInstance {
+  const DeviceLuminaire* luminaire = nullptr;
+  NfInstance instance = identity_instance();
+  // Visibility (paper §6.2), optional: vis_words 32-bit words per surface, layout of
+  // kernels/shared/surface.h (NF_VIS_WORDS of (W + n - 1) (H + n - 1) cells).
+  const ::cl::Buffer* visibility = nullptr;
+  int vis_words = 0;
+};
+
+// Per-kernel device times of one run, from profiling events (milliseconds).
+struct FrameStats {
+  double step1_ms = 0.0;  // per-image Step 1 passes (0 for the fused structure)
+  double step2_ms = 0.0;  // per-image Step 2 passes, or the fused kernel
+  double other_ms = 0.0;  // clears, instance accumulation
+  double wall_ms = 0.0;   // host wall clock of run(), including the final queue finish
+  int launches = 0;
+  double kernel_ms() const { return step1_ms + step2_ms + other_ms; }
+};
+
+class Sampler {
+ public:
+  explicit Sampler(cl::Runtime& rt);
+
+  // Runs Steps 1-2 for `count` surfaces in `surfaces` and every instance (their radiance, A and K
+  // add up). Outputs are cleared first and stay on the device (radiance(), a(), k()) until the next
+  // run. Blocks until the device is done. Throws nf::Error on bad settings or OpenCL errors.
+  FrameStats run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
+                 const SamplingSettings& settings);
+
+  // Device outputs of the last run, `count` entries each.
+  const ::cl::Buffer& radiance() const { return rgb_; }  // float4 (R, G, B, 0): W m^-2 sr^-1, or E / I for probes
+  const ::cl::Buffer& a() const { return a_; }           // float: A(p) (Y m^2; in the band: mean Y)
+  const ::cl::Buffer& k() const { return k_; }           // uint: K(p) = sum_m K_m(p), samples drawn
+  int count() const { return count_; }
+
+  std::vector<glm::vec4> read_radiance();
+  std::vector<float> read_a();
+  std::vector<std::uint32_t> read_k();
+  std::uint64_t total_samples();  // sum of read_k()
+
+  // Debug (tests): `n` samples of image m for one surface as the kernels draw them (sample index
+  // k = 0..n-1 of the chosen sequence), with the search's evaluation counts.
+  std::vector<NfSampleDebug> debug_samples(const DeviceLuminaire& lum, const NfSurface& surface, int m, int n,
+                                           const SamplingSettings& settings,
+                                           const NfInstance& instance = identity_instance());
+
+  // The -D options the kernels are built with for these settings.
+  static std::string build_options(const SamplingSettings& s, bool chroma, bool visibility);
+
+  cl::Runtime& runtime() { return rt_; }
+
+ private:
+  ::cl::Kernel& kernel(const std::string& name, const std::string& options);
+  NfSampleParams params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const;
+  void ensure(int count);
+  void set_common(::cl::Kernel& k, const NfSampleParams& p, const LightInstance& li, const ::cl::Buffer& surfaces);
+  ::cl::NDRange global_range(int count) const;
+
+  cl::Runtime& rt_;
+  ::cl::Buffer halton3_, dummy_vis_;
+  ::cl::Buffer rgb_, a_, k_, a_inst_;
+  int count_ = 0, capacity_ = 0;
+  std::map<std::string, ::cl::Kernel> kernels_;
+};
+
+// Uploads surfaces into a new read-only device buffer.
+::cl::Buffer upload_surfaces(cl::Runtime& rt, const std::vector<NfSurface>& surfaces);
+
+}  // namespace nf::render

@@ -1,0 +1,82 @@
+#include "render/settings.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "core/error.h"
+
+namespace nf::render {
+namespace {
+
+template <typename E, std::size_t N>
+using Table = std::array<std::pair<E, const char*>, N>;
+
+constexpr Table<Method, 4> kMethods{
+    {{Method::ours, "ours"}, {Method::paper, "paper"}, {Method::uniform, "uniform"}, {Method::global, "global"}}};
+constexpr Table<SamplerKind, 3> kSamplers{{{SamplerKind::halton, "halton"},
+                                           {SamplerKind::halton_scrambled, "halton-scrambled"},
+                                           {SamplerKind::random, "random"}}};
+constexpr Table<Balance, 3> kBalances{
+    {{Balance::paper, "paper"}, {Balance::min1, "min1"}, {Balance::roulette, "roulette"}}};
+constexpr Table<SearchKind, 2> kSearches{{{SearchKind::secant, "secant"}, {SearchKind::binary, "binary"}}};
+constexpr Table<Structure, 2> kStructures{{{Structure::per_image, "per-image"}, {Structure::fused, "fused"}}};
+
+template <typename E, std::size_t N>
+std::string name_of(const Table<E, N>& t, E v) {
+  for (const auto& [e, n] : t)
+    if (e == v) return n;
+  return "?";
+}
+
+template <typename E, std::size_t N>
+std::vector<std::string> names_of(const Table<E, N>& t) {
+  std::vector<std::string> out;
+  for (const auto& [e, n] : t) out.emplace_back(n);
+  return out;
+}
+
+template <typename E, std::size_t N>
+E parse_of(const Table<E, N>& t, std::string s, const std::string& what) {
+  std::replace(s.begin(), s.end(), '_', '-');
+  for (const auto& [e, n] : t)
+    if (s == n) return e;
+  fail(fmt::format("{}: unknown value '{}' (valid: {})", what, s, fmt::join(names_of(t), ", ")));
+}
+
+}  // namespace
+
+std::string to_string(Method v) { return name_of(kMethods, v); }
+std::string to_string(SamplerKind v) { return name_of(kSamplers, v); }
+std::string to_string(Balance v) { return name_of(kBalances, v); }
+std::string to_string(SearchKind v) { return name_of(kSearches, v); }
+std::string to_string(Structure v) { return name_of(kStructures, v); }
+
+Method parse_method(const std::string& s, const std::string& what) { return parse_of(kMethods, s, what); }
+SamplerKind parse_sampler(const std::string& s, const std::string& what) { return parse_of(kSamplers, s, what); }
+Balance parse_balance(const std::string& s, const std::string& what) { return parse_of(kBalances, s, what); }
+SearchKind parse_search(const std::string& s, const std::string& what) { return parse_of(kSearches, s, what); }
+Structure parse_structure(const std::string& s, const std::string& what) { return parse_of(kStructures, s, what); }
+
+std::vector<std::string> method_names() { return names_of(kMethods); }
+std::vector<std::string> sampler_names() { return names_of(kSamplers); }
+std::vector<std::string> balance_names() { return names_of(kBalances); }
+std::vector<std::string> search_names() { return names_of(kSearches); }
+std::vector<std::string> structure_names() { return names_of(kStructures); }
+
+void SamplingSettings::validate() const {
+  if (spp < 1) fail(fmt::format("sampling: spp (K) must be >= 1, got {}", spp));
+  if (k_max < 0) fail(fmt::format("sampling: k_max must be >= 0 (0 = no cap), got {}", k_max));
+  if (!(band >= 0.0 && band < 1.0)) fail(fmt::format("sampling: band must be in [0, 1), got {}", band));
+}
+
+std::string SamplingSettings::describe() const {
+  return fmt::format("method={} sampler={} balance={} search={} depth={} structure={} K={} K_max={} seed={} frame={}",
+                     to_string(method), to_string(sampler), to_string(balance), to_string(search),
+                     search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure),
+                     spp, k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame);
+}
+
+}  // namespace nf::render

@@ -1,0 +1,57 @@
+#pragma once
+// Sampling settings (DESIGN.md §4), selectable everywhere: probe, render, view, bench.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace nf::render {
+
+// What draws the samples s_k (DESIGN.md §4 table).
+enum class Method { ours, paper, uniform, global };
+// Where the 2D sample points come from. (Named SamplerKind: `Sampler` is the pipeline class.)
+enum class SamplerKind { halton, halton_scrambled, random };
+// How K_m(p) = K A_m / A is rounded (Eq. 12). `roulette` and `min1` are unbiased.
+enum class Balance { paper, min1, roulette };
+// CDF inversion: modified secant (paper §5) or the bisection baseline.
+enum class SearchKind { secant, binary };
+// Per-image passes as in the paper (Step 1 per image, Step 2 per image) or one fused pass.
+enum class Structure { per_image, fused };
+
+std::string to_string(Method v);
+std::string to_string(SamplerKind v);
+std::string to_string(Balance v);
+std::string to_string(SearchKind v);
+std::string to_string(Structure v);
+
+// Parse the names printed by to_string ("halton-scrambled", "per-image"; '_' is accepted for
+// '-'). Unknown names throw nf::Error listing the valid ones, prefixed by `what` (e.g. "--method").
+Method parse_method(const std::string& s, const std::string& what = "method");
+SamplerKind parse_sampler(const std::string& s, const std::string& what = "sampler");
+Balance parse_balance(const std::string& s, const std::string& what = "balance");
+SearchKind parse_search(const std::string& s, const std::string& what = "search");
+Structure parse_structure(const std::string& s, const std::string& what = "structure");
+
+std::vector<std::string> method_names();
+std::vector<std::string> sampler_names();
+std::vector<std::string> balance_names();
+std::vector<std::string> search_names();
+std::vector<std::string> structure_names();
+
+struct SamplingSettings {
+  Method method = Method::ours;
+  SamplerKind sampler = SamplerKind::halton;
+  Balance balance = Balance::roulette;  // unbiased default (DESIGN.md §3.4); see docs/sampling.md
+  SearchKind search = SearchKind::secant;
+  Structure structure = Structure::per_image;  // the faster on PoCL (bench/, docs/sampling.md)
+  int spp = 200;                               // K of Eq. 12, >= 1
+  int k_max = 0;                               // cap on K_m(p); 0 = no cap (K)
+  int search_depth = -1;                       // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
+  std::uint32_t seed = 1;                      // random and scrambled sequences
+  std::uint32_t frame = 0;                     // progressive frame index: advances every sequence
+  double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (DESIGN.md §3.5)
+
+  void validate() const;         // throws nf::Error naming the bad field
+  std::string describe() const;  // one line: method=... sampler=... K=...
+};
+
+}  // namespace nf::render
