@@ -2,8 +2,8 @@
 
 #include <epoxy/gl.h>
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "core/error.h"
 #include "gl/shader.h"
@@ -20,8 +20,8 @@ GBuffer::~GBuffer() {
 
 void GBuffer::render(const SceneGpu& scene, const scene::Camera& camera) {
   if (camera.width != width() || camera.height != height())
-    fail(fmt::format("G-buffer is {}x{} but the camera asks for {}x{}", width(), height(), camera.width,
-                     camera.height));
+    fail(
+        fmt::format("G-buffer is {}x{} but the camera asks for {}x{}", width(), height(), camera.width, camera.height));
   ReversedZScope depth_state;
   fb_.bind();
   const float zero[4] = {0, 0, 0, 0};

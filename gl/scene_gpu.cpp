@@ -2,9 +2,9 @@
 
 #include <epoxy/gl.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
@@ -201,8 +201,8 @@ void SceneGpu::draw(const glm::dmat4& pre, bool materials, bool casters_only) co
       glUniform1f(4, mat.kind == scene::MaterialKind::ggx ? mat.metallic : 0.0f);
       glUniform1f(5, mat.kind == scene::MaterialKind::ggx ? mat.roughness : 1.0f);
       glUniform1f(6, static_cast<float>(d.material + 1));
-      glBindTextureUnit(0, mat.base_color_texture >= 0 ? srgb_tex_[static_cast<std::size_t>(mat.base_color_texture)]
-                                                       : white_);
+      glBindTextureUnit(
+          0, mat.base_color_texture >= 0 ? srgb_tex_[static_cast<std::size_t>(mat.base_color_texture)] : white_);
       glBindTextureUnit(1, mat.metallic_roughness_texture >= 0
                                ? linear_tex_[static_cast<std::size_t>(mat.metallic_roughness_texture)]
                                : white_);

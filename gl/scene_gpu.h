@@ -76,9 +76,9 @@ class SceneGpu {
   };
   std::vector<scene::Material> materials_;
   unsigned vao_ = 0, vbo_ = 0, ibo_ = 0;
-  unsigned white_ = 0;                  // 1x1 white, the "no texture" texture
-  std::vector<unsigned> srgb_tex_;      // per scene texture: sRGB view (0 when unused as base colour)
-  std::vector<unsigned> linear_tex_;    // per scene texture: linear view (0 when unused as metallic-roughness)
+  unsigned white_ = 0;                // 1x1 white, the "no texture" texture
+  std::vector<unsigned> srgb_tex_;    // per scene texture: sRGB view (0 when unused as base colour)
+  std::vector<unsigned> linear_tex_;  // per scene texture: linear view (0 when unused as metallic-roughness)
   std::vector<DrawItem> draws_;
   std::size_t vertex_bytes_ = 0, index_bytes_ = 0, texture_bytes_ = 0, triangles_ = 0;
 };

@@ -42,13 +42,12 @@ struct ShadowFrustum {
 // The frustum that holds every direction light can take from S: through s in the image
 // rectangle away from u on the basis support on U, i.e. (s - u).xy / delta, widened by
 // `margin` (relative) and clamped to max_half_angle_deg off axis per side.
-ShadowFrustum shadow_frustum_for(const NfLuminaire& luminaire, double max_half_angle_deg = 75.0,
-                                 double margin = 0.1);
+ShadowFrustum shadow_frustum_for(const NfLuminaire& luminaire, double max_half_angle_deg = 75.0, double margin = 0.1);
 
 struct ShadowBias {
-  double constant = 0.001;    // metres
-  double depth_texels = 0.5;  // depth bias in map texels (at the receiver's distance)
-  double normal_texels = 1.5; // normal offset in map texels (at the receiver's distance)
+  double constant = 0.001;     // metres
+  double depth_texels = 0.5;   // depth bias in map texels (at the receiver's distance)
+  double normal_texels = 1.5;  // normal offset in map texels (at the receiver's distance)
 };
 
 struct ShadowMapSpec {

@@ -30,16 +30,18 @@ void Step0::run(const scene::Camera& camera) {
   t.reset();
   surfaces_ = gbuffer_->read_surfaces(materials_, camera);
   timings_.gbuffer_readback_ms = t.ms();
-  if (!shadow_maps_valid_) {
+  if (!shadow_maps_valid_ && !shadow_maps_.empty()) {
     t.reset();
     for (auto& sm : shadow_maps_) sm->render(*scene_);
     glFinish();
     timings_.shadow_maps_ms = t.ms();
     shadow_maps_valid_ = true;
   }
-  t.reset();
-  for (std::size_t i = 0; i < shadow_maps_.size(); ++i) visibility_[i] = shadow_maps_[i]->visibility(*gbuffer_);
-  timings_.visibility_ms = t.ms();
+  if (!shadow_maps_.empty()) {
+    t.reset();
+    for (std::size_t i = 0; i < shadow_maps_.size(); ++i) visibility_[i] = shadow_maps_[i]->visibility(*gbuffer_);
+    timings_.visibility_ms = t.ms();
+  }
 }
 
 const std::vector<std::uint32_t>& Step0::visibility(std::size_t luminaire) const {
@@ -60,7 +62,8 @@ std::vector<MemoryItem> Step0::memory() const {
   if (gbuffer_)
     for (auto& item : gbuffer_->memory()) m.push_back(item);
   for (std::size_t i = 0; i < shadow_maps_.size(); ++i)
-    for (auto& item : shadow_maps_[i]->memory()) m.push_back({fmt::format("luminaire {}: {}", i, item.name), item.bytes});
+    for (auto& item : shadow_maps_[i]->memory())
+      m.push_back({fmt::format("luminaire {}: {}", i, item.name), item.bytes});
   m.push_back({"host surfaces (NfSurface readback)", surfaces_.size() * sizeof(NfSurface)});
   std::size_t vis = 0;
   for (const auto& v : visibility_) vis += v.size() * sizeof(std::uint32_t);

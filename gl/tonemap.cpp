@@ -2,9 +2,9 @@
 
 #include <epoxy/gl.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "gl/shader.h"

@@ -52,8 +52,7 @@ Image tonemap_with_mean(const Image& hdr, double mean, const TonemapParams& para
   return out;
 }
 
-Image tonemap(const Image& hdr, const std::vector<std::uint8_t>& valid, const TonemapParams& params,
-              double* mean_out) {
+Image tonemap(const Image& hdr, const std::vector<std::uint8_t>& valid, const TonemapParams& params, double* mean_out) {
   const double mean = mean_luminance(hdr, valid);
   if (mean_out) *mean_out = mean;
   return tonemap_with_mean(hdr, mean, params);

@@ -34,8 +34,8 @@ inline float tonemap_channel(float value, float k, float inv_gamma) {
   if (!(value > 0.0f) || !(k > 0.0f)) return 0.0f;  // also NaN
   const float x = k * value;
   if (std::isinf(x)) return 1.0f;
-  const float d = x < 0.01f ? x * (1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f)))
-                            : 1.0f - std::exp(-x);
+  const float d =
+      x < 0.01f ? x * (1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f))) : 1.0f - std::exp(-x);
   return d > 0.0f ? std::pow(d, inv_gamma) : 0.0f;
 }
 

@@ -38,9 +38,9 @@ enum class MaterialKind {
 struct Material {
   std::string name;
   MaterialKind kind = MaterialKind::lambert;
-  glm::vec3 base_color{0.8f};  // linear RGB in [0, 1]
-  float metallic = 0.0f;       // [0, 1]; always 0 for lambert
-  float roughness = 1.0f;      // perceptual roughness [0, 1] (alpha = roughness^2)
+  glm::vec3 base_color{0.8f};           // linear RGB in [0, 1]
+  float metallic = 0.0f;                // [0, 1]; always 0 for lambert
+  float roughness = 1.0f;               // perceptual roughness [0, 1] (alpha = roughness^2)
   int base_color_texture = -1;          // index into Geometry::textures, -1 none
   int metallic_roughness_texture = -1;  // index into Geometry::textures, -1 none
 };

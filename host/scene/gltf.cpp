@@ -7,9 +7,9 @@
 #define TINYGLTF_NO_STB_IMAGE_WRITE
 #include <tiny_gltf.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cstring>
-#include <fmt/format.h>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -39,7 +39,8 @@ class GltfReader {
     loader.SetImageLoader(keep_encoded, nullptr);
     std::string err, warn;
     std::string ext = file_.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (!std::filesystem::exists(file_)) fail(fmt::format("{}: file not found", name_));
     bool ok = false;
     if (ext == ".glb") {
@@ -127,8 +128,12 @@ class GltfReader {
     for_each_component(acc, index, what, [&](std::size_t i, const unsigned char* p) {
       float f = 0.0f;
       switch (acc.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&f, p, 4); break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: f = acc.normalized ? *p / 255.0f : *p; break;
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+          std::memcpy(&f, p, 4);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          f = acc.normalized ? *p / 255.0f : *p;
+          break;
         case TINYGLTF_COMPONENT_TYPE_BYTE: {
           const auto b = static_cast<std::int8_t>(*p);
           f = acc.normalized ? std::max(b / 127.0f, -1.0f) : b;
@@ -161,15 +166,20 @@ class GltfReader {
     std::vector<std::uint32_t> v(acc.count);
     for_each_component(acc, index, "indices", [&](std::size_t i, const unsigned char* p) {
       switch (acc.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v[i] = *p; break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          v[i] = *p;
+          break;
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
           std::uint16_t s;
           std::memcpy(&s, p, 2);
           v[i] = s;
           break;
         }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: std::memcpy(&v[i], p, 4); break;
-        default: fail(fmt::format("{}: index accessor {} has component type {}", name_, index, acc.componentType));
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+          std::memcpy(&v[i], p, 4);
+          break;
+        default:
+          fail(fmt::format("{}: index accessor {} has component type {}", name_, index, acc.componentType));
       }
     });
     return v;
@@ -262,11 +272,14 @@ class GltfReader {
     }
 
     Mesh mesh;
-    mesh.name = fmt::format("{}#{}", model_.meshes[static_cast<std::size_t>(m)].name.empty()
-                                         ? fmt::format("mesh{}", m)
-                                         : model_.meshes[static_cast<std::size_t>(m)].name,
+    mesh.name = fmt::format("{}#{}",
+                            model_.meshes[static_cast<std::size_t>(m)].name.empty()
+                                ? fmt::format("mesh{}", m)
+                                : model_.meshes[static_cast<std::size_t>(m)].name,
                             p);
-    const auto vec3 = [](const std::vector<float>& a, std::size_t i) { return glm::vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); };
+    const auto vec3 = [](const std::vector<float>& a, std::size_t i) {
+      return glm::vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
+    };
     if (!nrm.empty()) {
       mesh.positions.resize(nv);
       mesh.normals.resize(nv);
@@ -320,8 +333,9 @@ class GltfReader {
       mat.name = stem + "/" + (g.name.empty() ? fmt::format("material{}", index) : g.name);
       const auto& pbr = g.pbrMetallicRoughness;
       if (pbr.baseColorFactor.size() >= 3)
-        mat.base_color = glm::vec3(static_cast<float>(pbr.baseColorFactor[0]), static_cast<float>(pbr.baseColorFactor[1]),
-                                   static_cast<float>(pbr.baseColorFactor[2]));
+        mat.base_color =
+            glm::vec3(static_cast<float>(pbr.baseColorFactor[0]), static_cast<float>(pbr.baseColorFactor[1]),
+                      static_cast<float>(pbr.baseColorFactor[2]));
       mat.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
       mat.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
       mat.base_color = glm::clamp(mat.base_color, 0.0f, 1.0f);
@@ -331,7 +345,8 @@ class GltfReader {
                     mat.name, pbr.baseColorTexture.texCoord);
         mat.base_color_texture = texture(pbr.baseColorTexture.index);
       }
-      if (pbr.metallicRoughnessTexture.index >= 0) mat.metallic_roughness_texture = texture(pbr.metallicRoughnessTexture.index);
+      if (pbr.metallicRoughnessTexture.index >= 0)
+        mat.metallic_roughness_texture = texture(pbr.metallicRoughnessTexture.index);
     }
     out_.materials.push_back(std::move(mat));
     ++stats_.materials;

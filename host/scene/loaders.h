@@ -13,7 +13,7 @@ namespace nf::scene {
 
 // Primitives, centred on the origin of their own frame, counter-clockwise outward faces,
 // smooth analytic normals, uv in [0, 1]^2. Planar ones face +y.
-Mesh make_plane(double size_x, double size_z);                        // y = 0, |x| <= sx/2, |z| <= sz/2
+Mesh make_plane(double size_x, double size_z);                       // y = 0, |x| <= sx/2, |z| <= sz/2
 Mesh make_box(const glm::dvec3& size);                               // 24 vertices, 12 triangles
 Mesh make_sphere(double radius, int segments = 48, int rings = 24);  // uv sphere
 Mesh make_disk(double radius, int segments = 64);                    // y = 0, triangle fan

@@ -1,9 +1,9 @@
 // Scene files: JSON (nlohmann_json) -> nf::scene::Scene. Format: docs/scenes.md.
 #include "scene/scene.h"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
@@ -40,15 +40,22 @@ std::string at(const std::string& ptr, std::size_t i) { return ptr + "/" + std::
 
 const char* type_name(const json& v) {
   switch (v.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return "a boolean";
-    case json::value_t::string: return "a string";
-    case json::value_t::array: return "an array";
-    case json::value_t::object: return "an object";
+    case json::value_t::null:
+      return "null";
+    case json::value_t::boolean:
+      return "a boolean";
+    case json::value_t::string:
+      return "a string";
+    case json::value_t::array:
+      return "an array";
+    case json::value_t::object:
+      return "an object";
     case json::value_t::number_integer:
     case json::value_t::number_unsigned:
-    case json::value_t::number_float: return "a number";
-    default: return "an unsupported value";
+    case json::value_t::number_float:
+      return "a number";
+    default:
+      return "an unsupported value";
   }
 }
 
@@ -68,13 +75,14 @@ class Parser {
 
   Scene parse(const json& root) {
     Scene s;
-    object(root, "", {"format", "version", "description", "camera", "materials", "objects", "luminaires",
-                      "environment", "render"});
+    object(
+        root, "",
+        {"format", "version", "description", "camera", "materials", "objects", "luminaires", "environment", "render"});
     if (root.contains("format") && string(root["format"], "/format") != "nearfield-scene")
       error("/format", "expected \"nearfield-scene\"");
     if (root.contains("version") && integer(root["version"], "/version", 0, 1 << 30) != 1)
-      error("/version", fmt::format("unsupported scene format version {} (this build reads 1)",
-                                    root["version"].get<long long>()));
+      error("/version",
+            fmt::format("unsupported scene format version {} (this build reads 1)", root["version"].get<long long>()));
     if (root.contains("description")) s.description = string(root["description"], "/description");
     if (!root.contains("camera")) error("", "missing 'camera'");
     s.camera = camera(root["camera"], "/camera");
@@ -121,8 +129,8 @@ class Parser {
       if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 1e15) {
         // 64.0 is accepted as 64
       } else {
-        error(ptr, fmt::format("expected an integer, got {}", v.is_number() ? fmt::format("{}", v.get<double>())
-                                                                                : std::string(type_name(v))));
+        error(ptr, fmt::format("expected an integer, got {}",
+                               v.is_number() ? fmt::format("{}", v.get<double>()) : std::string(type_name(v))));
       }
     }
     const long long i = v.is_number_integer() ? v.get<long long>() : static_cast<long long>(v.get<double>());
@@ -175,8 +183,7 @@ class Parser {
     c.fov_y_deg = number(require(v, ptr, "fov_y"), at(ptr, "fov_y"), 0.0, 179.0);
     if (c.fov_y_deg <= 0.0) error(at(ptr, "fov_y"), "must be > 0 degrees");
     const json& res = require(v, ptr, "resolution");
-    if (!res.is_array() || res.size() != 2)
-      error(at(ptr, "resolution"), "expected [width, height]");
+    if (!res.is_array() || res.size() != 2) error(at(ptr, "resolution"), "expected [width, height]");
     c.width = integer(res[0], at(at(ptr, "resolution"), 0), 1, 16384);
     c.height = integer(res[1], at(at(ptr, "resolution"), 1), 1, 16384);
     if (v.contains("near")) {
@@ -307,9 +314,9 @@ class Parser {
   void object_entry(const json& v, const std::string& ptr, std::size_t index, Geometry& g) {
     geometry_ = &g;
     if (!v.is_object()) error(ptr, fmt::format("expected an object, got {}", type_name(v)));
-    const std::string type = choice(require(v, ptr, "type"), at(ptr, "type"), {"gltf", "plane", "box", "sphere", "disk"});
-    const std::string name =
-        v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("{}{}", type, index);
+    const std::string type =
+        choice(require(v, ptr, "type"), at(ptr, "type"), {"gltf", "plane", "box", "sphere", "disk"});
+    const std::string name = v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("{}{}", type, index);
     const auto common = {"type", "name", "transform", "material", "casts_shadows"};
     auto allowed = [&](std::initializer_list<const char*> extra) {
       std::vector<const char*> keys(common.begin(), common.end());
@@ -320,8 +327,8 @@ class Parser {
           error(at(ptr, it.key()), fmt::format("unknown key '{}' for a {} (allowed: {})", it.key(), type, join(names)));
         }
     };
-    const glm::dmat4 to_world = v.contains("transform") ? transform(v["transform"], at(ptr, "transform"), false)
-                                                        : glm::dmat4(1.0);
+    const glm::dmat4 to_world =
+        v.contains("transform") ? transform(v["transform"], at(ptr, "transform"), false) : glm::dmat4(1.0);
     const bool casts = v.contains("casts_shadows") ? boolean(v["casts_shadows"], at(ptr, "casts_shadows")) : true;
     const int object = static_cast<int>(index);
     const std::size_t first_instance = g.instances.size();
@@ -367,8 +374,8 @@ class Parser {
       }
       mesh.name = name;
       Instance inst;
-      inst.material = v.contains("material") ? material_ref(v["material"], at(ptr, "material"), name, g)
-                                             : default_material(g);
+      inst.material =
+          v.contains("material") ? material_ref(v["material"], at(ptr, "material"), name, g) : default_material(g);
       g.meshes.push_back(std::move(mesh));
       inst.mesh = static_cast<int>(g.meshes.size() - 1);
       inst.to_world = to_world;
@@ -384,7 +391,8 @@ class Parser {
     LuminaireRef l;
     l.name = v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("luminaire{}", index);
     const bool has_manifest = v.contains("manifest"), has_preset = v.contains("preset");
-    if (has_manifest == has_preset) error(ptr, "give exactly one of 'manifest' (a file) and 'preset' (a generator name)");
+    if (has_manifest == has_preset)
+      error(ptr, "give exactly one of 'manifest' (a file) and 'preset' (a generator name)");
     if (has_manifest) {
       l.manifest = existing_file(v["manifest"], at(ptr, "manifest"));
     } else {
@@ -410,8 +418,9 @@ class Parser {
   }
 
   RenderSettings render(const json& v, const std::string& ptr) const {
-    object(v, ptr, {"method", "sampler", "spp", "kmax", "search_depth", "search", "balance", "visibility",
-                    "shadow_map_size", "seed", "tonemap"});
+    object(v, ptr,
+           {"method", "sampler", "spp", "kmax", "search_depth", "search", "balance", "visibility", "shadow_map_size",
+            "seed", "tonemap"});
     RenderSettings r;
     if (v.contains("method")) r.method = choice(v["method"], at(ptr, "method"), allowed_methods());
     if (v.contains("sampler")) r.sampler = choice(v["sampler"], at(ptr, "sampler"), allowed_samplers());

@@ -18,11 +18,11 @@ namespace nf::scene {
 
 // One luminaire instance. Exactly one of `manifest` and `preset` is set.
 struct LuminaireRef {
-  std::string name;                  // "name" or "luminaire<i>"
-  std::filesystem::path manifest;    // absolute (resolved against the scene file's folder); must exist
-  std::string preset;                // a generator preset (`nearfield luminaire gen --preset`), made on demand
-  glm::dmat4 to_world{1.0};          // rigid: luminaire-local frame (S at z = 0, light towards +z) -> world
-  double intensity = 1.0;            // multiplies the luminaire's radiance, >= 0
+  std::string name;                // "name" or "luminaire<i>"
+  std::filesystem::path manifest;  // absolute (resolved against the scene file's folder); must exist
+  std::string preset;              // a generator preset (`nearfield luminaire gen --preset`), made on demand
+  glm::dmat4 to_world{1.0};        // rigid: luminaire-local frame (S at z = 0, light towards +z) -> world
+  double intensity = 1.0;          // multiplies the luminaire's radiance, >= 0
 };
 
 struct Environment {
@@ -34,17 +34,17 @@ struct Environment {
 // Render settings (DESIGN.md §4, §5) as written in the file; the render layer interprets them.
 // Strings are validated against the allowed sets below.
 struct RenderSettings {
-  std::string method = "ours";       // ours | paper | uniform | global
-  std::string sampler = "halton";    // halton | halton-scrambled | random
-  int spp = 64;                      // K, samples per pixel per frame, >= 1
-  int kmax = 64;                     // K_max, cap of samples per image per pixel, >= 1
-  int search_depth = 16;             // CDF inversion depth limit, 1..64
-  std::string search = "secant";     // secant | binary
-  std::string balance = "min1";      // paper | min1 | roulette (min1 and roulette are unbiased)
+  std::string method = "ours";            // ours | paper | uniform | global
+  std::string sampler = "halton";         // halton | halton-scrambled | random
+  int spp = 64;                           // K, samples per pixel per frame, >= 1
+  int kmax = 64;                          // K_max, cap of samples per image per pixel, >= 1
+  int search_depth = 16;                  // CDF inversion depth limit, 1..64
+  std::string search = "secant";          // secant | binary
+  std::string balance = "min1";           // paper | min1 | roulette (min1 and roulette are unbiased)
   std::string visibility = "shadowmaps";  // none | shadowmaps
-  int shadow_map_size = 256;         // pixels per side of each cell's shadow map, 16..4096
-  std::uint32_t seed = 0;            // sampler seed (random, halton-scrambled)
-  TonemapParams tonemap;             // exposure, gamma
+  int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
+  std::uint32_t seed = 0;                 // sampler seed (random, halton-scrambled)
+  TonemapParams tonemap;                  // exposure, gamma
 };
 
 inline const std::vector<std::string>& allowed_methods() {

@@ -3,10 +3,10 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fmt/format.h>
 
 #include "core/color.h"
 #include "core/error.h"
@@ -82,8 +82,9 @@ Texture decode_texture(const unsigned char* bytes, std::size_t size, const std::
   OIIO::Filesystem::IOMemReader mem(bytes, size);
   const std::string pseudo = pseudo_file_name(bytes, size, mime_type, name);
   auto in = OIIO::ImageInput::open(pseudo, nullptr, &mem);
-  if (!in) fail(fmt::format("{}: cannot decode image ({}): {}", name, mime_type.empty() ? pseudo : mime_type,
-                            OIIO::geterror()));
+  if (!in)
+    fail(fmt::format("{}: cannot decode image ({}): {}", name, mime_type.empty() ? pseudo : mime_type,
+                     OIIO::geterror()));
   Texture t = read_input(*in, name);
   in->close();
   return t;
