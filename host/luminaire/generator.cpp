@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "luminaire/basis.h"
+#include "luminaire/geometry.h"
 #include "luminaire/parallel.h"
 #include "luminaire/quadrature.h"
 
@@ -249,25 +250,20 @@ AxisGrid axis_grid(const Spec& s, int axis) {
   return g;
 }
 
-// Fraction of pixel [x0,x1] x [y0,y1] covered by R.
-double coverage(double x0, double x1, double y0, double y1, glm::dvec2 lo, glm::dvec2 hi) {
-  const double fx = std::max(0.0, std::min(x1, hi.x) - std::max(x0, lo.x)) / (x1 - x0);
-  const double fy = std::max(0.0, std::min(y1, hi.y) - std::max(y0, lo.y)) / (y1 - y0);
-  return fx * fy;
-}
+// R in continuous pixel coordinates, edges snapped to the pixel grid when within 1e-9 of it (so a
+// rectangle aligned with the pixels gives exact 0 / L0 values, no rounding slivers).
+double snap(double c) { return std::abs(c - std::round(c)) < 1e-9 ? std::round(c) : c; }
+double overlap(double k, double lo, double hi) { return std::max(0.0, std::min(k + 1.0, hi) - std::max(k, lo)); }
 
 void fill_panel(const Spec& s, Luminaire& l) {
   const PanelSpec p = panel_spec();
   const int nx = s.image.resolution[0], ny = s.image.resolution[1];
+  const double a0 = snap(column_coord(s.image, p.lo.x)), a1 = snap(column_coord(s.image, p.hi.x));
+  const double r0 = snap(row_coord(s.image, p.hi.y)), r1 = snap(row_coord(s.image, p.lo.y));
   std::vector<float> img(static_cast<std::size_t>(nx) * ny);
   for (int r = 0; r < ny; ++r)
-    for (int a = 0; a < nx; ++a) {
-      const double x0 = s.image.origin.x + a * s.image.size.x / nx,
-                   x1 = s.image.origin.x + (a + 1) * s.image.size.x / nx;
-      const double y1 = s.image.origin.y + s.image.size.y - r * s.image.size.y / ny;
-      const double y0 = s.image.origin.y + s.image.size.y - (r + 1) * s.image.size.y / ny;
-      img[static_cast<std::size_t>(r) * nx + a] = static_cast<float>(p.l0 * coverage(x0, x1, y0, y1, p.lo, p.hi));
-    }
+    for (int a = 0; a < nx; ++a)
+      img[static_cast<std::size_t>(r) * nx + a] = static_cast<float>(p.l0 * overlap(a, a0, a1) * overlap(r, r0, r1));
   l.images.assign(l.num_images(), img);
 }
 

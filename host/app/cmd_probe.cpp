@@ -1,0 +1,139 @@
+// nearfield probe FILE [--points PTS] [--method M --spp K --seed S | --reference]
+//                      [--quantity irradiance|scalar]
+// Reads lines "x y z nx ny nz" (luminaire frame, metres; '#' starts a comment; blank lines are
+// skipped) from PTS or stdin and prints one line "E_R E_G E_B" (%.9g) per point on stdout,
+// nothing else (DESIGN.md §7). --reference uses the CPU quadrature (host/reference); the other
+// methods run the OpenCL sampling kernels (host/render/probe.h).
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "app/command.h"
+#include "core/error.h"
+#include "luminaire/io.h"
+#include "luminaire/precompute.h"
+#include "reference/irradiance.h"
+#include "render/probe.h"
+#include "render/settings.h"
+
+namespace nf::app {
+namespace {
+
+struct ProbeOptions {
+  std::string file, points;
+  std::string method = "ours";
+  int spp = 200;
+  std::uint32_t seed = 1;
+  bool reference = false;
+  std::string quantity = "irradiance";
+};
+
+// Parses the probe points; errors name the source and the line.
+std::vector<ref::Probe> read_points(std::istream& in, const std::string& name, bool need_normal) {
+  std::vector<ref::Probe> out;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const auto hash = line.find('#');
+    const std::string body = hash == std::string::npos ? line : line.substr(0, hash);
+    if (body.find_first_not_of(" \t\r") == std::string::npos) continue;
+    std::istringstream ss(body);
+    double v[6];
+    int count = 0;
+    std::string token;
+    bool bad = false;
+    while (ss >> token) {
+      if (count == 6) {
+        bad = true;
+        break;
+      }
+      std::size_t used = 0;
+      try {
+        v[count] = std::stod(token, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != token.size() || !std::isfinite(v[count])) {
+        bad = true;
+        break;
+      }
+      ++count;
+    }
+    if (bad || count != 6)
+      fail(fmt::format("{}:{}: expected 6 finite numbers 'x y z nx ny nz', got '{}'", name, number, body));
+    ref::Probe p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+    if (need_normal && p.n == glm::dvec3(0.0))
+      fail(fmt::format("{}:{}: the normal (nx ny nz) must not be zero", name, number));
+    out.push_back(p);
+  }
+  if (in.bad()) fail(fmt::format("{}: read error", name));
+  return out;
+}
+
+std::vector<glm::dvec3> run_kernels(const ProbeOptions& o, const lum::Luminaire& l,
+                                    const std::vector<ref::Probe>& points, bool scalar) {
+  render::ProbeSettings settings;
+  settings.sampling.method = render::parse_method(o.method, "--method");
+  settings.sampling.spp = o.spp;
+  settings.sampling.seed = o.seed;
+  settings.sampling.validate();
+  cl::Runtime rt(global_options().cl_device);
+  const lum::Precomputed pc = lum::precompute(l);
+  std::vector<NfSurface> surfaces;
+  surfaces.reserve(points.size());
+  for (const auto& p : points)
+    surfaces.push_back(render::probe_surface(p.p.x, p.p.y, p.p.z, p.n.x, p.n.y, p.n.z, scalar));
+  return render::probe_estimate(rt, pc, surfaces, settings);
+}
+
+void run_probe(const ProbeOptions& o) {
+  if (o.quantity != "irradiance" && o.quantity != "scalar")
+    fail(fmt::format("probe: --quantity must be irradiance or scalar, got '{}'", o.quantity));
+  const bool scalar = o.quantity == "scalar";
+  const bool reference = o.reference || o.method == "reference";
+  if (!reference) render::parse_method(o.method, "--method");  // validate before any work
+  if (o.spp < 1) fail(fmt::format("probe: --spp must be >= 1, got {}", o.spp));
+  const lum::Luminaire l = lum::read_luminaire(o.file);
+  std::vector<ref::Probe> points;
+  if (o.points.empty() || o.points == "-") {
+    points = read_points(std::cin, "<stdin>", !scalar);
+  } else {
+    std::ifstream in(o.points);
+    if (!in) fail(fmt::format("{}: cannot open points file", o.points));
+    points = read_points(in, o.points, !scalar);
+  }
+  std::vector<glm::dvec3> values;
+  if (reference) {
+    values = ref::reference_irradiance(l, points, scalar ? ref::Quantity::scalar : ref::Quantity::irradiance);
+  } else {
+    values = run_kernels(o, l, points, scalar);
+  }
+  std::string out;
+  for (const auto& v : values) out += fmt::format("{:.9g} {:.9g} {:.9g}\n", v.x, v.y, v.z);
+  std::fwrite(out.data(), 1, out.size(), stdout);
+}
+
+const CommandRegistration reg("probe", [](CLI::App& app) {
+  static ProbeOptions o;
+  auto* cmd = app.add_subcommand("probe", "Irradiance at points in the luminaire frame (one 'E_R E_G E_B' line each)");
+  cmd->add_option("file", o.file, "Luminaire manifest (.json)")->required();
+  cmd->add_option("--points", o.points, "Points file: lines 'x y z nx ny nz' ('#' comments); default stdin");
+  auto* method =
+      cmd->add_option("--method", o.method, "ours | paper | uniform | global | reference")->capture_default_str();
+  cmd->add_option("--spp", o.spp, "Samples per point (K)")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd->add_flag("--reference", o.reference, "CPU reference quadrature (double precision) instead of sampling")
+      ->excludes(method);
+  cmd->add_option("--quantity", o.quantity, "irradiance: E(p, n); scalar: I(p), normal ignored")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"irradiance", "scalar"}));
+  cmd->callback([] { run_probe(o); });
+});
+
+}  // namespace
+}  // namespace nf::app
