@@ -331,6 +331,13 @@ void validate_geometry(const Luminaire& l, const std::string& where) {
   if (l.image.resolution[0] <= 0 || l.image.resolution[1] <= 0)
     fail(fmt::format("{}: 'image.resolution' must be positive, got [{}, {}]", where, l.image.resolution[0],
                      l.image.resolution[1]));
+  // Index arithmetic (device SAT strides are 32-bit) and memory stay sane.
+  if (static_cast<long long>(l.basis.count[0]) * l.basis.count[1] > (1 << 16))
+    fail(fmt::format("{}: {} x {} basis functions is more than this build supports (65536)", where, l.basis.count[0],
+                     l.basis.count[1]));
+  if (static_cast<long long>(l.image.resolution[0] + 1) * (l.image.resolution[1] + 1) > (1LL << 28))
+    fail(fmt::format("{}: images of {} x {} pixels are larger than this build supports (2^28 pixels)", where,
+                     l.image.resolution[0], l.image.resolution[1]));
 }
 
 void validate_structure(const Luminaire& l, const std::string& where) {
