@@ -76,14 +76,18 @@ void fill_chroma(const Luminaire& l, int m, const float* y, float* out) {
 
 double pixel_area(const ImageGrid& g) { return g.size.x / g.resolution[0] * (g.size.y / g.resolution[1]); }
 
-// One image: luminance, chroma, quantum, SAT, total.
-void precompute_image(const Luminaire& l, int m, Precomputed& pc, std::vector<float>& y) {
+// One image: luminance, chroma, quantum, SAT, total. Monochrome images are read in place.
+void precompute_image(const Luminaire& l, int m, Precomputed& pc, std::vector<float>& scratch) {
   const int nx = l.image.resolution[0], ny = l.image.resolution[1];
-  y.resize(static_cast<std::size_t>(nx) * ny);
-  fill_luminance(l, m, y.data());
-  if (l.channels == 3) fill_chroma(l, m, y.data(), pc.chroma.data() + static_cast<std::size_t>(m) * nx * ny * 4);
+  const float* y = l.images[m].data();
+  if (l.channels == 3) {
+    scratch.resize(static_cast<std::size_t>(nx) * ny);
+    fill_luminance(l, m, scratch.data());
+    fill_chroma(l, m, scratch.data(), pc.chroma.data() + static_cast<std::size_t>(m) * nx * ny * 4);
+    y = scratch.data();
+  }
   double sum = 0.0;
-  for (float v : y) sum += v;
+  for (std::size_t k = 0, n = static_cast<std::size_t>(nx) * ny; k < n; ++k) sum += y[k];
   const double q = choose_quantum(sum);
   const double inv_q = 1.0 / q;  // exact: q is a power of two
   pc.quantum[m] = static_cast<float>(q);
@@ -92,7 +96,7 @@ void precompute_image(const Luminaire& l, int m, Precomputed& pc, std::vector<fl
   const int w = nx + 1;
   std::fill(sat, sat + w, std::int64_t{0});
   for (int r = 0; r < ny; ++r) {
-    const float* row = y.data() + static_cast<std::size_t>(r) * nx;
+    const float* row = y + static_cast<std::size_t>(r) * nx;
     const std::int64_t* prev = sat + static_cast<std::size_t>(r) * w;
     std::int64_t* cur = sat + static_cast<std::size_t>(r + 1) * w;
     std::int64_t run = 0;
