@@ -58,18 +58,38 @@ ShadowMaps::ShadowMaps(ShadowMapSpec spec) : spec_(std::move(spec)) {
   if (spec_.size < 1 || spec_.size > 16384) fail(fmt::format("shadow maps: size {} out of range", spec_.size));
   const auto& f = spec_.frustum;
   if (!(f.right > f.left) || !(f.top > f.bottom) || !(f.near > 0.0)) fail("shadow maps: invalid frustum");
-  GLint max_layers = 0;
-  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-  if (n > max_layers) fail(fmt::format("shadow maps: {} cells exceed GL_MAX_ARRAY_TEXTURE_LAYERS = {}", n, max_layers));
+  // The maps live in up to kMaxMapBuffers storage buffers, each within the block-size limit
+  // (128 MiB on llvmpipe).
+  GLint64 max_block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+  const std::size_t map_bytes = static_cast<std::size_t>(spec_.size) * spec_.size * sizeof(float);
+  maps_per_buffer_ = static_cast<int>(std::min<std::int64_t>(max_block / static_cast<std::int64_t>(map_bytes), n));
+  if (maps_per_buffer_ < 1 || (n + maps_per_buffer_ - 1) / maps_per_buffer_ > kMaxMapBuffers)
+    fail(
+        fmt::format("shadow maps: {} maps of {}^2 floats exceed {} storage buffers of {} bytes (GL limit); use "
+                    "smaller maps",
+                    n, spec_.size, kMaxMapBuffers, max_block));
 
-  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &depth_);
-  glTextureStorage3D(depth_, 1, GL_DEPTH_COMPONENT32F, spec_.size, spec_.size, n);
-  glTextureParameteri(depth_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(depth_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTextureParameteri(depth_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  // One depth target, reused for every cell; each finished map is copied into one storage
+  // buffer (cells x size^2 floats) that the visibility pass indexes directly (faster than a
+  // texture-array fetch on llvmpipe, and half the memory of target array + copy).
+  glCreateTextures(GL_TEXTURE_2D, 1, &depth_);
+  glTextureStorage2D(depth_, 1, GL_DEPTH_COMPONENT32F, spec_.size, spec_.size);
   glCreateFramebuffers(1, &fbo_);
+  glNamedFramebufferTexture(fbo_, GL_DEPTH_ATTACHMENT, depth_, 0);
   glNamedFramebufferDrawBuffer(fbo_, GL_NONE);
   glNamedFramebufferReadBuffer(fbo_, GL_NONE);
+  const GLenum status = glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) fail(fmt::format("shadow-map framebuffer incomplete: 0x{:x}", status));
+  maps_bytes_ = map_bytes * static_cast<std::size_t>(n);
+  for (int first = 0; first < n; first += maps_per_buffer_) {
+    GLuint b = 0;
+    glCreateBuffers(1, &b);
+    glNamedBufferStorage(
+        b, static_cast<GLsizeiptr>(map_bytes * static_cast<std::size_t>(std::min(maps_per_buffer_, n - first))),
+        nullptr, 0);
+    maps_ssbo_.push_back(b);
+  }
 
   std::vector<float> lights(static_cast<std::size_t>(n) * 4, 0.0f);
   for (int c = 0; c < n; ++c)
@@ -85,6 +105,7 @@ ShadowMaps::ShadowMaps(ShadowMapSpec spec) : spec_(std::move(spec)) {
 
 ShadowMaps::~ShadowMaps() {
   if (depth_) glDeleteTextures(1, &depth_);
+  for (auto b : maps_ssbo_) glDeleteBuffers(1, &b);
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   if (lights_ssbo_) glDeleteBuffers(1, &lights_ssbo_);
   if (vis_ssbo_) glDeleteBuffers(1, &vis_ssbo_);
@@ -104,15 +125,18 @@ void ShadowMaps::render(const SceneGpu& scene) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, spec_.size, spec_.size);
   glUseProgram(depth_program_);
+  const std::size_t map_bytes = static_cast<std::size_t>(spec_.size) * spec_.size * sizeof(float);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
   for (int c = 0; c < cells(); ++c) {
-    glNamedFramebufferTextureLayer(fbo_, GL_DEPTH_ATTACHMENT, depth_, 0, c);
-    if (c == 0) {
-      const GLenum status = glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER);
-      if (status != GL_FRAMEBUFFER_COMPLETE) fail(fmt::format("shadow-map framebuffer incomplete: 0x{:x}", status));
-    }
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, maps_ssbo_[static_cast<std::size_t>(c / maps_per_buffer_)]);
+    glUseProgram(depth_program_);
     glClear(GL_DEPTH_BUFFER_BIT);
     scene.draw(light_clip(c), false, true);
+    // GPU-side copy into the maps buffer at layer c (rows bottom to top, as GL stores them).
+    glGetTextureImage(depth_, 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(map_bytes),
+                      reinterpret_cast<void*>(static_cast<std::size_t>(c % maps_per_buffer_) * map_bytes));
   }
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
@@ -132,9 +156,11 @@ std::vector<std::uint32_t> ShadowMaps::visibility(const GBuffer& gbuffer) {
   glUseProgram(vis_program_);
   glBindTextureUnit(0, gbuffer.position_texture());
   glBindTextureUnit(1, gbuffer.normal_texture());
-  glBindTextureUnit(2, depth_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lights_ssbo_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, vis_ssbo_);
+  for (int k = 0; k < kMaxMapBuffers; ++k)  // unused slots repeat the first buffer
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(2 + k),
+                     maps_ssbo_[static_cast<std::size_t>(k) < maps_ssbo_.size() ? static_cast<std::size_t>(k) : 0]);
   glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(world_to_local));
   glUniform2i(1, w, h);
   glUniform1i(2, cells());
@@ -143,10 +169,11 @@ std::vector<std::uint32_t> ShadowMaps::visibility(const GBuffer& gbuffer) {
   glUniform4f(5, static_cast<float>(f.left), static_cast<float>(f.right), static_cast<float>(f.bottom),
               static_cast<float>(f.top));
   glUniform1f(6, static_cast<float>(f.near));
+  glUniform1i(8, maps_per_buffer_);
   glUniform3f(7, static_cast<float>(spec_.bias.constant), static_cast<float>(spec_.bias.depth_texels),
               static_cast<float>(spec_.bias.normal_texels));
   const GLuint groups = static_cast<GLuint>((static_cast<std::size_t>(w) * h + 63) / 64);
-  glDispatchCompute(groups, 1, 1);
+  glDispatchCompute(groups, static_cast<GLuint>(words_per_pixel()), 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   std::vector<std::uint32_t> out(words);
   if (words) glGetNamedBufferSubData(vis_ssbo_, 0, static_cast<GLsizeiptr>(words * sizeof(std::uint32_t)), out.data());
@@ -158,9 +185,10 @@ std::vector<float> ShadowMaps::read_depth(int cell) const {
   if (cell < 0 || cell >= cells()) fail(fmt::format("shadow maps: cell {} out of range", cell));
   const int s = spec_.size;
   std::vector<float> raw(static_cast<std::size_t>(s) * s);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureSubImage(depth_, 0, 0, 0, cell, s, s, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
-                       static_cast<GLsizei>(raw.size() * sizeof(float)), raw.data());
+  glGetNamedBufferSubData(
+      maps_ssbo_[static_cast<std::size_t>(cell / maps_per_buffer_)],
+      static_cast<GLintptr>(static_cast<std::size_t>(cell % maps_per_buffer_) * raw.size() * sizeof(float)),
+      static_cast<GLsizeiptr>(raw.size() * sizeof(float)), raw.data());
   std::vector<float> out(raw.size());
   for (int y = 0; y < s; ++y)
     for (int x = 0; x < s; ++x) {
@@ -172,8 +200,9 @@ std::vector<float> ShadowMaps::read_depth(int cell) const {
 }
 
 std::vector<MemoryItem> ShadowMaps::memory() const {
-  const std::size_t maps = static_cast<std::size_t>(spec_.size) * spec_.size * static_cast<std::size_t>(cells()) * 4;
-  std::vector<MemoryItem> m{{fmt::format("shadow maps ({} x {}^2 D32F)", cells(), spec_.size), maps},
+  std::vector<MemoryItem> m{{fmt::format("shadow maps ({} x {}^2 float)", cells(), spec_.size), maps_bytes_},
+                            {fmt::format("shadow depth target ({}^2 D32F)", spec_.size),
+                             static_cast<std::size_t>(spec_.size) * spec_.size * 4},
                             {"shadow reference lights", static_cast<std::size_t>(cells()) * 16}};
   if (vis_bytes_) m.push_back({"visibility bitmask", vis_bytes_});
   return m;

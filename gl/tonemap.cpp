@@ -99,6 +99,19 @@ double Tonemapper::render(const TonemapParams& params, double mean) {
   return mean;
 }
 
+void Tonemapper::present(unsigned target, int width, int height) const {
+  if (width <= 0 || height <= 0) return;
+  const double scale =
+      std::min(static_cast<double>(width) / this->width(), static_cast<double>(height) / this->height());
+  const int w = static_cast<int>(this->width() * scale), h = static_cast<int>(this->height() * scale);
+  const int x0 = (width - w) / 2, y0 = (height - h) / 2;
+  const float black[4] = {0, 0, 0, 1};
+  glClearNamedFramebufferfv(target, GL_COLOR, 0, black);
+  glNamedFramebufferReadBuffer(out_.id(), GL_COLOR_ATTACHMENT0);
+  glBlitNamedFramebuffer(out_.id(), target, 0, 0, this->width(), this->height(), x0, y0, x0 + w, y0 + h,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
 Image Tonemapper::read() const { return out_.read(0, 3); }
 
 std::vector<MemoryItem> Tonemapper::memory() const {

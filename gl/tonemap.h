@@ -35,6 +35,9 @@ class Tonemapper {
   // The display image (3 channels, [0, 1], rows from the top) and the GL objects for display:
   // the texture is in GL orientation (row 0 at the bottom), ready to blit or draw.
   Image read() const;
+  // Draws the last render() into framebuffer `target` (0 = a window's default framebuffer),
+  // scaled to fit `width` x `height` with the aspect kept (nearest filtering, letterboxed).
+  void present(unsigned target, int width, int height) const;
   unsigned output_texture() const { return out_.texture(0); }
   unsigned output_framebuffer() const { return out_.id(); }
   unsigned input_texture() const { return input_; }

@@ -6,9 +6,12 @@
 #include <limits>
 #include <random>
 
+#include <epoxy/gl.h>
 #include "core/error.h"
 #include "core/tonemap.h"
+
 #include "gl/context.h"
+#include "gl/framebuffer.h"
 #include "gl/tonemap.h"
 
 namespace {
@@ -96,6 +99,25 @@ TEST_F(GlTonemap, EmptyMaskAndBlackFrame) {
   tm.render({1.0, 2.2});
   for (float v : tm.read().pixels) EXPECT_EQ(v, 0.0f);
   for (float v : nf::tonemap(bright, none, {1.0, 2.2}).pixels) EXPECT_EQ(v, 0.0f);
+}
+
+TEST_F(GlTonemap, PresentBlitsIntoAnotherFramebuffer) {
+  nf::gl::Tonemapper tm(8, 4);
+  nf::Image img(8, 4, 3);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x) img.at(x, y, 0) = static_cast<float>(x + 8 * y + 1);
+  tm.upload(img);
+  tm.render({1.0, 1.0});
+  const nf::Image want = tm.read();
+  // Into a 16 x 16 target: scaled 2x, letterboxed vertically (rows 4..11).
+  nf::gl::Framebuffer target(16, 16, {GL_RGBA32F}, false);
+  tm.present(target.id(), 16, 16);
+  const nf::Image got = target.read(0, 3);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const float expected = (y >= 4 && y < 12) ? want.at(x / 2, (y - 4) / 2, 0) : 0.0f;
+      EXPECT_FLOAT_EQ(got.at(x, y, 0), expected) << x << "," << y;
+    }
 }
 
 TEST(HostTonemap, ClosedForm) {

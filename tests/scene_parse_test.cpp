@@ -76,7 +76,7 @@ const char* kGood = R"({
   ],
   "environment": { "file": "sky.hdr", "rotation": 30, "intensity": 0.5 },
   "render": { "method": "uniform", "sampler": "halton-scrambled", "spp": 16, "kmax": 4, "search_depth": 3,
-              "search": "binary", "balance": "roulette", "visibility": "none", "shadow_map_size": 128, "seed": 7,
+              "search": "binary", "balance": "min1", "structure": "fused", "visibility": "none", "shadow_map_size": 128, "seed": 7,
               "tonemap": { "exposure": 2, "gamma": 1.8 } }
 })";
 
@@ -161,7 +161,8 @@ TEST_F(SceneParse, GoodFileReadsBackEveryValue) {
   EXPECT_EQ(r.kmax, 4);
   EXPECT_EQ(r.search_depth, 3);
   EXPECT_EQ(r.search, "binary");
-  EXPECT_EQ(r.balance, "roulette");
+  EXPECT_EQ(r.balance, "min1");
+  EXPECT_EQ(r.structure, "fused");
   EXPECT_EQ(r.visibility, "none");
   EXPECT_EQ(r.shadow_map_size, 128);
   EXPECT_EQ(r.seed, 7u);
@@ -182,6 +183,9 @@ TEST_F(SceneParse, DefaultsWhenOptionalSectionsAreMissing) {
   const nf::scene::RenderSettings defaults;
   EXPECT_EQ(s.render.method, "ours");
   EXPECT_EQ(s.render.sampler, "halton");
+  EXPECT_EQ(s.render.kmax, 0);
+  EXPECT_EQ(s.render.search_depth, -1);
+  EXPECT_EQ(s.render.structure, "per-image");
   EXPECT_EQ(s.render.balance, defaults.balance);
   EXPECT_NE(s.render.balance, "paper");  // the default must be unbiased (DESIGN §3.4)
   EXPECT_EQ(s.render.visibility, "shadowmaps");
@@ -240,6 +244,8 @@ TEST_F(SceneParse, BadFilesNameTheJsonPath) {
       {"bad search", scene(R"("render": {"search": "linear"})"), "/render/search: unknown value 'linear'"},
       {"bad visibility", scene(R"("render": {"visibility": "raytraced"})"), "/render/visibility: unknown value"},
       {"spp zero", scene(R"("render": {"spp": 0})"), "/render/spp: 0 is out of range"},
+      {"search depth zero", scene(R"("render": {"search_depth": 0})"), "/render/search_depth: must be -1"},
+      {"bad structure", scene(R"("render": {"structure": "split"})"), "/render/structure: unknown value 'split'"},
       {"spp fractional", scene(R"("render": {"spp": 2.5})"), "/render/spp: expected an integer"},
       {"gamma zero", scene(R"("render": {"tonemap": {"gamma": 0}})"), "/render/tonemap/gamma: must be > 0"},
       {"unknown render key", scene(R"("render": {"spp": 4, "frames": 2})"), "/render/frames: unknown key 'frames'"},
@@ -364,6 +370,31 @@ TEST(SceneCamera, PixelRaysThroughCornersAndCentre) {
   expect_near(c.ray(0, 50).direction, glm::normalize(glm::dvec3(-2, 0, -1)), 1e-12);
   expect_near(c.ray(200, 100).direction, glm::normalize(glm::dvec3(2, -1, -1)), 1e-12);
   expect_near(c.pixel_ray(0, 0).direction, c.ray(0.5, 0.5).direction, 0);
+}
+
+TEST(SceneCamera, RaysIntoTheLuminaire) {
+  // Luminaire at (0, 0.7, 0) turned 180 degrees about y: it emits towards -z world.
+  glm::dmat4 to_world(1.0);
+  to_world[0] = {-1, 0, 0, 0};
+  to_world[2] = {0, 0, -1, 0};
+  to_world[3] = {0, 0.7, 0, 1};
+  // A camera 3 m in front (world z = -3) looking back at it: local z = +3.
+  const nf::scene::Camera::Ray in{{0.2, 0.7, -3.0}, glm::normalize(glm::dvec3(-0.2, 0.1, 3.0))};
+  const auto h = nf::scene::luminaire_hit(in, to_world, 0.75);
+  ASSERT_TRUE(h.hit);
+  // Crosses world z = 0 at (0, 0.8, 0): local (0, 0.1); local direction (0.2, 0.1, -3)/|.|.
+  EXPECT_NEAR(h.s.x, 0.0, 1e-12);
+  EXPECT_NEAR(h.s.y, 0.1, 1e-12);
+  EXPECT_NEAR(h.t, glm::length(glm::dvec3(-0.2, 0.1, 3.0)), 1e-12);
+  // Continuing 0.75 m further in local -z: u = s + (0.2, 0.1) * 0.75 / 3.
+  EXPECT_NEAR(h.u.x, 0.05, 1e-12);
+  EXPECT_NEAR(h.u.y, 0.1 + 0.025, 1e-12);
+  // From behind (world z = +2, local z = -2) the ray travels +z local: no light reaches it.
+  const nf::scene::Camera::Ray behind{{0.0, 0.7, 2.0}, {0, 0, -1}};
+  EXPECT_FALSE(nf::scene::luminaire_hit(behind, to_world, 0.75).hit);
+  // Looking away from the luminaire: t < 0.
+  const nf::scene::Camera::Ray away{{0.0, 0.7, -3.0}, {0, 0, -1}};
+  EXPECT_FALSE(nf::scene::luminaire_hit(away, to_world, 0.75).hit);
 }
 
 }  // namespace

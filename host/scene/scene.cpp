@@ -419,16 +419,20 @@ class Parser {
 
   RenderSettings render(const json& v, const std::string& ptr) const {
     object(v, ptr,
-           {"method", "sampler", "spp", "kmax", "search_depth", "search", "balance", "visibility", "shadow_map_size",
-            "seed", "tonemap"});
+           {"method", "sampler", "spp", "kmax", "search_depth", "search", "balance", "structure", "visibility",
+            "shadow_map_size", "seed", "tonemap"});
     RenderSettings r;
     if (v.contains("method")) r.method = choice(v["method"], at(ptr, "method"), allowed_methods());
     if (v.contains("sampler")) r.sampler = choice(v["sampler"], at(ptr, "sampler"), allowed_samplers());
     if (v.contains("spp")) r.spp = integer(v["spp"], at(ptr, "spp"), 1, 1 << 24);
-    if (v.contains("kmax")) r.kmax = integer(v["kmax"], at(ptr, "kmax"), 1, 1 << 24);
-    if (v.contains("search_depth")) r.search_depth = integer(v["search_depth"], at(ptr, "search_depth"), 1, 64);
+    if (v.contains("kmax")) r.kmax = integer(v["kmax"], at(ptr, "kmax"), 0, 1 << 24);
+    if (v.contains("search_depth")) {
+      r.search_depth = integer(v["search_depth"], at(ptr, "search_depth"), -1, 1024);
+      if (r.search_depth == 0) error(at(ptr, "search_depth"), "must be -1 (unlimited) or 1..1024");
+    }
     if (v.contains("search")) r.search = choice(v["search"], at(ptr, "search"), allowed_searches());
     if (v.contains("balance")) r.balance = choice(v["balance"], at(ptr, "balance"), allowed_balances());
+    if (v.contains("structure")) r.structure = choice(v["structure"], at(ptr, "structure"), allowed_structures());
     if (v.contains("visibility")) r.visibility = choice(v["visibility"], at(ptr, "visibility"), allowed_visibilities());
     if (v.contains("shadow_map_size"))
       r.shadow_map_size = integer(v["shadow_map_size"], at(ptr, "shadow_map_size"), 16, 4096);
@@ -457,6 +461,23 @@ class Parser {
 };
 
 }  // namespace
+
+LuminaireHit luminaire_hit(const Camera::Ray& ray, const glm::dmat4& to_world, double delta) {
+  LuminaireHit h;
+  const glm::dmat4 to_local = glm::inverse(to_world);
+  const glm::dvec3 o(to_local * glm::dvec4(ray.origin, 1.0));
+  const glm::dvec3 d(to_local * glm::dvec4(ray.direction, 0.0));  // rigid: still unit
+  if (!(d.z < 0.0)) return h;
+  const double t = -o.z / d.z;
+  if (!(t > 0.0)) return h;
+  const glm::dvec3 s = o + t * d;
+  const glm::dvec3 u = s + d * (delta / -d.z);
+  h.hit = true;
+  h.t = t;
+  h.s = {s.x, s.y};
+  h.u = {u.x, u.y};
+  return h;
+}
 
 bool is_rigid(const glm::dmat4& m, double tolerance) {
   const glm::dmat3 r(m);

@@ -36,16 +36,19 @@ struct Environment {
 struct RenderSettings {
   std::string method = "ours";            // ours | paper | uniform | global
   std::string sampler = "halton";         // halton | halton-scrambled | random
-  int spp = 64;                           // K, samples per pixel per frame, >= 1
-  int kmax = 64;                          // K_max, cap of samples per image per pixel, >= 1
-  int search_depth = 16;                  // CDF inversion depth limit, 1..64
+  int spp = 200;                          // K, samples per pixel per frame, >= 1
+  int kmax = 0;                           // K_max, cap of samples per image per pixel; 0 = no cap
+  int search_depth = -1;                  // CDF evaluations per 1D inversion, 1..1024; -1 = unlimited (exact)
   std::string search = "secant";          // secant | binary
-  std::string balance = "min1";           // paper | min1 | roulette (min1 and roulette are unbiased)
+  std::string balance = "roulette";       // paper | min1 | roulette (min1 and roulette are unbiased)
+  std::string structure = "per-image";    // per-image | fused (Step 1/2 passes)
   std::string visibility = "shadowmaps";  // none | shadowmaps
   int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
-  std::uint32_t seed = 0;                 // sampler seed (random, halton-scrambled)
+  std::uint32_t seed = 1;                 // sampler seed (random, halton-scrambled)
   TonemapParams tonemap;                  // exposure, gamma
 };
+// The defaults above match nf::render::SamplingSettings; render converts the strings with its
+// parse_* functions.
 
 inline const std::vector<std::string>& allowed_methods() {
   static const std::vector<std::string> v{"ours", "paper", "uniform", "global"};
@@ -61,6 +64,10 @@ inline const std::vector<std::string>& allowed_balances() {
 }
 inline const std::vector<std::string>& allowed_searches() {
   static const std::vector<std::string> v{"secant", "binary"};
+  return v;
+}
+inline const std::vector<std::string>& allowed_structures() {
+  static const std::vector<std::string> v{"per-image", "fused"};
   return v;
 }
 inline const std::vector<std::string>& allowed_visibilities() {
@@ -93,6 +100,20 @@ struct SceneCounts {
   std::size_t objects = 0, instances = 0, meshes = 0, vertices = 0, triangles = 0, textures = 0, texture_bytes = 0;
 };
 SceneCounts count(const Scene& scene);
+
+// Where a camera ray meets a luminaire instance (DESIGN.md §5: camera rays that cross S inside
+// the image rectangle see the luminaire itself, radiance L(u -> s)). In the luminaire's local
+// frame: the ray crosses S (z = 0) at `s` after travelling `t` metres, and continuing, meets U
+// (z = -delta) at `u`; light leaving u through s travels straight back along the ray to the
+// camera. `hit` is false unless the ray travels towards -z local (it looks into the luminaire)
+// and t > 0. The caller checks s against the image rectangle and t against the G-buffer
+// surface's distance (an opaque surface in front hides the luminaire).
+struct LuminaireHit {
+  bool hit = false;
+  double t = 0.0;
+  glm::dvec2 s{0.0}, u{0.0};
+};
+LuminaireHit luminaire_hit(const Camera::Ray& ray, const glm::dmat4& to_world, double delta);
 
 // A rigid-transform check used for luminaires: orthonormal rotation (det +1) and a translation,
 // within `tolerance` on the matrix entries.
