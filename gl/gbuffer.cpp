@@ -33,18 +33,37 @@ void GBuffer::render(const SceneGpu& scene, const scene::Camera& camera) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+namespace {
+
+// Attachment `index` as RGBA floats in GL row order (row 0 = bottom).
+std::vector<float> read_raw(unsigned fbo, int index, int w, int h) {
+  std::vector<float> v(static_cast<std::size_t>(w) * h * 4);
+  glNamedFramebufferReadBuffer(fbo, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + index));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, v.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  return v;
+}
+
+}  // namespace
+
 std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>& materials,
                                               const scene::Camera& camera) const {
-  const Image pos = fb_.read(0), nrm = fb_.read(1), mat = fb_.read(2);
-  const std::size_t n = static_cast<std::size_t>(width()) * height();
-  std::vector<NfSurface> out(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  const int w = width(), h = height();
+  const std::vector<float> pos = read_raw(fb_.id(), 0, w, h), nrm = read_raw(fb_.id(), 1, w, h),
+                           mat = read_raw(fb_.id(), 2, w, h);
+  std::vector<NfSurface> out(static_cast<std::size_t>(w) * h);
+  for (std::size_t o = 0; o < out.size(); ++o) {
+    // Output row y (from the top) is GL row h - 1 - y.
+    const std::size_t x = o % static_cast<std::size_t>(w), y = o / static_cast<std::size_t>(w);
+    const std::size_t i = (static_cast<std::size_t>(h) - 1 - y) * static_cast<std::size_t>(w) + x;
     NfSurface s{};
-    const float* p = &pos.pixels[4 * i];
+    const float* p = &pos[4 * i];
     const int id = static_cast<int>(std::lround(p[3])) - 1;
     if (id >= 0 && id < static_cast<int>(materials.size())) {
-      const float* q = &nrm.pixels[4 * i];
-      const float* m = &mat.pixels[4 * i];
+      const float* q = &nrm[4 * i];
+      const float* m = &mat[4 * i];
       s.px = p[0];
       s.py = p[1];
       s.pz = p[2];
@@ -67,7 +86,7 @@ std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>
       s.roughness = ggx ? m[3] : 1.0f;
       s.metallic = ggx ? q[3] : 0.0f;
     }
-    out[i] = s;
+    out[o] = s;
   }
   return out;
 }
