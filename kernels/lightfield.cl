@@ -5,7 +5,14 @@
    Build options (host/render/sampler.cpp sets them):
      -DNF_METHOD=NF_METHOD_*   -DNF_SEQ=NF_SEQ_*   -DNF_BALANCE=NF_BALANCE_*
      -DNF_SEARCH=NF_SEARCH_*   -DNF_HAS_CHROMA=0|1 -DNF_HAS_VIS=0|1
+     -DNF_LANES=1|4|8|16       surfaces per work-item
    The reconstruction and the basis kind are read from NfLuminaire at run time (uniform branches).
+
+   Lanes: a work-item shades NF_LANES neighbouring surfaces with explicit vector types (vf, vi,
+   vl ...) and per-lane masks, the way a GPU runs a warp: PoCL cannot vectorise across work-items
+   through the data-dependent loops of the searches, explicit vectors can. NF_LANES = 1 is the
+   plain scalar form (GPUs, the debug kernel); every lane computes exactly what NF_LANES = 1 does.
+   Masks are int vectors: true = -1 (vectors) or 1 (scalars), always tested with ANY / SEL.
 
    Coordinates: the luminaire-local frame (S: z = 0, U: z = -delta). On S the kernels work in
    continuous pixel coordinates: X = (x - sx0) / (Sx / Nx) (column, from the left) and
@@ -36,20 +43,81 @@
 #ifndef NF_HAS_VIS
 #define NF_HAS_VIS 0
 #endif
+#ifndef NF_LANES
+#define NF_LANES 1
+#endif
 /* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
 
+#define NF_INLINE inline __attribute__((always_inline))
 #define NF_PI 3.14159265358979f
 #define NF_ONE_MINUS_ULP 0x1.fffffep-1f
 /* Band boxes narrower than this (pixels) are balanced with the luminance at p (z = 0 limit). */
 #define NF_POINT_BOX 1e-3f
 
+/* ---------------------------------------------------------------- lane types --------------- */
+
+#if NF_LANES == 1
+typedef float vf;
+typedef int vi;
+typedef uint vu;
+typedef long vl;
+#define CVT_F(x) ((float)(x))
+#define CVT_I(x) ((int)(x))
+#define CVT_U(x) ((uint)(x))
+#define CVT_L(x) ((long)(x))
+#define ANY(m) ((m) != 0)
+#define SEL(a, b, m) ((m) ? (b) : (a))
+#define SELL(a, b, m) ((m) ? (b) : (a))
+#define GATHER(p, i) ((p)[(i)])
+#define VSTORE(v, a) ((a)[0] = (v))
+#define VLOAD(a) ((a)[0])
+#define LANE_IDS 0
+#else
+#define NF_CAT2(a, b) a##b
+#define NF_CAT(a, b) NF_CAT2(a, b)
+typedef NF_CAT(float, NF_LANES) vf;
+typedef NF_CAT(int, NF_LANES) vi;
+typedef NF_CAT(uint, NF_LANES) vu;
+typedef NF_CAT(long, NF_LANES) vl;
+#define CVT_F(x) NF_CAT(convert_float, NF_LANES)(x)
+#define CVT_I(x) NF_CAT(convert_int, NF_LANES)(x)
+#define CVT_U(x) NF_CAT(convert_uint, NF_LANES)(x)
+#define CVT_L(x) NF_CAT(convert_long, NF_LANES)(x)
+#define ANY(m) any(m)
+#define SEL(a, b, m) select((a), (b), (m))
+#define SELL(a, b, m) select((a), (b), CVT_L(m))
+#define VSTORE(v, a) NF_CAT(vstore, NF_LANES)((v), 0, (a))
+#define VLOAD(a) NF_CAT(vload, NF_LANES)(0, (a))
+#if NF_LANES == 4
+#define NF_G(p, i, T) (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3])
+#define LANE_IDS (vi)(0, 1, 2, 3)
+#elif NF_LANES == 8
+#define NF_G(p, i, T) (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7])
+#define LANE_IDS (vi)(0, 1, 2, 3, 4, 5, 6, 7)
+#elif NF_LANES == 16
+#define NF_G(p, i, T)                                                                                             \
+  (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7],     \
+      (p)[(i).s8], (p)[(i).s9], (p)[(i).sa], (p)[(i).sb], (p)[(i).sc], (p)[(i).sd], (p)[(i).se], (p)[(i).sf])
+#define LANE_IDS (vi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)
+#else
+#error "NF_LANES must be 1, 4, 8 or 16"
+#endif
+#define GATHER(p, i) NF_G(p, i, vl)
+#endif
+#define GATHERF(p, i) NF_GF(p, i)
+#if NF_LANES == 1
+#define NF_GF(p, i) ((p)[(i)])
+#else
+#define NF_GF(p, i) NF_G(p, i, vf)
+#endif
+
 /* ---------------------------------------------------------------- random numbers ---------- */
 
-/* 32-bit integer hash (xor-shift-multiply finaliser). */
-inline uint nf_hash(uint x) {
+/* 32-bit integer hash (xor-shift-multiply finaliser), scalar and per lane. */
+NF_INLINE uint nf_hash1(uint x) {
   x ^= x >> 16;
   x *= 0x7feb352dU;
   x ^= x >> 15;
@@ -58,546 +126,761 @@ inline uint nf_hash(uint x) {
   return x;
 }
 
-/* Philox-2x32-10 (Salmon et al. 2011): a counter-based generator, 64-bit counter, 32-bit key. */
-inline uint2 nf_philox(uint2 ctr, uint key) {
-  for (int i = 0; i < 10; ++i) {
-    const uint lo = ctr.x * 0xD256D193U;
-    const uint hi = mul_hi(ctr.x, 0xD256D193U);
-    ctr = (uint2)(hi ^ key ^ ctr.y, lo);
-    key += 0x9E3779B9U;
-  }
-  return ctr;
+NF_INLINE vu nf_hashv(vu x) {
+  x ^= x >> 16;
+  x *= (vu)(0x7feb352dU);
+  x ^= x >> 15;
+  x *= (vu)(0x846ca68bU);
+  x ^= x >> 16;
+  return x;
 }
 
-inline float nf_unit(uint x) { return (float)(x >> 8) * 0x1p-24f; } /* [0, 1) */
+/* Philox-2x32-10 (Salmon et al. 2011): a counter-based generator, 64-bit counter (c0, c1) per
+   lane, 32-bit key; the result replaces the counter. */
+NF_INLINE void nf_philox(vu* c0, vu* c1, uint key) {
+  vu a = *c0, b = *c1;
+  for (int i = 0; i < 10; ++i) {
+    const vu lo = a * (vu)(0xD256D193U);
+    const vu hi = mul_hi(a, (vu)(0xD256D193U));
+    a = hi ^ (vu)(key) ^ b;
+    b = lo;
+    key += 0x9E3779B9U;
+  }
+  *c0 = a;
+  *c1 = b;
+}
 
-/* Radical inverse in base 2: bit reversal. */
-inline float nf_ri2(uint i) {
+NF_INLINE vf nf_unit(vu x) { return CVT_F(x >> 8) * 0x1p-24f; } /* [0, 1) */
+
+/* Radical inverses: base 3 (below) and base 2 (bit reversal). */
+/* Radical inverse in base 3 of i mod 3^20 from the table of 0 .. 3^10 - 1: low digits first. */
+NF_INLINE vf nf_ri3(vu i, __global const float* t3) {
+  i %= (vu)(3486784401U); /* 3^20 */
+  const vu hi = i / (vu)((uint)NF_HALTON3_TABLE);
+  const vu lo = i - hi * (vu)((uint)NF_HALTON3_TABLE);
+  const vf a = GATHERF(t3, CVT_I(lo)), b = GATHERF(t3, CVT_I(hi));
+  return fmin(a + b * (1.0f / (float)NF_HALTON3_TABLE), NF_ONE_MINUS_ULP);
+}
+
+NF_INLINE vf nf_ri2(vu i) {
   i = (i << 16) | (i >> 16);
-  i = ((i & 0x00ff00ffU) << 8) | ((i & 0xff00ff00U) >> 8);
-  i = ((i & 0x0f0f0f0fU) << 4) | ((i & 0xf0f0f0f0U) >> 4);
-  i = ((i & 0x33333333U) << 2) | ((i & 0xccccccccU) >> 2);
-  i = ((i & 0x55555555U) << 1) | ((i & 0xaaaaaaaaU) >> 1);
+  i = ((i & (vu)(0x00ff00ffU)) << 8) | ((i & (vu)(0xff00ff00U)) >> 8);
+  i = ((i & (vu)(0x0f0f0f0fU)) << 4) | ((i & (vu)(0xf0f0f0f0U)) >> 4);
+  i = ((i & (vu)(0x33333333U)) << 2) | ((i & (vu)(0xccccccccU)) >> 2);
+  i = ((i & (vu)(0x55555555U)) << 1) | ((i & (vu)(0xaaaaaaaaU)) >> 1);
   return nf_unit(i);
 }
 
-/* Radical inverse in base 3 of i < 3^20 from the table of 0 .. 3^10 - 1: low digits first. */
-inline float nf_ri3(uint i, __global const float* t3) {
-  i %= 3486784401U; /* 3^20 */
-  const uint hi = i / (uint)NF_HALTON3_TABLE;
-  const uint lo = i - hi * (uint)NF_HALTON3_TABLE;
-  return fmin(t3[lo] + t3[hi] * (1.0f / (float)NF_HALTON3_TABLE), NF_ONE_MINUS_ULP);
-}
-
 /* Key of the per-pixel streams of one frame. */
-inline uint nf_frame_key(const NfSampleParams* P) { return nf_hash(P->seed ^ nf_hash(P->frame + 0x68bc21ebU)); }
+NF_INLINE uint nf_frame_key(const NfSampleParams* P) { return nf_hash1(P->seed ^ nf_hash1(P->frame + 0x68bc21ebU)); }
 
-/* The 2D point of sample k of image m (DESIGN.md §4): Halton index 1 + (frame M + m) block + k,
-   shared by all pixels (halton), rotated per pixel and image (halton-scrambled), or Philox per
-   pixel (random). */
-inline float2 nf_xi(const NfSampleParams* P, int num_images, uint pix, int m, int k, __global const float* t3) {
+/* Offset of image m in the Halton sequence: an odd stride near 2^24, so images get their own
+   stretch of the sequence (and different low digits). */
+#define NF_HALTON_IMAGE_STRIDE 16777619U
+
+/* The 2D point of sample k (of K = K_m(p) this frame) of image m (DESIGN.md §4):
+   halton: Halton (2, 3) at index 1 + m S + frame K + k, one sequence for all pixels; frames
+   continue it, so the points an image gets over frames are consecutive (a strided subsequence
+   would repeat its low digits); halton-scrambled: the same plus a per-pixel and per-image
+   rotation (rx, ry); random: Philox per pixel, counter (pixel, m block + k), key from the frame. */
+NF_INLINE void nf_xi(const NfSampleParams* P, vu pix, int m, int k, vi K, vf rx, vf ry, __global const float* t3,
+                     vf* ux, vf* uy) {
 #if NF_SEQ == NF_SEQ_RANDOM
-  const uint2 r = nf_philox((uint2)(pix, (uint)m * P->block + (uint)k), nf_frame_key(P));
-  return (float2)(nf_unit(r.x), nf_unit(r.y));
+  vu a = pix, b = (vu)((uint)m * P->block + (uint)k);
+  nf_philox(&a, &b, nf_frame_key(P));
+  *ux = nf_unit(a);
+  *uy = nf_unit(b);
 #else
-  const uint idx = 1U + (P->frame * (uint)num_images + (uint)m) * P->block + (uint)k;
-  float2 h = (float2)(nf_ri2(idx), nf_ri3(idx, t3));
+  const vu idx = (vu)(1U + (uint)m * NF_HALTON_IMAGE_STRIDE + (uint)k) + (vu)(P->frame) * CVT_U(K);
+  const vf hx = nf_ri2(idx), hy = nf_ri3(idx, t3);
 #if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
-  const uint2 r = nf_philox((uint2)(pix, (uint)m), nf_hash(P->seed ^ 0x3c6ef372U));
-  h += (float2)(nf_unit(r.x), nf_unit(r.y));
-  h -= floor(h);
-  h = fmin(h, (float2)(NF_ONE_MINUS_ULP));
+  vf x = hx + rx, y = hy + ry;
+  x -= floor(x);
+  y -= floor(y);
+  *ux = fmin(x, (vf)(NF_ONE_MINUS_ULP));
+  *uy = fmin(y, (vf)(NF_ONE_MINUS_ULP));
+#else
+  *ux = hx;
+  *uy = hy;
 #endif
-  return h;
 #endif
 }
 
-/* Uniform number for the roulette decision of image m at a pixel (all samplers). */
-inline float nf_roulette_u(const NfSampleParams* P, uint pix, int m) {
-  return nf_unit(nf_philox((uint2)(pix, (uint)m), nf_frame_key(P) ^ 0xa511e9b3U).x);
+/* Per-pixel, per-image hashes (two chained 32-bit hashes): cheaper than Philox where one or two
+   numbers per (pixel, image) are needed. */
+NF_INLINE vu nf_hash_pm(vu pix, int m, uint key) {
+  return nf_hashv(nf_hashv(pix ^ (vu)(key)) + (vu)((uint)m * 0x9E3779B9U + 0x7f4a7c15U));
+}
+
+/* Cranley-Patterson rotation of image m at each lane's pixel (halton-scrambled; fixed per pixel
+   and image, independent of the frame). */
+NF_INLINE void nf_rotation(const NfSampleParams* P, vu pix, int m, vf* rx, vf* ry) {
+  const vu h = nf_hash_pm(pix, m, nf_hash1(P->seed ^ 0x3c6ef372U));
+  *rx = nf_unit(h);
+  *ry = nf_unit(nf_hashv(h ^ (vu)(0x5bd1e995U)));
+}
+
+/* Uniform number for the roulette decision of image m at each lane's pixel (all samplers). */
+NF_INLINE vf nf_roulette_u(const NfSampleParams* P, vu pix, int m) {
+  return nf_unit(nf_hash_pm(pix, m, nf_frame_key(P) ^ 0xa511e9b3U));
 }
 
 /* ---------------------------------------------------------------- per-pixel context ------- */
 
 typedef struct {
-  float3 p, n, v; /* luminaire-local position, unit normal, unit direction to the viewer */
-  int brdf;
-  float alpha, metallic;
-  float3 base;
-  float Xp, Rp;   /* p in continuous pixel coordinates (column, row from the top) */
-  float f;        /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
-  float bw, bh;   /* unclipped box width and height in pixels (same for every m) */
-  int band;       /* |z| < band * delta: U-parametrisation (DESIGN.md §3.5) */
-  int lit;        /* z > -delta */
-  uint pix;       /* surface index: the per-pixel random streams */
+  vf px, py, pz; /* luminaire-local position */
+  vf nx, ny, nz; /* unit normal */
+  vf vx, vy, vz; /* unit direction to the viewer */
+  vi brdf;
+  vf alpha, metallic;
+  vf br, bg, bb;
+  vf Xp, Rp;  /* p in continuous pixel coordinates (column, row from the top) */
+  vf f;       /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
+  vf bw, bh;  /* unclipped box width and height in pixels (same for every m) */
+  vi band;    /* mask: |z| < band delta, U-parametrisation (DESIGN.md §3.5) */
+  vi lit;     /* mask: a valid surface with z > -delta */
+  vu pix;     /* surface index: the per-pixel random streams */
   /* luminaire constants */
-  float pw, ph;   /* pixel size in metres */
-  float Xo, Ro;   /* basis grid corner o in pixel coordinates */
-  float Hx, Hy;   /* basis cell size in pixels */
+  float pw, ph; /* pixel size in metres */
+  float Xo, Ro; /* basis grid corner o in pixel coordinates */
+  float Hx, Hy; /* basis cell size in pixels */
 } NfCtx;
 
-inline float3 nf_xform_point(const NfInstance* I, float3 q) {
+NF_INLINE void nf_normalize3(float* x, float* y, float* z) {
+  const float l2 = *x * *x + *y * *y + *z * *z;
+  const float k = (l2 > 1e-30f && isfinite(l2)) ? rsqrt(l2) : 0.0f;
+  *x *= k;
+  *y *= k;
+  *z *= k;
+}
+
+/* Loads the NF_LANES surfaces from index `first` on (up to count), moves them into the luminaire
+   frame and computes the per-pixel geometry. Returns the `lit` mask. */
+NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const NfSampleParams* P,
+                      __global const NfSurface* surf, uint first) {
+  float px[NF_LANES], py[NF_LANES], pz[NF_LANES], nx[NF_LANES], ny[NF_LANES], nz[NF_LANES];
+  float vx[NF_LANES], vy[NF_LANES], vz[NF_LANES], al[NF_LANES], me[NF_LANES], br[NF_LANES], bg[NF_LANES],
+      bb[NF_LANES];
+  int brdf[NF_LANES], valid[NF_LANES];
+  uint pix[NF_LANES];
   const float* M = I->to_local;
-  return (float3)(M[0] * q.x + M[1] * q.y + M[2] * q.z + M[3], M[4] * q.x + M[5] * q.y + M[6] * q.z + M[7],
-                  M[8] * q.x + M[9] * q.y + M[10] * q.z + M[11]);
-}
-
-inline float3 nf_xform_dir(const float* M, float3 q) {
-  return (float3)(M[0] * q.x + M[1] * q.y + M[2] * q.z, M[4] * q.x + M[5] * q.y + M[6] * q.z,
-                  M[8] * q.x + M[9] * q.y + M[10] * q.z);
-}
-
-inline float3 nf_safe_normalize(float3 q) {
-  const float l2 = dot(q, q);
-  return (l2 > 1e-30f && isfinite(l2)) ? q * rsqrt(l2) : (float3)(0.0f);
-}
-
-/* Returns 0 when the surface gets no light from this instance (invalid, non-finite, z <= -delta). */
-inline int nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const NfSampleParams* P,
-                    __global const NfSurface* s, uint pix) {
-  const NfSurface S = s[pix];
-  c->pix = pix;
-  c->lit = 0;
-  if (!S.valid) return 0;
-  c->p = nf_xform_point(I, (float3)(S.px, S.py, S.pz));
-  c->n = nf_safe_normalize(nf_xform_dir(I->normal, (float3)(S.nx, S.ny, S.nz)));
-  c->v = nf_safe_normalize(nf_xform_dir(I->to_local, (float3)(S.vx, S.vy, S.vz)));
-  c->brdf = S.brdf;
-  const float rough = clamp(S.roughness, 0.0f, 1.0f);
-  c->alpha = fmax(rough * rough, 1e-3f);
-  c->metallic = clamp(S.metallic, 0.0f, 1.0f);
-  c->base = fmax((float3)(S.base_r, S.base_g, S.base_b), (float3)(0.0f));
-  if (!isfinite(c->base.x + c->base.y + c->base.z)) c->base = (float3)(0.0f);
+  const float* N = I->normal;
+  for (int l = 0; l < NF_LANES; ++l) {
+    const uint g = first + (uint)l;
+    pix[l] = g;
+    NfSurface S;
+    if (g < (uint)P->count) {
+      S = surf[g];
+    } else {
+      S.valid = 0;
+    }
+    valid[l] = S.valid != 0;
+    if (!valid[l]) {
+      S.px = S.py = S.pz = S.nx = S.ny = S.nz = S.vx = S.vy = S.vz = 0.0f;
+      S.roughness = S.metallic = S.base_r = S.base_g = S.base_b = 0.0f;
+      S.brdf = NF_BRDF_SCALAR;
+    }
+    px[l] = M[0] * S.px + M[1] * S.py + M[2] * S.pz + M[3];
+    py[l] = M[4] * S.px + M[5] * S.py + M[6] * S.pz + M[7];
+    pz[l] = M[8] * S.px + M[9] * S.py + M[10] * S.pz + M[11];
+    nx[l] = N[0] * S.nx + N[1] * S.ny + N[2] * S.nz;
+    ny[l] = N[4] * S.nx + N[5] * S.ny + N[6] * S.nz;
+    nz[l] = N[8] * S.nx + N[9] * S.ny + N[10] * S.nz;
+    nf_normalize3(&nx[l], &ny[l], &nz[l]);
+    vx[l] = M[0] * S.vx + M[1] * S.vy + M[2] * S.vz;
+    vy[l] = M[4] * S.vx + M[5] * S.vy + M[6] * S.vz;
+    vz[l] = M[8] * S.vx + M[9] * S.vy + M[10] * S.vz;
+    nf_normalize3(&vx[l], &vy[l], &vz[l]);
+    brdf[l] = S.brdf;
+    const float rough = clamp(S.roughness, 0.0f, 1.0f);
+    al[l] = fmax(rough * rough, 1e-3f);
+    me[l] = clamp(S.metallic, 0.0f, 1.0f);
+    br[l] = fmax(S.base_r, 0.0f);
+    bg[l] = fmax(S.base_g, 0.0f);
+    bb[l] = fmax(S.base_b, 0.0f);
+    if (!isfinite(br[l] + bg[l] + bb[l])) br[l] = bg[l] = bb[l] = 0.0f;
+    if (!(isfinite(px[l]) && isfinite(py[l]) && isfinite(pz[l]))) {
+      valid[l] = 0;
+      px[l] = py[l] = pz[l] = 0.0f;
+    }
+  }
+  c->px = VLOAD(px);
+  c->py = VLOAD(py);
+  c->pz = VLOAD(pz);
+  c->nx = VLOAD(nx);
+  c->ny = VLOAD(ny);
+  c->nz = VLOAD(nz);
+  c->vx = VLOAD(vx);
+  c->vy = VLOAD(vy);
+  c->vz = VLOAD(vz);
+  c->alpha = VLOAD(al);
+  c->metallic = VLOAD(me);
+  c->br = VLOAD(br);
+  c->bg = VLOAD(bg);
+  c->bb = VLOAD(bb);
+  c->brdf = VLOAD(brdf);
+  c->pix = VLOAD(pix);
+  const vi val = VLOAD(valid) != 0;
   const float delta = L->delta;
-  const float z = c->p.z;
-  if (!(isfinite(c->p.x) && isfinite(c->p.y) && isfinite(z)) || !(z > -delta)) return 0;
   c->pw = L->image_size_x / (float)L->res_x;
   c->ph = L->image_size_y / (float)L->res_y;
-  c->Xp = (c->p.x - L->image_origin_x) / c->pw;
-  c->Rp = (L->image_origin_y + L->image_size_y - c->p.y) / c->ph;
   c->Xo = (L->basis_origin_x - L->image_origin_x) / c->pw;
   c->Ro = (L->image_origin_y + L->image_size_y - L->basis_origin_y) / c->ph;
   c->Hx = L->cell_x / c->pw;
   c->Hy = L->cell_y / c->ph;
+  c->Xp = (c->px - L->image_origin_x) / c->pw;
+  c->Rp = (L->image_origin_y + L->image_size_y - c->py) / c->ph;
   /* delta + z >= 1e-7 delta keeps f finite as z -> -delta (the box then covers the image). */
-  c->f = z / fmax(delta + z, 1e-7f * delta);
+  c->f = c->pz / fmax(delta + c->pz, (vf)(1e-7f * delta));
   c->bw = (float)L->support * c->Hx * fabs(c->f);
   c->bh = (float)L->support * c->Hy * fabs(c->f);
-  c->band = fabs(z) < P->band * delta;
-  if (!(isfinite(c->Xp) && isfinite(c->Rp))) return 0;
-  c->lit = 1;
-  return 1;
+  c->band = fabs(c->pz) < P->band * delta;
+  c->lit = val & (c->pz > -delta) & isfinite(c->Xp) & isfinite(c->Rp);
+  /* unlit lanes get harmless geometry, so that every index they form stays in range */
+  c->Xp = SEL((vf)(0.0f), c->Xp, c->lit);
+  c->Rp = SEL((vf)(0.0f), c->Rp, c->lit);
+  c->f = SEL((vf)(0.0f), c->f, c->lit);
+  c->band = c->band & c->lit;
+  return c->lit;
 }
 
 /* ---------------------------------------------------------------- basis and BRDF ---------- */
 
 /* phi of DESIGN.md §3.2 in cell units: bspline2 (n = 3) or quadratic2 (n = 2). */
-inline float nf_phi(int kind, float t) {
+NF_INLINE vf nf_phi(int kind, vf t) {
   if (kind == NF_BASIS_BSPLINE2) {
-    if (t < 0.0f || t > 3.0f) return 0.0f;
-    if (t < 1.0f) return 0.5f * t * t;
-    if (t < 2.0f) return 0.5f * (-2.0f * t * t + 6.0f * t - 3.0f);
-    const float q = 3.0f - t;
-    return 0.5f * q * q;
+    const vf q = 3.0f - t;
+    vf v = SEL(0.5f * q * q, 0.5f * (-2.0f * t * t + 6.0f * t - 3.0f), t < 2.0f);
+    v = SEL(v, 0.5f * t * t, t < 1.0f);
+    return SEL(v, (vf)(0.0f), (t < 0.0f) | (t > 3.0f) | isnan(t));
   }
-  const float y = fabs(t - 1.0f);
-  if (y <= 0.5f) return 1.0f - 2.0f * y * y;
-  if (y <= 1.0f) return 2.0f * (1.0f - y) * (1.0f - y);
-  return 0.0f;
+  const vf y = fabs(t - 1.0f);
+  const vf v = SEL(2.0f * (1.0f - y) * (1.0f - y), 1.0f - 2.0f * y * y, y <= 0.5f);
+  return SEL((vf)(0.0f), v, y <= 1.0f);
 }
 
 /* rho_k of Eq. 14: f_r(w, w_o) max(0, n.w); IRRADIANCE: f_r = 1 (E(p, n)); SCALAR: 1 (I(p)).
    GGX follows glTF 2.0 metallic-roughness: f = F D V + (1 - F) (1 - metallic) base / pi with
    D = GGX, V = height-correlated Smith-GGX, F = Schlick with F0 = mix(0.04, base, metallic). */
-inline float3 nf_rho(const NfCtx* c, float3 w) {
-  if (c->brdf == NF_BRDF_SCALAR) return (float3)(1.0f);
-  const float nl = dot(c->n, w);
-  if (!(nl > 0.0f)) return (float3)(0.0f);
-  if (c->brdf == NF_BRDF_IRRADIANCE) return (float3)(nl);
-  if (c->brdf == NF_BRDF_LAMBERT) return c->base * (nl / NF_PI);
-  const float nv = fmax(dot(c->n, c->v), 1e-4f);
-  const float3 h = nf_safe_normalize(w + c->v);
-  const float nh = fmax(dot(c->n, h), 0.0f);
-  const float vh = clamp(dot(c->v, h), 0.0f, 1.0f);
-  const float a2 = c->alpha * c->alpha;
-  const float dd = nh * nh * (a2 - 1.0f) + 1.0f;
-  const float D = a2 / fmax(NF_PI * dd * dd, 1e-30f);
-  const float vis_den = nl * sqrt(nv * nv * (1.0f - a2) + a2) + nv * sqrt(nl * nl * (1.0f - a2) + a2);
-  const float V = 0.5f / fmax(vis_den, 1e-12f);
-  const float3 F0 = mix((float3)(0.04f), c->base, c->metallic);
-  const float s = 1.0f - vh;
-  const float s5 = s * s * s * s * s;
-  const float3 F = F0 + ((float3)(1.0f) - F0) * s5;
-  const float3 fr = F * (D * V) + ((float3)(1.0f) - F) * ((1.0f - c->metallic) / NF_PI) * c->base;
-  return fr * nl;
+NF_INLINE void nf_rho(const NfCtx* c, vf wx, vf wy, vf wz, vf* r, vf* g, vf* b) {
+  const vf nl = c->nx * wx + c->ny * wy + c->nz * wz;
+  const vi up = nl > 0.0f;
+  const vi lam = c->brdf == NF_BRDF_LAMBERT, irr = c->brdf == NF_BRDF_IRRADIANCE, sca = c->brdf == NF_BRDF_SCALAR;
+  const vf k = nl * (1.0f / NF_PI);
+  vf fr = SEL(nl, c->br * k, lam), fg = SEL(nl, c->bg * k, lam), fb = SEL(nl, c->bb * k, lam);
+  const vi ggx = !(lam | irr | sca);
+  if (ANY(ggx & up)) {
+    const vf nv = fmax(c->nx * c->vx + c->ny * c->vy + c->nz * c->vz, 1e-4f);
+    vf hx = wx + c->vx, hy = wy + c->vy, hz = wz + c->vz;
+    const vf h2 = hx * hx + hy * hy + hz * hz;
+    const vf hk = SEL((vf)(0.0f), rsqrt(h2), h2 > 1e-30f);
+    hx *= hk;
+    hy *= hk;
+    hz *= hk;
+    const vf nh = fmax(c->nx * hx + c->ny * hy + c->nz * hz, 0.0f);
+    const vf vh = clamp(c->vx * hx + c->vy * hy + c->vz * hz, 0.0f, 1.0f);
+    const vf a2 = c->alpha * c->alpha;
+    const vf dd = nh * nh * (a2 - 1.0f) + 1.0f;
+    const vf D = a2 / fmax(NF_PI * dd * dd, 1e-30f);
+    const vf nlp = fmax(nl, 0.0f);
+    const vf vis_den = nlp * sqrt(nv * nv * (1.0f - a2) + a2) + nv * sqrt(nlp * nlp * (1.0f - a2) + a2);
+    const vf V = 0.5f / fmax(vis_den, 1e-12f);
+    const vf s = 1.0f - vh;
+    const vf s5 = s * s * s * s * s;
+    const vf dv = D * V, kd = (1.0f - c->metallic) * (1.0f / NF_PI);
+    const vf F0r = mix((vf)(0.04f), c->br, c->metallic), F0g = mix((vf)(0.04f), c->bg, c->metallic),
+             F0b = mix((vf)(0.04f), c->bb, c->metallic);
+    const vf Fr = F0r + (1.0f - F0r) * s5, Fg = F0g + (1.0f - F0g) * s5, Fb = F0b + (1.0f - F0b) * s5;
+    fr = SEL(fr, (Fr * dv + (1.0f - Fr) * kd * c->br) * nlp, ggx);
+    fg = SEL(fg, (Fg * dv + (1.0f - Fg) * kd * c->bg) * nlp, ggx);
+    fb = SEL(fb, (Fb * dv + (1.0f - Fb) * kd * c->bb) * nlp, ggx);
+  }
+  *r = SEL(SEL((vf)(0.0f), fr, up), (vf)(1.0f), sca);
+  *g = SEL(SEL((vf)(0.0f), fg, up), (vf)(1.0f), sca);
+  *b = SEL(SEL((vf)(0.0f), fb, up), (vf)(1.0f), sca);
 }
 
 /* v_m(p) (paper §6.2): lit cells under Phi_m's n x n support / n^2. */
-inline float nf_visibility(__global const uint* vis, int words, uint pix, int i, int j, int n, int cw) {
-  __global const uint* w = vis + (size_t)pix * (size_t)words;
-  int lit = 0;
+NF_INLINE vf nf_visibility(__global const uint* vis, int words, vu pix, vi lit, int i, int j, int n, int cw) {
+  const vi base = SEL((vi)(0), CVT_I(pix) * words, lit);
+  vi count = (vi)(0);
   for (int b = 0; b < n; ++b)
     for (int a = 0; a < n; ++a) {
       const int bit = (j + b) * cw + (i + a);
-      lit += (int)((w[bit >> 5] >> (bit & 31)) & 1U);
+      const vi idx = base + (bit >> 5);
+#if NF_LANES == 1
+      const uint w = vis[idx];
+#else
+      const vu w = NF_G(vis, idx, vu);
+#endif
+      count += CVT_I((w >> (uint)(bit & 31)) & 1U);
     }
-  return (float)lit / (float)(n * n);
+  return CVT_F(count) * (1.0f / (float)(n * n));
 }
 
 /* ---------------------------------------------------------------- boxes and SAT sums ------ */
 
 /* One axis of a box cut into (partial first, full middle, partial last) cells, as in
-   nf::lum::split_span: edges e0..e3 (cell boundaries), weights w0, 1, w2 (covered fractions). */
+   nf::lum::split_span: edges e0..e3 (cell boundaries), weights w0, 1, w2 (covered fractions).
+   Every edge is in [0, n] for every lane, whatever the input (NaN included). */
 typedef struct {
-  int e0, e1, e2, e3;
-  float w0, w2;
-  float lo, hi; /* the clipped box, continuous coordinates */
+  vi e0, e1, e2, e3;
+  vf w0, w2;
+  vf lo, hi; /* the clipped box, continuous coordinates */
 } NfSpan;
 
-inline int nf_split(float lo, float hi, int n, NfSpan* s) {
+NF_INLINE vi nf_split(vf lo, vf hi, int n, NfSpan* s) {
   lo = clamp(lo, 0.0f, (float)n);
   hi = clamp(hi, 0.0f, (float)n);
+  const vi ok = hi > lo;
+  hi = SEL(lo, hi, ok);
   s->lo = lo;
   s->hi = hi;
-  const int k0 = min((int)floor(lo), n - 1);
-  if (!(hi > lo)) {
-    s->e0 = s->e1 = s->e2 = s->e3 = k0;
-    s->w0 = s->w2 = 0.0f;
-    return 0;
-  }
-  const int k1 = max((int)ceil(hi), k0 + 1);
+  const vi k0 = min(CVT_I(floor(lo)), (vi)(n - 1));
+  const vi k1 = max(CVT_I(ceil(hi)), k0 + 1);
+  const vi one = (k1 - k0 == 1) | !ok;
   s->e0 = k0;
-  s->e1 = k0 + 1;
-  if (k1 - k0 == 1) {
-    s->e2 = s->e3 = k0 + 1;
-    s->w0 = hi - lo;
-    s->w2 = 0.0f;
-  } else {
-    s->e2 = k1 - 1;
-    s->e3 = k1;
-    s->w0 = (float)(k0 + 1) - lo;
-    s->w2 = hi - (float)(k1 - 1);
-  }
-  return 1;
+  s->e1 = SEL(k0 + 1, k0, !ok);
+  s->e2 = SEL(k1 - 1, s->e1, one);
+  s->e3 = SEL(k1, s->e1, one);
+  s->w0 = SEL(CVT_F(k0 + 1) - lo, hi - lo, one);
+  s->w2 = SEL(hi - CVT_F(k1 - 1), (vf)(0.0f), one);
+  return ok;
 }
 
 /* B_m(p) (Eq. 7) clipped to the image, in pixel coordinates. The support of Phi_(i,j) is
    [o + (i,j) h, o + (i+n, j+n) h]; its projection through p onto S is p + (u - p) f per axis. */
-inline int nf_box(const NfCtx* c, const NfLuminaire* L, int m, NfSpan* sx, NfSpan* sr) {
+NF_INLINE vi nf_box(const NfCtx* c, const NfLuminaire* L, int m, NfSpan* sx, NfSpan* sr) {
   const int i = m % L->count_x, j = m / L->count_x, n = L->support;
-  const float xa = c->Xp + (c->Xo + (float)i * c->Hx - c->Xp) * c->f;
-  const float xb = c->Xp + (c->Xo + (float)(i + n) * c->Hx - c->Xp) * c->f;
-  const float ra = c->Rp + (c->Ro - (float)j * c->Hy - c->Rp) * c->f;
-  const float rb = c->Rp + (c->Ro - (float)(j + n) * c->Hy - c->Rp) * c->f;
-  const int okx = nf_split(fmin(xa, xb), fmax(xa, xb), L->res_x, sx);
-  const int okr = nf_split(fmin(ra, rb), fmax(ra, rb), L->res_y, sr);
-  return okx && okr;
+  const vf xa = c->Xp + (c->Xo + (float)i * c->Hx - c->Xp) * c->f;
+  const vf xb = c->Xp + (c->Xo + (float)(i + n) * c->Hx - c->Xp) * c->f;
+  const vf ra = c->Rp + (c->Ro - (float)j * c->Hy - c->Rp) * c->f;
+  const vf rb = c->Rp + (c->Ro - (float)(j + n) * c->Hy - c->Rp) * c->f;
+  const vi okx = nf_split(fmin(xa, xb), fmax(xa, xb), L->res_x, sx);
+  const vi okr = nf_split(fmin(ra, rb), fmax(ra, rb), L->res_y, sr);
+  return okx & okr & c->lit;
 }
 
-/* The three interior masses of a box in SAT units along x, and the band bases for sampling:
+/* The masses of a box in SAT units along x, and the band bases for sampling:
      first = w0x * sum_d wd S(col e0, band d), mid = sum_d wd S(cols e1..e2, band d),
      last  = w2x * sum_d wd S(col e2, band d),
    S = exact int64 sub-box sums; band d = rows [r_d, r_d+1) with weights (w0r, 1, w2r).
    A_m(p) / (quantum pixel_area) = first + mid + last (Eq. 10), all terms >= 0. */
 typedef struct {
-  float first, mid, last;
-  long b0, b1, b2; /* band sums over the columns < e1 (base of the interior cumulative) */
+  vf first, mid, last;
+  vl b0, b1, b2; /* band sums over the columns < e1 (base of the interior cumulative) */
+  vl v[4][4];    /* the SAT entries at rows r0..r3 x columns e0..e3 (reused by the y set-up) */
 } NfBoxSums;
 
-inline void nf_box_sums(__global const long* img, int L1, const NfSpan* sx, const NfSpan* sr, NfBoxSums* B) {
-  __global const long* r0 = img + sr->e0 * L1;
-  __global const long* r1 = img + sr->e1 * L1;
-  __global const long* r2 = img + sr->e2 * L1;
-  __global const long* r3 = img + sr->e3 * L1;
-  const int c0 = sx->e0, c1 = sx->e1, c2 = sx->e2, c3 = sx->e3;
-  const long a0 = r0[c0], a1 = r0[c1], a2 = r0[c2], a3 = r0[c3];
-  const long b0 = r1[c0], b1 = r1[c1], b2 = r1[c2], b3 = r1[c3];
-  const long d0 = r2[c0], d1 = r2[c1], d2 = r2[c2], d3 = r2[c3];
-  const long e0 = r3[c0], e1 = r3[c1], e2 = r3[c2], e3 = r3[c3];
+NF_INLINE void nf_box_sums(__global const long* img, int L1, const NfSpan* sx, const NfSpan* sr, NfBoxSums* B) {
+  const vi r0 = sr->e0 * L1, r1 = sr->e1 * L1, r2 = sr->e2 * L1, r3 = sr->e3 * L1;
+  const vi c0 = sx->e0, c1 = sx->e1, c2 = sx->e2, c3 = sx->e3;
+  const vl a0 = GATHER(img, r0 + c0), a1 = GATHER(img, r0 + c1), a2 = GATHER(img, r0 + c2), a3 = GATHER(img, r0 + c3);
+  const vl b0 = GATHER(img, r1 + c0), b1 = GATHER(img, r1 + c1), b2 = GATHER(img, r1 + c2), b3 = GATHER(img, r1 + c3);
+  const vl d0 = GATHER(img, r2 + c0), d1 = GATHER(img, r2 + c1), d2 = GATHER(img, r2 + c2), d3 = GATHER(img, r2 + c3);
+  const vl e0 = GATHER(img, r3 + c0), e1 = GATHER(img, r3 + c1), e2 = GATHER(img, r3 + c2), e3 = GATHER(img, r3 + c3);
   /* band d at column k: D_d(k) = row r_{d+1} - row r_d */
-  const long D00 = b0 - a0, D01 = b1 - a1, D02 = b2 - a2, D03 = b3 - a3;
-  const long D10 = d0 - b0, D11 = d1 - b1, D12 = d2 - b2, D13 = d3 - b3;
-  const long D20 = e0 - d0, D21 = e1 - d1, D22 = e2 - d2, D23 = e3 - d3;
-  const float w0 = sr->w0, w2 = sr->w2;
-  B->first = sx->w0 * (w0 * (float)(D01 - D00) + (float)(D11 - D10) + w2 * (float)(D21 - D20));
-  B->mid = w0 * (float)(D02 - D01) + (float)(D12 - D11) + w2 * (float)(D22 - D21);
-  B->last = sx->w2 * (w0 * (float)(D03 - D02) + (float)(D13 - D12) + w2 * (float)(D23 - D22));
+  const vl D00 = b0 - a0, D01 = b1 - a1, D02 = b2 - a2, D03 = b3 - a3;
+  const vl D10 = d0 - b0, D11 = d1 - b1, D12 = d2 - b2, D13 = d3 - b3;
+  const vl D20 = e0 - d0, D21 = e1 - d1, D22 = e2 - d2, D23 = e3 - d3;
+  const vf w0 = sr->w0, w2 = sr->w2;
+  B->first = sx->w0 * (w0 * CVT_F(D01 - D00) + CVT_F(D11 - D10) + w2 * CVT_F(D21 - D20));
+  B->mid = w0 * CVT_F(D02 - D01) + CVT_F(D12 - D11) + w2 * CVT_F(D22 - D21);
+  B->last = sx->w2 * (w0 * CVT_F(D03 - D02) + CVT_F(D13 - D12) + w2 * CVT_F(D23 - D22));
   B->b0 = D01;
   B->b1 = D11;
   B->b2 = D21;
+  B->v[0][0] = a0, B->v[0][1] = a1, B->v[0][2] = a2, B->v[0][3] = a3;
+  B->v[1][0] = b0, B->v[1][1] = b1, B->v[1][2] = b2, B->v[1][3] = b3;
+  B->v[2][0] = d0, B->v[2][1] = d1, B->v[2][2] = d2, B->v[2][3] = d3;
+  B->v[3][0] = e0, B->v[3][1] = e1, B->v[3][2] = e2, B->v[3][3] = e3;
 }
 
-inline float nf_box_units(const NfBoxSums* B) { return B->first + B->mid + B->last; }
-
-/* Luminance of pixel (col, row) of image m from the SAT, exact: 4 entries. */
-inline float nf_pixel_luminance(__global const long* img, int L1, int col, int row, float q) {
-  __global const long* a = img + row * L1 + col;
-  return (float)((a[L1 + 1] - a[L1]) - (a[1] - a[0])) * q;
+/* Luminance of pixel (col, row) of image m from the SAT, exact: 4 entries (indices in range). */
+NF_INLINE vf nf_pixel_luminance(__global const long* img, int L1, vi col, vi row, float q) {
+  const vi a = row * L1 + col;
+  return CVT_F((GATHER(img, a + L1 + 1) - GATHER(img, a + L1)) - (GATHER(img, a + 1) - GATHER(img, a))) * q;
 }
 
 /* ---------------------------------------------------------------- CDF inversion ----------- */
 
-/* A piecewise-linear cumulative J(k) on integer knots k, from SAT entries:
-   bands == 3: J(k) = w0 (D_0(k) - b0) + (D_1(k) - b1) + w2 (D_2(k) - b2), D_d(k) = p[d+1][k] - p[d][k]
-   bands == 1: J(k) = (p1[k s] - p0[k s]) - b0. Every evaluation is exact int64 then float. */
-typedef struct {
-  __global const long* p0;
-  __global const long* p1;
-  __global const long* p2;
-  __global const long* p3;
-  long b0, b1, b2;
-  float w0, w2;
-  int stride;
-  int bands;
-} NfCum;
-
-inline float nf_cum(const NfCum* e, int k) {
-  const int o = k * e->stride;
-  if (e->bands == 3) {
-    const long v0 = e->p0[o], v1 = e->p1[o], v2 = e->p2[o], v3 = e->p3[o];
-    return e->w0 * (float)((v1 - v0) - e->b0) + (float)((v2 - v1) - e->b1) + e->w2 * (float)((v3 - v2) - e->b2);
-  }
-  return (float)((e->p1[o] - e->p0[o]) - e->b0);
-}
-
-/* Inverts J on [lo, hi] (J(lo) = jlo <= t < jhi = J(hi)): finds the knot interval [k, k+1]
-   holding t, and the fraction inside it, from the exact inverse of that linear piece.
+/* Inversion of a piecewise-linear cumulative J on integer knots, J(lo) = jlo <= t < jhi = J(hi),
+   for the lanes in `run`: finds the knot interval [k, k+1] holding t and the fraction inside it,
+   from the exact inverse of that linear piece.
    Secant (paper §5): regula falsi with the Illinois modification; the interpolated point is
    rounded to a knot strictly inside the bracket; it stops when the bracket is one piece.
    Binary: the midpoint knot. After `depth` evaluations the rest is linear interpolation across
-   the current bracket (the speed/accuracy knob). *iters counts the evaluations of J. */
-inline int nf_invert(const NfCum* e, int lo, int hi, float jlo, float jhi, float t, int depth, float* frac,
-                     int* iters) {
-  int it = 0;
+   the current bracket (the speed/accuracy knob). *iters counts the evaluations of J.
+   EVAL(k) evaluates J at the knot vector k (every lane's k stays in [lo, hi]). */
 #if NF_SEARCH == NF_SEARCH_SECANT
-  float glo = jlo - t, ghi = jhi - t; /* Illinois-modified function values, glo <= 0 < ghi */
-  int side = 0;
-#endif
-  while (hi - lo > 1 && it < depth) {
-#if NF_SEARCH == NF_SEARCH_SECANT
-    const float den = ghi - glo;
-    const float q = den > 0.0f ? clamp(-glo / den, 0.0f, 1.0f) : 0.5f;
-    int k = lo + (int)(q * (float)(hi - lo) + 0.5f);
-    k = clamp(k, lo + 1, hi - 1);
+#define NF_INVERT_CHOOSE                                                               \
+  const vf den_ = ghi - glo;                                                           \
+  const vf q_ = SEL((vf)(0.5f), clamp(-glo / den_, 0.0f, 1.0f), den_ > 0.0f);          \
+  vi k = lo + CVT_I(q_ * CVT_F(hi - lo) + 0.5f);                                       \
+  k = min(max(k, lo + 1), hi - 1);
+#define NF_INVERT_UPDATE                                         \
+  {                                                              \
+    const vi s_old = side;                                       \
+    glo = SEL(glo, jk - t, le);                                  \
+    ghi = SEL(ghi, ghi * 0.5f, le & (s_old == -1));              \
+    ghi = SEL(ghi, jk - t, gt);                                  \
+    glo = SEL(glo, glo * 0.5f, gt & (s_old == 1));               \
+    side = SEL(SEL(side, (vi)(1), gt), (vi)(-1), le);            \
+  }
+#define NF_INVERT_STATE \
+  vf glo = jlo - t, ghi = jhi - t; /* Illinois-modified values, glo <= 0 < ghi */ \
+  vi side = (vi)(0);
 #else
-    const int k = lo + ((hi - lo) >> 1);
+#define NF_INVERT_CHOOSE vi k = lo + ((hi - lo) >> 1);
+#define NF_INVERT_UPDATE
+#define NF_INVERT_STATE
 #endif
-    const float jk = nf_cum(e, k);
-    ++it;
-    if (jk <= t) {
-      lo = k;
-      jlo = jk;
-#if NF_SEARCH == NF_SEARCH_SECANT
-      glo = jk - t;
-      if (side == -1) ghi *= 0.5f;
-      side = -1;
-#endif
-    } else {
-      hi = k;
-      jhi = jk;
-#if NF_SEARCH == NF_SEARCH_SECANT
-      ghi = jk - t;
-      if (side == 1) glo *= 0.5f;
-      side = 1;
-#endif
-    }
+
+#define NF_INVERT_BODY(EVAL)                                             \
+  vi it = (vi)(0);                                                       \
+  NF_INVERT_STATE                                                        \
+  run = run & (hi - lo > 1);                                             \
+  for (int n_ = 0; n_ < depth && ANY(run); ++n_) {                       \
+    NF_INVERT_CHOOSE                                                     \
+    k = SEL(lo, k, run);                                                 \
+    const vf jk = EVAL(k);                                               \
+    it += SEL((vi)(0), (vi)(1), run);                                    \
+    const vi le = run & (jk <= t), gt = run & !(jk <= t);                \
+    lo = SEL(lo, k, le);                                                 \
+    jlo = SEL(jlo, jk, le);                                              \
+    hi = SEL(hi, k, gt);                                                 \
+    jhi = SEL(jhi, jk, gt);                                              \
+    NF_INVERT_UPDATE                                                     \
+    run = run & (hi - lo > 1);                                           \
+  }                                                                      \
+  *iters += it;                                                          \
+  const vf den = jhi - jlo;                                              \
+  const vi width = max(hi - lo, (vi)(1));                                \
+  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f);  \
+  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);         \
+  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);                   \
+  *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);                \
+  return lo + kk;
+
+/* ours, along x: J(k) = w0 (D_0(k) - b0) + (D_1(k) - b1) + w2 (D_2(k) - b2), 3 row bands, from the
+   SAT entries at rows r0..r3 of column k. The search keeps the entries of its bracket ends
+   (lo[], hi[]), so that the y set-up of the column found needs no further reads. */
+NF_INLINE vf nf_j_x3(vl v0, vl v1, vl v2, vl v3, vl b0, vl b1, vl b2, vf w0, vf w2) {
+  return w0 * CVT_F((v1 - v0) - b0) + CVT_F((v2 - v1) - b1) + w2 * CVT_F((v3 - v2) - b2);
+}
+NF_INLINE vi nf_invert_x3(__global const long* img, vi r0, vi r1, vi r2, vi r3, vl b0, vl b1, vl b2, vf w0, vf w2,
+                          vi lo, vi hi, vf jlo, vf jhi, vf t, vi run, int depth, vf* frac, vi* iters, vl* vlo,
+                          vl* vhi, vi* width_out) {
+  vi it = (vi)(0);
+  NF_INVERT_STATE
+  run = run & (hi - lo > 1);
+  for (int n_ = 0; n_ < depth && ANY(run); ++n_) {
+    NF_INVERT_CHOOSE
+    k = SEL(lo, k, run);
+    const vl v0 = GATHER(img, r0 + k), v1 = GATHER(img, r1 + k), v2 = GATHER(img, r2 + k), v3 = GATHER(img, r3 + k);
+    const vf jk = nf_j_x3(v0, v1, v2, v3, b0, b1, b2, w0, w2);
+    it += SEL((vi)(0), (vi)(1), run);
+    const vi le = run & (jk <= t), gt = run & !(jk <= t);
+    lo = SEL(lo, k, le);
+    jlo = SEL(jlo, jk, le);
+    hi = SEL(hi, k, gt);
+    jhi = SEL(jhi, jk, gt);
+    vlo[0] = SELL(vlo[0], v0, le);
+    vlo[1] = SELL(vlo[1], v1, le);
+    vlo[2] = SELL(vlo[2], v2, le);
+    vlo[3] = SELL(vlo[3], v3, le);
+    vhi[0] = SELL(vhi[0], v0, gt);
+    vhi[1] = SELL(vhi[1], v1, gt);
+    vhi[2] = SELL(vhi[2], v2, gt);
+    vhi[3] = SELL(vhi[3], v3, gt);
+    NF_INVERT_UPDATE
+    run = run & (hi - lo > 1);
   }
   *iters += it;
-  const float den = jhi - jlo;
-  float pos = den > 0.0f ? (t - jlo) / den * (float)(hi - lo) : 0.0f;
-  pos = clamp(pos, 0.0f, (float)(hi - lo) * NF_ONE_MINUS_ULP);
-  const int k = min((int)pos, hi - lo - 1);
-  *frac = clamp(pos - (float)k, 0.0f, NF_ONE_MINUS_ULP);
-  return lo + k;
+  const vf den = jhi - jlo;
+  const vi width = max(hi - lo, (vi)(1));
+  *width_out = width;
+  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f);
+  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);
+  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);
+  *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);
+  return lo + kk;
 }
 
-/* Samples one axis given its span, the masses of its first / interior / last pieces and the
-   interior cumulative: u in [0, 1) -> cell and fraction inside the cell. Inside the first and
-   last (partial) cells the density is constant, so the position is linear in the mass. */
-inline int nf_sample_axis(const NfSpan* s, float mf, float mm, float ml, const NfCum* e, float u, int depth,
-                          float* frac, int* iters) {
-  float pos;
-  int cell;
-  if (s->e1 == s->e3) { /* one cell: uniform on [lo, hi] */
-    cell = s->e0;
-    pos = s->lo + u * (s->hi - s->lo);
-  } else {
-    const float fm = mf + mm;
-    const float total = fm + ml;
-    float t = u * total;
-    if (!(t < total)) t = total * NF_ONE_MINUS_ULP; /* keeps t < total, so the piece found has mass */
-    if (t < mf) {
-      cell = s->e0;
-      pos = s->lo + (t / mf) * ((float)s->e1 - s->lo);
-    } else if (t >= fm && ml > 0.0f) {
-      cell = s->e2;
-      pos = (float)s->e2 + fmin((t - fm) / ml, 1.0f) * (s->hi - (float)s->e2);
-    } else {
-      /* interior: J(e1) = 0 <= t' < J(e2) = mm */
-      const float tt = fmin(fmax(t - mf, 0.0f), mm * NF_ONE_MINUS_ULP);
-      float fr;
-      cell = nf_invert(e, s->e1, s->e2, 0.0f, mm, tt, depth, &fr, iters);
-      *frac = fr;
-      return cell;
+/* paper / global, along x: the full-column cumulative J(k) = SAT[Ny][k] - b. */
+#define NF_EVAL_ROW(k) CVT_F(GATHER(img, rowN + (k)) - b)
+NF_INLINE vi nf_invert_row(__global const long* img, int rowN, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t, vi run,
+                           int depth, vf* frac, vi* iters) {
+  NF_INVERT_BODY(NF_EVAL_ROW)
+}
+
+/* along y in column col: the column cumulative J(k) = (SAT[k][col+1] - SAT[k][col]) - b. */
+NF_INLINE vf nf_eval_col(__global const long* img, int L1, vi col, vl b, vi k) {
+  const vi o = k * L1 + col;
+  return CVT_F((GATHER(img, o + 1) - GATHER(img, o)) - b);
+}
+#define NF_EVAL_COL(k) nf_eval_col(img, L1, col, b, (k))
+NF_INLINE vi nf_invert_col(__global const long* img, int L1, vi col, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t,
+                           vi run, int depth, vf* frac, vi* iters) {
+  NF_INVERT_BODY(NF_EVAL_COL)
+}
+
+/* One axis: u in [0, 1) -> cell and fraction inside the cell, given the masses of the first /
+   interior / last pieces. Inside the partial first and last cells the density is constant, so
+   the position is linear in the mass; the interior goes to the search. Lanes outside `act` get
+   in-range garbage. `kind` picks the interior cumulative: 0 = x (3 bands), 1 = x (full column),
+   2 = y (column col). */
+typedef struct {
+  vi r0, r1, r2, r3; /* kind 0: row offsets of the bands */
+  vl b0, b1, b2;
+  vf w0, w2;
+  vi col; /* kind 2 */
+  int rowN; /* kind 1 */
+} NfCum;
+
+NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const NfCum* e, const NfSpan* s, vf mf, vf mm,
+                            vf ml, vf u, vi act, int depth, vf* frac, vi* iters, const NfBoxSums* B, vl* cl, vl* cr,
+                            vi* have) {
+  const vi one = s->e1 == s->e3;
+  const vf fm = mf + mm;
+  const vf total = fm + ml;
+  vf t = u * total;
+  t = SEL(total * NF_ONE_MINUS_ULP, t, t < total); /* keeps t < total: the piece found has mass */
+  const vi first = !one & (t < mf);
+  const vi last = !one & !first & (t >= fm) & (ml > 0.0f);
+  const vi inter = act & !one & !first & !last;
+  const vf pos_one = s->lo + u * (s->hi - s->lo);
+  const vf pos_first = s->lo + (t / mf) * (CVT_F(s->e1) - s->lo);
+  const vf pos_last = CVT_F(s->e2) + fmin((t - fm) / ml, 1.0f) * (s->hi - CVT_F(s->e2));
+  vi cell = SEL(s->e0, s->e2, last);
+  const vf pos = SEL(SEL(pos_first, pos_last, last), pos_one, one);
+  vf fr = clamp(pos - CVT_F(cell), 0.0f, NF_ONE_MINUS_ULP);
+  vl vlo[4], vhi[4];
+  if (kind == 0) {
+    /* SAT entries of the columns cell, cell + 1 at the four band rows: the first / last / only cell
+       from the box corners, an interior cell from the search's final bracket */
+    for (int r = 0; r < 4; ++r) {
+      cl[r] = SELL(B->v[r][0], B->v[r][2], last);
+      cr[r] = SELL(B->v[r][1], B->v[r][3], last);
+      vlo[r] = B->v[r][1];
+      vhi[r] = B->v[r][2];
     }
+    *have = (vi)(-1) != 0;
   }
-  *frac = clamp(pos - (float)cell, 0.0f, NF_ONE_MINUS_ULP);
+  if (ANY(inter)) {
+    /* interior: J(e1) = 0 <= t' < J(e2) = mm */
+    const vf tt = fmin(fmax(t - mf, 0.0f), mm * NF_ONE_MINUS_ULP);
+    vf fi;
+    vi ci;
+    if (kind == 0) {
+      vi width;
+      ci = nf_invert_x3(img, e->r0, e->r1, e->r2, e->r3, e->b0, e->b1, e->b2, e->w0, e->w2, s->e1, s->e2, (vf)(0.0f),
+                        mm, tt, inter, depth, &fi, iters, vlo, vhi, &width);
+      for (int r = 0; r < 4; ++r) {
+        cl[r] = SELL(cl[r], vlo[r], inter);
+        cr[r] = SELL(cr[r], vhi[r], inter);
+      }
+      *have = !inter | (width == 1);
+    } else if (kind == 1)
+      ci = nf_invert_row(img, e->rowN, e->b0, s->e1, s->e2, (vf)(0.0f), mm, tt, inter, depth, &fi, iters);
+    else
+      ci = nf_invert_col(img, L1, e->col, e->b0, s->e1, s->e2, (vf)(0.0f), mm, tt, inter, depth, &fi, iters);
+    cell = SEL(cell, ci, inter);
+    fr = SEL(fr, fi, inter);
+  }
+  *frac = fr;
   return cell;
 }
 
 /* ---------------------------------------------------------------- samples on B_m(p) ------- */
 
-/* The sample position of one image on S: cell (col,row), fractions inside it. */
-typedef struct {
-  int col, row;
-  float fx, fy;
-  int ok; /* 0: the sample carries no energy (zero-mass column: depth-limited or `paper`) */
-} NfPos;
-
-/* Draws s in B_m(p) with pdf Y_m / A_m (ours, global) or the paper's variant, from u in [0,1)^2.
+/* Draws s in B_m(p) with pdf Y_m / A_m (ours, global) or the paper's variant, from (ux, uy):
    ours (DESIGN.md §3.4): F(x) = int_{x0}^{x} int_{y0}^{y1} Y / A_m, the exact restricted
    marginal from the SAT (3 row bands), then the column's cumulative restricted to [y0, y1].
    paper (Eq. 8): the precomputed full-column marginal restricted to [x0, x1], same conditional.
-   global (Eq. 6): the box is the whole image. */
-inline NfPos nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx, const NfSpan* sr,
-                     const NfBoxSums* B, float2 u, int depth, int* itx, int* ity) {
-  NfPos r;
-  r.ok = 1;
+   global (Eq. 6): the box is the whole image.
+   Returns the mask of samples that carry energy (0: a zero-mass column, reachable only with a
+   depth-limited search or `paper`). */
+NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx, const NfSpan* sr,
+                     const NfBoxSums* B, vf ux, vf uy, vi act, int depth, vi* col, vf* fx, vi* row, vf* fy, vi* itx,
+                     vi* ity) {
   NfCum e;
 #if NF_METHOD == NF_METHOD_OURS
-  e.p0 = img + sr->e0 * L1;
-  e.p1 = img + sr->e1 * L1;
-  e.p2 = img + sr->e2 * L1;
-  e.p3 = img + sr->e3 * L1;
+  e.r0 = sr->e0 * L1;
+  e.r1 = sr->e1 * L1;
+  e.r2 = sr->e2 * L1;
+  e.r3 = sr->e3 * L1;
   e.b0 = B->b0;
   e.b1 = B->b1;
   e.b2 = B->b2;
   e.w0 = sr->w0;
   e.w2 = sr->w2;
-  e.stride = 1;
-  e.bands = 3;
-  r.col = nf_sample_axis(sx, B->first, B->mid, B->last, &e, u.x, depth, &r.fx, itx);
+  vl cl[4], cr[4];
+  vi have;
+  *col = nf_sample_axis(img, L1, 0, &e, sx, B->first, B->mid, B->last, ux, act, depth, fx, itx, B, cl, cr, &have);
 #else /* paper, global: full-column marginal J(k) = SAT[Ny][k] - SAT[Ny][e1] */
-  {
-    __global const long* rowN = img + Ny * L1;
-    const long n0 = rowN[sx->e0], n1 = rowN[sx->e1], n2 = rowN[sx->e2], n3 = rowN[sx->e3];
-    e.p0 = img; /* row 0 of a SAT is zero */
-    e.p1 = rowN;
-    e.b0 = n1;
-    e.stride = 1;
-    e.bands = 1;
-    r.col = nf_sample_axis(sx, sx->w0 * (float)(n1 - n0), (float)(n2 - n1), sx->w2 * (float)(n3 - n2), &e, u.x,
-                           depth, &r.fx, itx);
-  }
+  e.rowN = Ny * L1;
+  const vl n0 = GATHER(img, e.rowN + sx->e0), n1 = GATHER(img, e.rowN + sx->e1), n2 = GATHER(img, e.rowN + sx->e2),
+           n3 = GATHER(img, e.rowN + sx->e3);
+  e.b0 = n1;
+  *col = nf_sample_axis(img, L1, 1, &e, sx, sx->w0 * CVT_F(n1 - n0), CVT_F(n2 - n1), sx->w2 * CVT_F(n3 - n2), ux, act,
+                        depth, fx, itx, B, 0, 0, 0);
 #endif
   /* conditional along y in column col, restricted to [y0, y1]: cc(k) = SAT[k][col+1] - SAT[k][col] */
-  __global const long* ca = img + r.col;
-  const long q0 = ca[sr->e0 * L1 + 1] - ca[sr->e0 * L1];
-  const long q1 = ca[sr->e1 * L1 + 1] - ca[sr->e1 * L1];
-  const long q2 = ca[sr->e2 * L1 + 1] - ca[sr->e2 * L1];
-  const long q3 = ca[sr->e3 * L1 + 1] - ca[sr->e3 * L1];
-  const float mf = sr->w0 * (float)(q1 - q0), mm = (float)(q2 - q1), ml = sr->w2 * (float)(q3 - q2);
-  if (!(mf + mm + ml > 0.0f)) r.ok = 0;
+  const vi c = *col;
+  vl q0, q1, q2, q3;
+#if NF_METHOD == NF_METHOD_OURS
+  q0 = cr[0] - cl[0];
+  q1 = cr[1] - cl[1];
+  q2 = cr[2] - cl[2];
+  q3 = cr[3] - cl[3];
+  const vi need = act & !have;
+  if (ANY(need))
+#endif
+  {
+    const vi o0 = sr->e0 * L1 + c, o1 = sr->e1 * L1 + c, o2 = sr->e2 * L1 + c, o3 = sr->e3 * L1 + c;
+    const vl g0 = GATHER(img, o0 + 1) - GATHER(img, o0), g1 = GATHER(img, o1 + 1) - GATHER(img, o1);
+    const vl g2 = GATHER(img, o2 + 1) - GATHER(img, o2), g3 = GATHER(img, o3 + 1) - GATHER(img, o3);
+#if NF_METHOD == NF_METHOD_OURS
+    q0 = SELL(q0, g0, need);
+    q1 = SELL(q1, g1, need);
+    q2 = SELL(q2, g2, need);
+    q3 = SELL(q3, g3, need);
+#else
+    q0 = g0;
+    q1 = g1;
+    q2 = g2;
+    q3 = g3;
+#endif
+  }
+  const vf mf = sr->w0 * CVT_F(q1 - q0), mm = CVT_F(q2 - q1), ml = sr->w2 * CVT_F(q3 - q2);
+  const vi ok = mf + mm + ml > 0.0f;
   NfCum ey;
-  ey.p0 = ca;
-  ey.p1 = ca + 1;
+  ey.col = c;
   ey.b0 = q1;
-  ey.stride = L1;
-  ey.bands = 1;
-  r.row = nf_sample_axis(sr, mf, mm, ml, &ey, u.y, depth, &r.fy, ity);
-  return r;
+  *row = nf_sample_axis(img, L1, 2, &ey, sr, mf, mm, ml, uy, act & ok, depth, fy, ity, B, 0, 0, 0);
+  return ok;
 }
 
 /* ---------------------------------------------------------------- Eq. 14 per sample ------- */
 
-/* One S-parametrised sample s (pixel coordinates col + fx, row + fy) of image m = (i, j):
+/* One S-parametrised sample s (pixel coordinates X = col + fx, R = row + fy) of image (i, j):
      Psi_m(u -> s) Delta / |s - p|^3  with u = s + (s - p) delta / z   (Eq. 5, 11)
      goesele2003: Phi_m(u) delta^2 / cos^4(theta) |z| / r^3 = Phi_m(u) delta^2 r / |z|^3
      radiance:    Phi_m(u) |z| / r^3
-   and omega = sign(z) (s - p) / r (towards U). Returns that geometric factor; *w = omega. */
-inline float nf_geom_s(const NfCtx* c, const NfLuminaire* L, int i, int j, float X, float R, float3* w) {
-  const float z = c->p.z;
-  const float dX = X - c->Xp, dR = R - c->Rp;
-  const float3 d = (float3)(dX * c->pw, -dR * c->ph, -z);
-  const float r2 = dot(d, d);
-  const float r = sqrt(r2);
-  const float az = fabs(z);
-  if (!(r > 0.0f) || !(az > 0.0f)) return 0.0f;
-  const float k = L->delta / z;
-  const float tx = (X + dX * k - c->Xo) / c->Hx - (float)i;
-  const float ty = (c->Ro - (R + dR * k)) / c->Hy - (float)j;
-  const float phi = nf_phi(L->basis_kind, tx) * nf_phi(L->basis_kind, ty);
-  if (!(phi > 0.0f)) return 0.0f;
-  *w = d * (z > 0.0f ? 1.0f / r : -1.0f / r);
-  if (L->reconstruction == NF_RECON_GOESELE2003) return phi * L->delta * L->delta * r / (az * az * az);
-  return phi * az / (r2 * r);
-}
-
-inline float3 nf_chroma(__global const float4* chroma, const NfLuminaire* L, int m, int col, int row) {
-#if NF_HAS_CHROMA
-  return chroma[((size_t)m * (size_t)L->res_y + (size_t)row) * (size_t)L->res_x + (size_t)col].xyz;
-#else
-  return (float3)(1.0f);
-#endif
+   and omega = sign(z) (s - p) / r (towards U). Returns that factor (0 where undefined). */
+NF_INLINE vf nf_geom_s(const NfCtx* c, const NfLuminaire* L, int i, int j, vf X, vf R, vf* wx, vf* wy, vf* wz) {
+  const vf z = c->pz;
+  const vf dX = X - c->Xp, dR = R - c->Rp;
+  const vf dx = dX * c->pw, dy = -dR * c->ph, dz = -z;
+  const vf r2 = dx * dx + dy * dy + dz * dz;
+  const vf r = sqrt(r2);
+  const vf az = fabs(z);
+  const vi ok = (r > 0.0f) & (az > 0.0f);
+  const vf k = L->delta / z;
+  const vf tx = (X + dX * k - c->Xo) / c->Hx - (float)i;
+  const vf ty = (c->Ro - (R + dR * k)) / c->Hy - (float)j;
+  const vf phi = nf_phi(L->basis_kind, tx) * nf_phi(L->basis_kind, ty);
+  const vf inv = SEL(-1.0f / r, 1.0f / r, z > 0.0f);
+  *wx = dx * inv;
+  *wy = dy * inv;
+  *wz = dz * inv;
+  const vf g = L->reconstruction == NF_RECON_GOESELE2003 ? phi * L->delta * L->delta * r / (az * az * az)
+                                                          : phi * az / (r2 * r);
+  return SEL((vf)(0.0f), g, ok & (phi > 0.0f));
 }
 
 /* One U-parametrised sample (Eq. 9, DESIGN.md §3.5): u uniform on supp Phi_m (area n^2 hx hy),
    s = p + (u - p) f, L dw = C_m(s) Phi_m(u) G du with
      goesele2003: G = delta^2 |u - p| / (delta + z)^3,   radiance: G = (delta + z) / |u - p|^3,
-   omega = (u - p) / |u - p|. Returns a_sup Y_m(s) Phi_m(u) G; the pixel of s goes to col, row (-1: none). */
-inline float nf_geom_u(const NfCtx* c, const NfLuminaire* L, __global const long* img, float q, int i, int j,
-                       float2 xi, float3* w, int* col, int* row) {
+   omega = (u - p) / |u - p|. Returns a_sup Y_m(s) Phi_m(u) G; the pixel of s goes to col, row
+   (0 where s is outside the image; the factor is then 0). */
+NF_INLINE vf nf_geom_u(const NfCtx* c, const NfLuminaire* L, __global const long* img, float q, int i, int j, vf ux,
+                       vf uy, vf* wx, vf* wy, vf* wz, vi* col, vi* row) {
   const int n = L->support;
-  const float tx = xi.x * (float)n, ty = xi.y * (float)n;
-  const float phi = nf_phi(L->basis_kind, tx) * nf_phi(L->basis_kind, ty);
-  const float Xu = c->Xo + ((float)i + tx) * c->Hx;
-  const float Ru = c->Ro - ((float)j + ty) * c->Hy;
-  const float Xs = c->Xp + (Xu - c->Xp) * c->f;
-  const float Rs = c->Rp + (Ru - c->Rp) * c->f;
-  *col = -1;
-  *row = -1;
-  if (!(Xs >= 0.0f && Xs < (float)L->res_x && Rs >= 0.0f && Rs < (float)L->res_y) || !(phi > 0.0f)) return 0.0f;
-  const int a = min((int)Xs, L->res_x - 1), b = min((int)Rs, L->res_y - 1);
+  const vf tx = ux * (float)n, ty = uy * (float)n;
+  const vf phi = nf_phi(L->basis_kind, tx) * nf_phi(L->basis_kind, ty);
+  const vf Xu = c->Xo + ((float)i + tx) * c->Hx;
+  const vf Ru = c->Ro - ((float)j + ty) * c->Hy;
+  const vf Xs = c->Xp + (Xu - c->Xp) * c->f;
+  const vf Rs = c->Rp + (Ru - c->Rp) * c->f;
+  const vi in = (Xs >= 0.0f) & (Xs < (float)L->res_x) & (Rs >= 0.0f) & (Rs < (float)L->res_y);
+  const vi a = SEL((vi)(0), min(CVT_I(Xs), (vi)(L->res_x - 1)), in);
+  const vi b = SEL((vi)(0), min(CVT_I(Rs), (vi)(L->res_y - 1)), in);
   *col = a;
   *row = b;
-  const float Y = nf_pixel_luminance(img, L->res_x + 1, a, b, q);
-  const float dz = L->delta + c->p.z;
-  const float3 d = (float3)((Xu - c->Xp) * c->pw, -(Ru - c->Rp) * c->ph, -dz);
-  const float r2 = dot(d, d);
-  const float r = sqrt(r2);
-  if (!(r > 0.0f) || !(dz > 0.0f)) return 0.0f;
-  *w = d / r;
+  const vf Y = nf_pixel_luminance(img, L->res_x + 1, a, b, q);
+  const vf dz = L->delta + c->pz;
+  const vf dx = (Xu - c->Xp) * c->pw, dy = -(Ru - c->Rp) * c->ph, ddz = -dz;
+  const vf r2 = dx * dx + dy * dy + ddz * ddz;
+  const vf r = sqrt(r2);
+  const vi ok = in & (r > 0.0f) & (dz > 0.0f) & (phi > 0.0f);
+  const vf inv = 1.0f / r;
+  *wx = dx * inv;
+  *wy = dy * inv;
+  *wz = ddz * inv;
   const float area = (float)(n * n) * L->cell_x * L->cell_y;
-  const float G = L->reconstruction == NF_RECON_GOESELE2003 ? L->delta * L->delta * r / (dz * dz * dz)
-                                                             : dz / (r2 * r);
-  return area * Y * phi * G;
+  const vf G = L->reconstruction == NF_RECON_GOESELE2003 ? L->delta * L->delta * r / (dz * dz * dz) : dz / (r2 * r);
+  return SEL((vf)(0.0f), area * Y * phi * G, ok);
+}
+
+NF_INLINE void nf_chroma(__global const float4* chroma, const NfLuminaire* L, int m, vi col, vi row, vf* cr, vf* cg,
+                         vf* cb) {
+#if NF_HAS_CHROMA
+  __global const float* base = (__global const float*)(chroma + (size_t)m * (size_t)L->res_x * (size_t)L->res_y);
+  const vi o = (row * L->res_x + col) * 4;
+  *cr = GATHERF(base, o);
+  *cg = GATHERF(base, o + 1);
+  *cb = GATHERF(base, o + 2);
+#else
+  *cr = *cg = *cb = (vf)(1.0f);
+#endif
 }
 
 /* ---------------------------------------------------------------- Step 1: A_m(p) ---------- */
 
-/* The balancing weight of image m at p (Eq. 10, 12):
+/* B_m(p) of one image with its SAT sums, computed once per (pixel, image) and shared by the
+   weight (Step 1) and the sampling set-up (Step 2). */
+typedef struct {
+  NfSpan sx, sr;
+  NfBoxSums B;
+} NfBox;
+
+/* The balancing weight of image m at p (Eq. 10, 12), and the box it comes from:
    ours / paper / uniform: A_m(p) = int_{B_m(p)} Y_m ds (luminance x m^2), exact from the SAT;
    in the band |z| < band delta: the mean luminance over the unclipped box (the same ratios
-   A_m / A, finite as the box collapses; at a degenerate box, Y_m at p); global: the image flux. */
-inline float nf_weight(const NfCtx* c, const NfLuminaire* L, int m, __global const long* sat,
-                       __global const float* quantum, __global const float* flux) {
+   A_m / A, finite as the box collapses; at a degenerate box, Y_m at p); global: the image flux.
+   Lanes that are not lit get 0. */
+NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global const long* sat,
+                        __global const float* quantum, __global const float* flux, NfBox* b) {
 #if NF_METHOD == NF_METHOD_GLOBAL
-  return flux[m];
+  nf_split((vf)(0.0f), (vf)((float)L->res_x), L->res_x, &b->sx);
+  nf_split((vf)(0.0f), (vf)((float)L->res_y), L->res_y, &b->sr);
+  const vf a = (vf)(flux[m]);
+  return SEL((vf)(0.0f), a, c->lit & (a > 0.0f) & isfinite(a));
 #else
   __global const long* img = sat + (size_t)m * (size_t)L->sat_stride;
   const int L1 = L->res_x + 1;
-  if (c->band && !(c->bw >= NF_POINT_BOX && c->bh >= NF_POINT_BOX)) {
-    /* B_m(p) -> p for every m (Eq. 9: at z = 0 all of U sees C_m(p)) */
-    if (!(c->Xp >= 0.0f && c->Xp < (float)L->res_x && c->Rp >= 0.0f && c->Rp < (float)L->res_y)) return 0.0f;
-    return nf_pixel_luminance(img, L1, min((int)c->Xp, L->res_x - 1), min((int)c->Rp, L->res_y - 1), quantum[m]);
+  const float q = quantum[m];
+  const vi ok = nf_box(c, L, m, &b->sx, &b->sr);
+  vf a = (vf)(0.0f);
+  if (ANY(ok)) {
+    nf_box_sums(img, L1, &b->sx, &b->sr, &b->B);
+    const vf units = b->B.first + b->B.mid + b->B.last;
+    a = SEL(units * q * L->pixel_area, units * q / (c->bw * c->bh), c->band);
+    a = SEL((vf)(0.0f), a, ok);
   }
-  NfSpan sx, sr;
-  if (!nf_box(c, L, m, &sx, &sr)) return 0.0f;
-  NfBoxSums B;
-  nf_box_sums(img, L1, &sx, &sr, &B);
-  const float units = nf_box_units(&B);
-  if (c->band) return units * quantum[m] / (c->bw * c->bh);
-  return units * quantum[m] * L->pixel_area;
+  const vi point = c->band & !((c->bw >= NF_POINT_BOX) & (c->bh >= NF_POINT_BOX));
+  if (ANY(point)) {
+    /* B_m(p) -> p for every m (Eq. 9: at z = 0 all of U sees C_m(p)) */
+    const vi inside =
+        point & (c->Xp >= 0.0f) & (c->Xp < (float)L->res_x) & (c->Rp >= 0.0f) & (c->Rp < (float)L->res_y);
+    const vi col = SEL((vi)(0), min(CVT_I(c->Xp), (vi)(L->res_x - 1)), inside);
+    const vi row = SEL((vi)(0), min(CVT_I(c->Rp), (vi)(L->res_y - 1)), inside);
+    const vf y = nf_pixel_luminance(img, L1, col, row, q);
+    a = SEL(a, SEL((vf)(0.0f), y, inside), point);
+  }
+  return SEL((vf)(0.0f), a, c->lit & (a > 0.0f) & isfinite(a));
 #endif
 }
 
@@ -605,182 +888,233 @@ inline float nf_weight(const NfCtx* c, const NfLuminaire* L, int m, __global con
 
 /* K_m(p) (Eq. 12) from x = K A_m / A: paper rounds (may drop light), min1 keeps >= 1 sample,
    roulette keeps one sample with probability x < 1 and returns the weight 1/x in *inv_p. */
-inline int nf_samples(float x, int k_max, float ru, float* inv_p) {
-  *inv_p = 1.0f;
-  if (!(x > 1e-30f)) return 0; /* also keeps 1/x finite */
-  x = fmin(x, 1e9f);
-  int k = (int)floor(x + 0.5f);
+NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, vf Am, vf A, vf* inv_p) {
+  vf x = (float)P->spp * (Am / A);
+  const vi pos = (Am > 0.0f) & (A > 0.0f) & (x > 1e-30f); /* also keeps 1/x finite */
+  x = SEL((vf)(1.0f), fmin(x, 1e9f), pos);
+  vi k = CVT_I(floor(x + 0.5f));
+  *inv_p = (vf)(1.0f);
 #if NF_BALANCE == NF_BALANCE_MIN1
-  k = max(k, 1);
+  k = max(k, (vi)(1));
 #elif NF_BALANCE == NF_BALANCE_ROULETTE
-  if (x < 1.0f) {
-    if (!(ru < x)) return 0;
-    *inv_p = 1.0f / x;
-    return 1;
+  const vi small = pos & (x < 1.0f);
+  if (ANY(small)) {
+    const vi take = nf_roulette_u(P, pix, m) < x;
+    k = SEL(k, SEL((vi)(0), (vi)(1), take), small);
+    *inv_p = SEL(*inv_p, 1.0f / x, small & take);
   }
 #endif
-  return min(k, k_max);
+  k = min(k, (vi)(P->k_max));
+  return SEL((vi)(0), k, pos);
 }
 
-/* I_m(p) of Eq. 14 for image m: (A_m / K_m) sum_k Psi_m Delta / |s_k - p|^3 rho_k v_m c_m(s_k).
-   Am is image m's Step 1 weight, A = sum_m A_m. Returns RGB (already / K_m, / roulette p, x v_m);
-   *km receives K_m(p). */
-inline float3 nf_image(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, int m, float Am, float A,
-                       __global const long* sat, __global const float* quantum, __global const float4* chroma,
-                       __global const uint* vis, __global const float* t3, int* km) {
-  *km = 0;
-  float inv_p;
-  const float x = (float)P->spp * (Am / A);
-  const int K = nf_samples(x, P->k_max, nf_roulette_u(P, c->pix, m), &inv_p);
-  if (K == 0) return (float3)(0.0f);
-  *km = K;
-  const int i = m % L->count_x, j = m / L->count_x, n = L->support;
+/* I_m(p) of Eq. 14 for image m with K = K_m(p) samples per lane (0: lane idle), added to (ar, ag, ab):
+     (A_m / K_m) sum_k Psi_m(u_k -> s_k) Delta / |s_k - p|^3 rho_k v_m c_m(s_k)
+   (uniform: area(B_m) Y_m(s_k) in place of A_m; band: the U-parametrised sum of Eq. 9),
+   divided by the roulette probability, times v_m and the instance intensity. */
+NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, int m, vi K, vf inv_p, vf Am,
+                        const NfBox* b, float intensity, __global const long* sat, __global const float* quantum,
+                        __global const float4* chroma, __global const uint* vis, __global const float* t3, vf* ar,
+                        vf* ag, vf* ab) {
+  const int i = m % L->count_x, j = m / L->count_x;
+  vi has = K > 0;
 #if NF_HAS_VIS
-  const float vm = nf_visibility(vis, P->vis_words, c->pix, i, j, n, L->count_x + n - 1);
-  if (!(vm > 0.0f)) return (float3)(0.0f);
+  const int n = L->support;
+  const vf vm = nf_visibility(vis, P->vis_words, c->pix, has, i, j, n, L->count_x + n - 1);
+  has = has & (vm > 0.0f);
+  if (!ANY(has)) return;
 #else
-  const float vm = 1.0f;
+  const vf vm = (vf)(1.0f);
 #endif
   __global const long* img = sat + (size_t)m * (size_t)L->sat_stride;
   const int L1 = L->res_x + 1;
   const float q = quantum[m];
-  float3 acc = (float3)(0.0f), blk = (float3)(0.0f);
-  if (c->band) {
-    /* U-parametrisation (Eq. 9): uniform u on the support */
-    for (int k = 0; k < K; ++k) {
-      const float2 xi = nf_xi(P, L->num_images, c->pix, m, k, t3);
-      float3 w = (float3)(0.0f);
-      int col, row;
-      const float g = nf_geom_u(c, L, img, q, i, j, xi, &w, &col, &row);
-      if (g > 0.0f) blk += g * nf_rho(c, w) * nf_chroma(chroma, L, m, col, row);
-      if ((k & 255) == 255) {
-        acc += blk;
-        blk = (float3)(0.0f);
-      }
+  vf rx = (vf)(0.0f), ry = (vf)(0.0f);
+#if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
+  nf_rotation(P, c->pix, m, &rx, &ry);
+#endif
+  const vi sband = has & c->band, sbox = has & !c->band;
+#if NF_METHOD == NF_METHOD_UNIFORM
+  const vf Aest = (b->sx.hi - b->sx.lo) * (b->sr.hi - b->sr.lo) * L->pixel_area; /* 1 / pdf, m^2 */
+#else
+  const vf Aest = Am; /* Eq. 11: C_m / pdf_m = A_m c_m */
+#endif
+  vf accr = (vf)(0.0f), accg = (vf)(0.0f), accb = (vf)(0.0f);
+  vf blr = (vf)(0.0f), blg = (vf)(0.0f), blb = (vf)(0.0f);
+#if NF_METHOD != NF_METHOD_UNIFORM
+  vi itx = (vi)(0), ity = (vi)(0);
+#endif
+  for (int k = 0; ANY((vi)(k) < K); ++k) {
+    const vi act = (vi)(k) < K;
+    vf ux, uy;
+    nf_xi(P, c->pix, m, k, K, rx, ry, t3, &ux, &uy);
+    vf g = (vf)(0.0f), wx = (vf)(0.0f), wy = (vf)(0.0f), wz = (vf)(0.0f);
+    vi col = (vi)(0), row = (vi)(0);
+    const vi ab_ = act & sband, as_ = act & sbox;
+    if (ANY(ab_)) {
+      /* U-parametrisation (Eq. 9): uniform u on the support */
+      vf gx, gy, gz;
+      vi cu, ru;
+      const vf gu = nf_geom_u(c, L, img, q, i, j, ux, uy, &gx, &gy, &gz, &cu, &ru);
+      g = SEL(g, gu, ab_);
+      wx = SEL(wx, gx, ab_);
+      wy = SEL(wy, gy, ab_);
+      wz = SEL(wz, gz, ab_);
+      col = SEL(col, cu, ab_);
+      row = SEL(row, ru, ab_);
     }
-    acc += blk;
-    const float scale = inv_p / (float)K * vm;
-    return acc * scale;
-  }
-  NfSpan sx, sr;
-#if NF_METHOD == NF_METHOD_GLOBAL
-  nf_split(0.0f, (float)L->res_x, L->res_x, &sx);
-  nf_split(0.0f, (float)L->res_y, L->res_y, &sr);
-#else
-  if (!nf_box(c, L, m, &sx, &sr)) return (float3)(0.0f);
-#endif
+    if (ANY(as_)) {
+      vf gx, gy, gz, gs;
+      vi cs, rs;
 #if NF_METHOD == NF_METHOD_UNIFORM
-  const float area_px = (sx.hi - sx.lo) * (sr.hi - sr.lo);
-  const float Aest = area_px * L->pixel_area; /* 1 / pdf of a uniform sample, m^2 */
+      const vf X = b->sx.lo + ux * (b->sx.hi - b->sx.lo), R = b->sr.lo + uy * (b->sr.hi - b->sr.lo);
+      cs = clamp(CVT_I(X), b->sx.e0, max(b->sx.e3 - 1, b->sx.e0));
+      rs = clamp(CVT_I(R), b->sr.e0, max(b->sr.e3 - 1, b->sr.e0));
+      const vf Y = nf_pixel_luminance(img, L1, cs, rs, q);
+      gs = SEL((vf)(0.0f), Y * nf_geom_s(c, L, i, j, X, R, &gx, &gy, &gz), Y > 0.0f);
 #else
-  NfBoxSums B;
-#if NF_METHOD == NF_METHOD_OURS
-  nf_box_sums(img, L1, &sx, &sr, &B);
+      vf fx, fy;
+      const vi ok = nf_draw(img, L1, L->res_y, &b->sx, &b->sr, &b->B, ux, uy, as_, P->search_depth, &cs, &fx, &rs,
+                            &fy, &itx, &ity);
+      gs = nf_geom_s(c, L, i, j, CVT_F(cs) + fx, CVT_F(rs) + fy, &gx, &gy, &gz);
+      gs = SEL((vf)(0.0f), gs, ok);
 #endif
-  const float Aest = Am; /* Eq. 11: C_m / pdf_m = A_m c_m */
-#endif
-  int itx = 0, ity = 0;
-  for (int k = 0; k < K; ++k) {
-    const float2 xi = nf_xi(P, L->num_images, c->pix, m, k, t3);
-#if NF_METHOD == NF_METHOD_UNIFORM
-    const float X = sx.lo + xi.x * (sx.hi - sx.lo), R = sr.lo + xi.y * (sr.hi - sr.lo);
-    const int col = clamp((int)X, sx.e0, sx.e3 - 1), row = clamp((int)R, sr.e0, sr.e3 - 1);
-    const float Y = nf_pixel_luminance(img, L1, col, row, q);
-    float3 w = (float3)(0.0f);
-    const float g = Y > 0.0f ? Y * nf_geom_s(c, L, i, j, X, R, &w) : 0.0f;
-#else
-    const NfPos s = nf_draw(img, L1, L->res_y, &sx, &sr, &B, xi, P->search_depth, &itx, &ity);
-    const int col = s.col, row = s.row;
-    float3 w = (float3)(0.0f);
-    const float g = s.ok ? nf_geom_s(c, L, i, j, (float)s.col + s.fx, (float)s.row + s.fy, &w) : 0.0f;
-#endif
-    if (g > 0.0f) blk += g * nf_rho(c, w) * nf_chroma(chroma, L, m, col, row);
+      g = SEL(g, gs, as_);
+      wx = SEL(wx, gx, as_);
+      wy = SEL(wy, gy, as_);
+      wz = SEL(wz, gz, as_);
+      col = SEL(col, cs, as_);
+      row = SEL(row, rs, as_);
+    }
+    const vi use = act & (g > 0.0f);
+    if (ANY(use)) {
+      vf rr, rg, rb, cr, cg, cb;
+      nf_rho(c, wx, wy, wz, &rr, &rg, &rb);
+      nf_chroma(chroma, L, m, SEL((vi)(0), col, use), SEL((vi)(0), row, use), &cr, &cg, &cb);
+      blr += SEL((vf)(0.0f), g * rr * cr, use);
+      blg += SEL((vf)(0.0f), g * rg * cg, use);
+      blb += SEL((vf)(0.0f), g * rb * cb, use);
+    }
     if ((k & 255) == 255) {
-      acc += blk;
-      blk = (float3)(0.0f);
+      accr += blr;
+      accg += blg;
+      accb += blb;
+      blr = blg = blb = (vf)(0.0f);
     }
   }
-  acc += blk;
-  const float scale = Aest * inv_p / (float)K * vm;
-  return acc * scale;
+  accr += blr;
+  accg += blg;
+  accb += blb;
+  const vf scale = SEL(Aest, (vf)(1.0f), c->band) * inv_p / CVT_F(max(K, (vi)(1))) * vm * intensity;
+  const vi fin = has & isfinite(accr * scale) & isfinite(accg * scale) & isfinite(accb * scale);
+  *ar += SEL((vf)(0.0f), accr * scale, fin);
+  *ag += SEL((vf)(0.0f), accg * scale, fin);
+  *ab += SEL((vf)(0.0f), accb * scale, fin);
 }
 
-inline float4 nf_finite4(float3 v, float s) {
-  float4 r = (float4)(v * s, 0.0f);
-  r.x = isfinite(r.x) ? r.x : 0.0f;
-  r.y = isfinite(r.y) ? r.y : 0.0f;
-  r.z = isfinite(r.z) ? r.z : 0.0f;
-  return r;
-}
+/* ---------------------------------------------------------------- kernels ----------------- */
 
 #define NF_KERNEL_ARGS                                                                                         \
   const NfSampleParams P, const NfLuminaire L, const NfInstance I, __global const NfSurface *surfaces,        \
       __global const long *sat, __global const float *quantum, __global const float *flux,                    \
       __global const float4 *chroma, __global const uint *vis, __global const float *halton3
 
-/* ---------------------------------------------------------------- kernels ----------------- */
-
 /* Step 1, per-image pass (paper §6.1): A(p) += A_m(p) for m = P.image. */
 __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
-  const uint g = get_global_id(0);
-  if (g >= (uint)P.count) return;
+  const uint first = get_global_id(0) * NF_LANES;
+  if (first >= (uint)P.count) return;
   NfCtx c;
-  if (!nf_setup(&c, &L, &I, &P, surfaces, g)) return;
-  const float a = nf_weight(&c, &L, P.image, sat, quantum, flux);
-  if (a > 0.0f && isfinite(a)) A_out[g] += a;
+  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
+  NfBox b;
+  float a[NF_LANES];
+  VSTORE(nf_prepare(&c, &L, P.image, sat, quantum, flux, &b), a);
+  for (int l = 0; l < NF_LANES; ++l)
+    if (a[l] > 0.0f) A_out[first + l] += a[l];
 }
 
-/* Step 2, per-image pass: recomputes A_m(p), K_m from the A(p) of Step 1, samples, Eq. 14. */
+/* Step 2, per-image pass: recomputes A_m(p) and B_m(p), K_m from the A(p) of Step 1, samples, Eq. 14. */
 __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __global float4* rgb,
                              __global uint* kcount) {
-  const uint g = get_global_id(0);
-  if (g >= (uint)P.count) return;
+  const uint first = get_global_id(0) * NF_LANES;
+  if (first >= (uint)P.count) return;
   NfCtx c;
-  if (!nf_setup(&c, &L, &I, &P, surfaces, g)) return;
-  const float A = A_in[g];
-  if (!(A > 0.0f)) return;
+  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
+  float a[NF_LANES];
+  for (int l = 0; l < NF_LANES; ++l) a[l] = first + l < (uint)P.count ? A_in[first + l] : 0.0f;
+  const vf A = VLOAD(a);
   const int m = P.image;
-  const float Am = nf_weight(&c, &L, m, sat, quantum, flux);
-  if (!(Am > 0.0f) || !isfinite(Am)) return;
-  int km;
-  const float3 v = nf_image(&c, &L, &P, m, Am, A, sat, quantum, chroma, vis, halton3, &km);
-  if (km == 0) return;
-  rgb[g] += nf_finite4(v, I.intensity);
-  kcount[g] += (uint)km;
+  NfBox b;
+  const vf Am = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+  vf inv_p;
+  const vi K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
+  if (!ANY(K > 0)) return;
+  vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
+  nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl);
+  float rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
+  int kk[NF_LANES];
+  VSTORE(r, rr);
+  VSTORE(g, gg);
+  VSTORE(bl, bb);
+  VSTORE(K, kk);
+  for (int l = 0; l < NF_LANES; ++l)
+    if (kk[l] > 0) {
+      rgb[first + l] += (float4)(rr[l], gg[l], bb[l], 0.0f);
+      kcount[first + l] += (uint)kk[l];
+    }
 }
 
-/* Fused pass: per pixel, loop 1 over the images accumulates A(p) (Step 1), loop 2 draws and
-   shades (Step 2). A_m(p) of up to NF_FUSED_CACHE images stays in private memory. */
+/* Fused pass: per pixel, loop 1 over the images accumulates A(p) (Step 1), loop 2 balances,
+   draws and shades (Step 2). A_m(p) of up to NF_FUSED_CACHE images stays in private memory, so
+   B_m(p) is recomputed only for images that get samples. */
 __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* rgb, __global uint* kcount) {
-  const uint g = get_global_id(0);
-  if (g >= (uint)P.count) return;
+  const uint first = get_global_id(0) * NF_LANES;
+  if (first >= (uint)P.count) return;
   NfCtx c;
-  if (!nf_setup(&c, &L, &I, &P, surfaces, g)) return;
+  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
   const int M = L.num_images;
   const int cached = M <= NF_FUSED_CACHE;
-  float am[NF_FUSED_CACHE];
-  float A = 0.0f;
+  vf am[NF_FUSED_CACHE];
+  vf A = (vf)(0.0f);
   for (int m = 0; m < M; ++m) {
-    float a = nf_weight(&c, &L, m, sat, quantum, flux);
-    if (!(a > 0.0f) || !isfinite(a)) a = 0.0f;
+    NfBox b;
+    const vf a = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
     if (cached) am[m] = a;
     A += a;
   }
-  if (!(A > 0.0f)) return;
-  A_out[g] += A;
-  float3 acc = (float3)(0.0f);
-  uint total = 0;
+  if (!ANY(A > 0.0f)) return;
+  vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
+  vi total = (vi)(0);
   for (int m = 0; m < M; ++m) {
-    const float Am = cached ? am[m] : nf_weight(&c, &L, m, sat, quantum, flux);
-    if (!(Am > 0.0f) || !isfinite(Am)) continue;
-    int km;
-    const float3 v = nf_image(&c, &L, &P, m, Am, A, sat, quantum, chroma, vis, halton3, &km);
-    if (km == 0) continue;
-    acc += nf_finite4(v, I.intensity).xyz;
-    total += (uint)km;
+    NfBox b;
+    vf Am, inv_p;
+    vi K;
+    if (cached) {
+      Am = am[m];
+      if (!ANY(Am > 0.0f)) continue;
+      K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
+      if (!ANY(K > 0)) continue;
+      nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+    } else {
+      Am = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+      K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
+      if (!ANY(K > 0)) continue;
+    }
+    nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl);
+    total += K;
   }
-  rgb[g] += (float4)(acc, 0.0f);
-  kcount[g] += total;
+  float aa[NF_LANES], rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
+  int kk[NF_LANES];
+  VSTORE(A, aa);
+  VSTORE(r, rr);
+  VSTORE(g, gg);
+  VSTORE(bl, bb);
+  VSTORE(total, kk);
+  for (int l = 0; l < NF_LANES; ++l)
+    if (aa[l] > 0.0f) {
+      A_out[first + l] += aa[l];
+      rgb[first + l] += (float4)(rr[l], gg[l], bb[l], 0.0f);
+      kcount[first + l] += (uint)kk[l];
+    }
 }
 
 /* Adds A(p) of one instance into the frame's A(p) (several instances). */
@@ -789,6 +1123,7 @@ __kernel void lf_add(__global const float* src, __global float* dst, const int c
   if (g < count) dst[g] += src[g];
 }
 
+#if NF_LANES == 1
 /* Debug: sample k = get_global_id(0) of image P.image for surface 0, as the kernels above draw it
    (sample index k of the sequence, K_m ignored). weight = the sample's Eq. 14 term with K_m = 1,
    first colour channel of rho, no chroma, no visibility. */
@@ -802,56 +1137,56 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
   d.weight = 0.0f;
   d.band = 0;
   NfCtx c;
+  NfSampleParams P1 = P;
+  P1.count = 1;
   const int m = P.image;
-  if (!nf_setup(&c, &L, &I, &P, surfaces, 0)) {
+  if (!nf_setup(&c, &L, &I, &P1, surfaces, 0U)) {
     out[k] = d;
     return;
   }
-  const float Am = nf_weight(&c, &L, m, sat, quantum, flux);
-  const float2 xi = nf_xi(&P, L.num_images, 0U, m, k, halton3);
+  NfBox b;
+  const float Am = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+  float rx = 0.0f, ry = 0.0f;
+#if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
+  nf_rotation(&P, c.pix, m, &rx, &ry);
+#endif
+  float ux, uy;
+  nf_xi(&P, 0U, m, k, n, rx, ry, halton3, &ux, &uy);
   const int i = m % L.count_x, j = m / L.count_x;
   __global const long* img = sat + (size_t)m * (size_t)L.sat_stride;
   const int L1 = L.res_x + 1;
-  float3 w = (float3)(0.0f);
-  d.band = c.band;
+  float wx = 0.0f, wy = 0.0f, wz = 0.0f, rr, rg, rb;
+  d.band = c.band != 0;
   if (c.band) {
-    const float g = nf_geom_u(&c, &L, img, quantum[m], i, j, xi, &w, &d.col, &d.row);
-    d.weight = g > 0.0f ? g * nf_rho(&c, w).x : 0.0f;
+    const float g = nf_geom_u(&c, &L, img, quantum[m], i, j, ux, uy, &wx, &wy, &wz, &d.col, &d.row);
+    nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
+    d.weight = g > 0.0f ? g * rr : 0.0f;
+    if (!(g > 0.0f)) d.col = d.row = -1;
     out[k] = d;
     return;
   }
-  NfSpan sx, sr;
-#if NF_METHOD == NF_METHOD_GLOBAL
-  nf_split(0.0f, (float)L.res_x, L.res_x, &sx);
-  nf_split(0.0f, (float)L.res_y, L.res_y, &sr);
-#else
-  if (!nf_box(&c, &L, m, &sx, &sr) || !(Am > 0.0f)) {
+  if (!(Am > 0.0f)) {
     out[k] = d;
     return;
   }
-#endif
 #if NF_METHOD == NF_METHOD_UNIFORM
-  const float X = sx.lo + xi.x * (sx.hi - sx.lo), R = sr.lo + xi.y * (sr.hi - sr.lo);
-  d.col = clamp((int)X, sx.e0, sx.e3 - 1);
-  d.row = clamp((int)R, sr.e0, sr.e3 - 1);
+  const float X = b.sx.lo + ux * (b.sx.hi - b.sx.lo), R = b.sr.lo + uy * (b.sr.hi - b.sr.lo);
+  d.col = clamp((int)X, b.sx.e0, max(b.sx.e3 - 1, b.sx.e0));
+  d.row = clamp((int)R, b.sr.e0, max(b.sr.e3 - 1, b.sr.e0));
   d.fx = clamp(X - (float)d.col, 0.0f, NF_ONE_MINUS_ULP);
   d.fy = clamp(R - (float)d.row, 0.0f, NF_ONE_MINUS_ULP);
   const float Y = nf_pixel_luminance(img, L1, d.col, d.row, quantum[m]);
-  const float g = Y > 0.0f ? Y * nf_geom_s(&c, &L, i, j, X, R, &w) : 0.0f;
-  d.weight = g > 0.0f ? g * nf_rho(&c, w).x * (sx.hi - sx.lo) * (sr.hi - sr.lo) * L.pixel_area : 0.0f;
+  const float g = Y > 0.0f ? Y * nf_geom_s(&c, &L, i, j, X, R, &wx, &wy, &wz) : 0.0f;
+  nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
+  d.weight = g > 0.0f ? g * rr * (b.sx.hi - b.sx.lo) * (b.sr.hi - b.sr.lo) * L.pixel_area : 0.0f;
 #else
-  NfBoxSums B;
-#if NF_METHOD == NF_METHOD_OURS
-  nf_box_sums(img, L1, &sx, &sr, &B);
-#endif
-  const NfPos s = nf_draw(img, L1, L.res_y, &sx, &sr, &B, xi, P.search_depth, &d.iters_x, &d.iters_y);
-  d.col = s.col;
-  d.row = s.row;
-  d.fx = s.fx;
-  d.fy = s.fy;
-  const float g = s.ok ? nf_geom_s(&c, &L, i, j, (float)s.col + s.fx, (float)s.row + s.fy, &w) : 0.0f;
-  d.weight = g > 0.0f ? g * nf_rho(&c, w).x * Am : 0.0f;
+  const int ok = nf_draw(img, L1, L.res_y, &b.sx, &b.sr, &b.B, ux, uy, 1, P.search_depth, &d.col, &d.fx, &d.row,
+                         &d.fy, &d.iters_x, &d.iters_y);
+  const float g = ok ? nf_geom_s(&c, &L, i, j, (float)d.col + d.fx, (float)d.row + d.fy, &wx, &wy, &wz) : 0.0f;
+  nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
+  d.weight = g > 0.0f ? g * rr * Am : 0.0f;
 #endif
   if (!isfinite(d.weight)) d.weight = 0.0f;
   out[k] = d;
 }
+#endif

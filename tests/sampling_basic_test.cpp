@@ -98,39 +98,3 @@ TEST(SamplingKernels, PerImageAndFusedAgree) {
 }
 
 }  // namespace
-namespace {
-TEST(SamplingDebug, Print) {
-  nf::cl::Runtime rt;
-  const auto l = tiny(false);
-  const auto pc = lum::precompute(l);
-  DeviceLuminaire dl(rt, pc);
-  Sampler sampler(rt);
-  std::vector<NfSurface> pts{surface({0.0, 0.0, 0.05}, {0, 0.3, -1}),
-                             surface({0.01, 0.02, 0.3}, {0, 0, 1}, NF_BRDF_SCALAR),
-                             surface({0.03, -0.02, -0.05}, {0, 0.3, -1}, NF_BRDF_SCALAR),
-                             surface({0.03, -0.02, 0.001}, {0, 0.3, -1}, NF_BRDF_SCALAR)};
-  const int R = 512;
-  std::vector<NfSurface> surf;
-  for (auto& p : pts)
-    for (int r = 0; r < R; ++r) surf.push_back(p);
-  const auto buf = upload_surfaces(rt, surf);
-  LightInstance li;
-  li.luminaire = &dl;
-  for (auto meth : {Method::ours, Method::uniform, Method::global, Method::paper}) {
-    SamplingSettings s;
-    s.method = meth;
-    s.sampler = SamplerKind::random;
-    s.spp = 64;
-    sampler.run(buf, (int)surf.size(), {&li, 1}, s);
-    auto rgb = sampler.read_radiance();
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      std::vector<double> v;
-      for (int r = 0; r < R; ++r) v.push_back(rgb[i * R + r].x);
-      auto st = mean_se(v);
-      auto ref = reference(l, pts[i]);
-      printf("%s %zu: mean %g se %g ref %g z %g\n", to_string(meth).c_str(), i, st.mean, st.se, ref.x,
-             (st.mean - ref.x) / st.se);
-    }
-  }
-}
-}  // namespace

@@ -6,21 +6,27 @@
 // The quadrature integrates the light field exactly as DESIGN.md §3 defines it: over S (pixel
 // edges and the projected basis knots as break lines, so every piece is smooth) or, near S, over
 // U (basis knots and the pixel edges projected back), with adaptive 2x2 Gauss-Legendre refinement.
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "cl/runtime.h"
 #include "kernels/shared/luminaire.h"
 #include "kernels/shared/surface.h"
 #include "luminaire/basis.h"
 #include "luminaire/luminaire.h"
 #include "luminaire/precompute.h"
 #include "luminaire/quadrature.h"
+#include "reference/irradiance.h"
+#include "render/device_luminaire.h"
+#include "render/sampler.h"
 
 namespace nf::sampling_test {
 
@@ -360,6 +366,112 @@ inline MeanStat mean_se(const std::vector<double>& v) {
   var /= (n - 1.0);
   s.se = std::sqrt(var / n);
   return s;
+}
+
+// ---------------------------------------------------------------- running the kernels -------
+
+// "P:D" of every OpenCL device found: the statistical suites run on each (PoCL in CI).
+inline std::vector<std::string> device_specs() {
+  std::vector<std::string> out;
+  for (const auto& d : cl::list_devices())
+    out.push_back(std::to_string(d.platform_index) + ":" + std::to_string(d.device_index));
+  return out;
+}
+
+// Per point: mean and standard error over R independent estimates (replicates get different
+// surface indices, so different random streams), and the number of non-zero replicates.
+struct Estimates {
+  std::vector<glm::dvec3> mean, se;
+  std::vector<int> nonzero;
+  std::vector<double> k_mean;  // mean K(p)
+  bool finite = true;          // every value finite
+};
+
+inline Estimates estimate(render::Sampler& sampler, const render::DeviceLuminaire& lum,
+                          const std::vector<NfSurface>& points, int R, const render::SamplingSettings& s,
+                          const NfInstance& inst = render::identity_instance()) {
+  std::vector<NfSurface> surf;
+  surf.reserve(points.size() * R);
+  for (const auto& p : points)
+    for (int r = 0; r < R; ++r) surf.push_back(p);
+  auto& rt = sampler.runtime();
+  const auto buf = render::upload_surfaces(rt, surf);
+  render::LightInstance li;
+  li.luminaire = &lum;
+  li.instance = inst;
+  sampler.run(buf, static_cast<int>(surf.size()), {&li, 1}, s);
+  const auto rgb = sampler.read_radiance();
+  const auto k = sampler.read_k();
+  Estimates e;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    glm::dvec3 sum(0.0), sq(0.0);
+    int nz = 0;
+    double ks = 0.0;
+    for (int r = 0; r < R; ++r) {
+      const auto& v = rgb[i * R + r];
+      const glm::dvec3 d(v.x, v.y, v.z);
+      if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || !std::isfinite(v.w)) e.finite = false;
+      sum += d;
+      sq += d * d;
+      nz += (d != glm::dvec3(0.0));
+      ks += k[i * R + r];
+    }
+    const glm::dvec3 mean = sum / double(R);
+    const glm::dvec3 var = glm::max((sq - double(R) * mean * mean) / double(R - 1), glm::dvec3(0.0));
+    e.mean.push_back(mean);
+    e.se.push_back(glm::sqrt(var / double(R)));
+    e.nonzero.push_back(nz);
+    e.k_mean.push_back(ks / R);
+  }
+  return e;
+}
+
+// z-test of every point and channel: z = (mean - ref) / sqrt(se^2 + (rel ref)^2 + abs^2), where
+// rel covers float rounding in the kernels and the reference's own error. A point whose
+// reference is 0 must give exactly 0. Returns a description of the failures (empty: pass).
+struct ZResult {
+  int tests = 0;
+  double max_z = 0.0;
+  std::string failures;
+};
+inline ZResult z_test(const Estimates& e, const std::vector<glm::dvec3>& ref, double zcrit, double rel = 2e-5,
+                      double abs_tol = 0.0, const std::vector<std::string>& labels = {}) {
+  ZResult r;
+  for (std::size_t i = 0; i < ref.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double m = e.mean[i][c], f = ref[i][c];
+      ++r.tests;
+      if (f == 0.0) {
+        if (m != 0.0)
+          r.failures +=
+              fmt::format("  point {} {} ch {}: reference 0, estimate {}\n", i, labels.empty() ? "" : labels[i], c, m);
+        continue;
+      }
+      const double den = std::sqrt(e.se[i][c] * e.se[i][c] + rel * rel * f * f + abs_tol * abs_tol);
+      const double z = den > 0 ? (m - f) / den : (m == f ? 0.0 : 1e9);
+      r.max_z = std::max(r.max_z, std::abs(z));
+      if (!(std::abs(z) <= zcrit))
+        r.failures += fmt::format("  point {} {} ch {}: mean {:.6g} se {:.3g} ref {:.6g} ({:+.3f}%) z {:.2f}\n", i,
+                                  labels.empty() ? "" : labels[i], c, m, e.se[i][c], f, 100.0 * (m / f - 1.0), z);
+    }
+  return r;
+}
+
+// References of the probe quantity for the points (irradiance or scalar per NfSurface::brdf).
+inline std::vector<glm::dvec3> references(const lum::Luminaire& l, const std::vector<NfSurface>& pts) {
+  ref::ReferenceOptions o;
+  o.progress = false;
+  std::vector<glm::dvec3> out;
+  for (const auto& s : pts) {
+    const glm::dvec3 p(s.px, s.py, s.pz), n(s.nx, s.ny, s.nz);
+    if (s.brdf == NF_BRDF_IRRADIANCE || s.brdf == NF_BRDF_SCALAR) {
+      out.push_back(ref::reference_irradiance(
+          l, p, n, s.brdf == NF_BRDF_SCALAR ? ref::Quantity::scalar : ref::Quantity::irradiance, o));
+    } else {
+      out.push_back(reference(l, s));  // BRDFs: this file's quadrature
+    }
+  }
+  return out;
 }
 
 }  // namespace nf::sampling_test

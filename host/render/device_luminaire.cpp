@@ -1,6 +1,10 @@
 #include "render/device_luminaire.h"
 
+#include <sys/mman.h>
+
 #include <fmt/format.h>
+#include <cstdlib>
+#include <cstring>
 
 #include "cl/cl_error.h"
 #include "core/error.h"
@@ -23,7 +27,11 @@ template <typename T>
   return {};
 }
 
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+
 }  // namespace
+
+void DeviceLuminaire::HostFree::operator()(void* p) const { std::free(p); }
 
 DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : params_(pc.params) {
   const NfLuminaire& p = params_;
@@ -53,7 +61,25 @@ DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : 
   }
   flux_[M] = static_cast<float>(flux_total_);
 
-  sat_ = upload(rt, pc.sat, "SAT", bytes_);
+  if (rt.info().type == "CPU") {
+    // On a CPU device the kernels read host memory: give the SAT (tens of MB, read at random rows)
+    // transparent huge pages, which removes most TLB misses of the column searches.
+    const std::size_t n = pc.sat.size() * sizeof(std::int64_t);
+    const std::size_t rounded = (n + kHugePage - 1) / kHugePage * kHugePage;
+    void* mem = std::aligned_alloc(kHugePage, rounded);
+    if (mem) {
+      madvise(mem, rounded, MADV_HUGEPAGE);  // advisory; ignored where THP is off
+      std::memcpy(mem, pc.sat.data(), n);
+      sat_host_.reset(mem);
+      try {
+        sat_ = ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, n, mem);
+        bytes_ += n;
+      } catch (const ::cl::Error&) {
+        sat_host_.reset();
+      }
+    }
+  }
+  if (!sat_host_) sat_ = upload(rt, pc.sat, "SAT", bytes_);
   quantum_ = upload(rt, pc.quantum, "quantum", bytes_);
   flux_buf_ = upload(rt, flux_, "flux", bytes_);
   if (p.has_chroma) {

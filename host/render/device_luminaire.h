@@ -2,6 +2,7 @@
 // One luminaire's precomputed data on an OpenCL device (DESIGN.md §3.6, kernels/shared/luminaire.h):
 // uploaded once, shared by every instance of the luminaire.
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "cl/runtime.h"
@@ -30,6 +31,10 @@ class DeviceLuminaire {
   std::size_t bytes() const { return bytes_; }  // device memory held
 
  private:
+  struct HostFree {
+    void operator()(void* p) const;
+  };
+  std::unique_ptr<void, HostFree> sat_host_;  // CPU devices: the SAT in huge pages, used in place
   NfLuminaire params_{};
   std::vector<float> flux_;
   double flux_total_ = 0.0;

@@ -118,11 +118,16 @@ Sampler::Sampler(cl::Runtime& rt) : rt_(rt) {
       "Sampler: creating buffers");
 }
 
-std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool visibility) {
-  return fmt::format("-DNF_METHOD={} -DNF_SEQ={} -DNF_BALANCE={} -DNF_SEARCH={} -DNF_HAS_CHROMA={} -DNF_HAS_VIS={}",
-                     method_code(s.method), sampler_code(s.sampler), balance_code(s.balance),
-                     s.search == SearchKind::secant ? NF_SEARCH_SECANT : NF_SEARCH_BINARY, chroma ? 1 : 0,
-                     visibility ? 1 : 0);
+std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool visibility, int lanes) {
+  return fmt::format(
+      "-DNF_METHOD={} -DNF_SEQ={} -DNF_BALANCE={} -DNF_SEARCH={} -DNF_HAS_CHROMA={} -DNF_HAS_VIS={} -DNF_LANES={}",
+      method_code(s.method), sampler_code(s.sampler), balance_code(s.balance),
+      s.search == SearchKind::secant ? NF_SEARCH_SECANT : NF_SEARCH_BINARY, chroma ? 1 : 0, visibility ? 1 : 0, lanes);
+}
+
+int Sampler::lanes(const SamplingSettings& s) const {
+  if (s.lanes > 0) return s.lanes;
+  return rt_.info().type == "CPU" ? 8 : 1;
 }
 
 ::cl::Kernel& Sampler::kernel(const std::string& name, const std::string& options) {
@@ -163,9 +168,23 @@ void Sampler::ensure(int count) {
   capacity_ = cap;
 }
 
-::cl::NDRange Sampler::global_range(int count) const {
-  const int g = (std::max(count, 1) + kLocal - 1) / kLocal * kLocal;
+::cl::NDRange Sampler::global_range(int count, int lanes) const {
+  const int items = (std::max(count, 1) + lanes - 1) / lanes;
+  const int g = (items + kLocal - 1) / kLocal * kLocal;
   return ::cl::NDRange(static_cast<std::size_t>(g));
+}
+
+// Small fixed work-groups: the per-pixel cost varies a lot (lit / unlit, band), and PoCL would
+// otherwise pick a few huge groups and leave a core idle.
+::cl::NDRange Sampler::local_range(::cl::Kernel& k) const {
+  std::size_t wg = kLocal;
+  try {
+    wg = std::min<std::size_t>(wg, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(rt_.device()));
+  } catch (const ::cl::Error&) {
+  }
+  // global sizes are multiples of kLocal; keep the local size a divisor of it
+  while (wg > 1 && kLocal % wg != 0) --wg;
+  return ::cl::NDRange(std::max<std::size_t>(wg, 1));
 }
 
 void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightInstance& li,
@@ -205,13 +224,15 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
         q.enqueueFillBuffer(k_, zu, 0, static_cast<std::size_t>(count) * sizeof(nf_uint), nullptr, &clears.back());
       },
       "Sampler: clearing outputs");
-  const ::cl::NDRange global = global_range(count);
+  const int L = lanes(s);
+  const ::cl::NDRange global = global_range(count, L);
+  const ::cl::NDRange global1 = global_range(count, 1);
   const bool several = lights.size() > 1;
   for (const LightInstance& li : lights) {
     if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
     const DeviceLuminaire& lum = *li.luminaire;
     const bool vis = li.visibility != nullptr && li.vis_words > 0;
-    const std::string opts = build_options(s, lum.has_chroma(), vis);
+    const std::string opts = build_options(s, lum.has_chroma(), vis, L);
     NfSampleParams p = params(s, lum, count, vis ? li.vis_words : 0);
     if (s.structure == Structure::fused) {
       ::cl::Kernel& k = kernel("lf_fused", opts);
@@ -219,7 +240,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
       k.setArg(10, a_);
       k.setArg(11, rgb_);
       k.setArg(12, k_);
-      step2.push_back(rt_.launch(k, global));
+      step2.push_back(rt_.launch(k, global, local_range(k)));
       continue;
     }
     ::cl::Buffer& A = several ? a_inst_ : a_;
@@ -239,7 +260,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     for (int m = 0; m < lum.num_images(); ++m) {
       p.image = m;
       k1.setArg(0, sizeof(NfSampleParams), &p);
-      step1.push_back(rt_.launch(k1, global));
+      step1.push_back(rt_.launch(k1, global, local_range(k1)));
     }
     set_common(k2, p, li, surfaces);
     k2.setArg(10, A);
@@ -248,14 +269,14 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     for (int m = 0; m < lum.num_images(); ++m) {
       p.image = m;
       k2.setArg(0, sizeof(NfSampleParams), &p);
-      step2.push_back(rt_.launch(k2, global));
+      step2.push_back(rt_.launch(k2, global, local_range(k2)));
     }
     if (several) {
       ::cl::Kernel& ka = kernel("lf_add", opts);
       ka.setArg(0, a_inst_);
       ka.setArg(1, a_);
       ka.setArg(2, count);
-      clears.push_back(rt_.launch(ka, global));
+      clears.push_back(rt_.launch(ka, global1, local_range(ka)));
     }
   }
   cl_call([&] { q.finish(); }, "Sampler: waiting for the device");
@@ -303,7 +324,7 @@ std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, co
   if (m < 0 || m >= lum.num_images())
     fail(fmt::format("debug_samples: image {} out of range (0..{})", m, lum.num_images() - 1));
   if (n < 1) return {};
-  const std::string opts = build_options(s, lum.has_chroma(), false);
+  const std::string opts = build_options(s, lum.has_chroma(), false, 1);
   NfSampleParams p = params(s, lum, 1, 0);
   p.image = m;
   p.block = static_cast<nf_uint>(n);
@@ -321,7 +342,7 @@ std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, co
   set_common(k, p, li, surf);
   k.setArg(10, out);
   k.setArg(11, n);
-  rt_.launch(k, global_range(n));
+  rt_.launch(k, global_range(n, 1), local_range(k));
   std::vector<NfSampleDebug> v(n);
   cl_call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(NfSampleDebug), v.data()); },
           "debug_samples: reading");

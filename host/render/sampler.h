@@ -72,7 +72,9 @@ class Sampler {
                                            const NfInstance& instance = identity_instance());
 
   // The -D options the kernels are built with for these settings.
-  static std::string build_options(const SamplingSettings& s, bool chroma, bool visibility);
+  static std::string build_options(const SamplingSettings& s, bool chroma, bool visibility, int lanes);
+  // Surfaces per work-item for these settings on this device (SamplingSettings::lanes or automatic).
+  int lanes(const SamplingSettings& s) const;
 
   cl::Runtime& runtime() { return rt_; }
 
@@ -81,7 +83,8 @@ class Sampler {
   NfSampleParams params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const;
   void ensure(int count);
   void set_common(::cl::Kernel& k, const NfSampleParams& p, const LightInstance& li, const ::cl::Buffer& surfaces);
-  ::cl::NDRange global_range(int count) const;
+  ::cl::NDRange global_range(int count, int lanes) const;
+  ::cl::NDRange local_range(::cl::Kernel& k) const;
 
   cl::Runtime& rt_;
   ::cl::Buffer halton3_, dummy_vis_;

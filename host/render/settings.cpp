@@ -70,6 +70,8 @@ void SamplingSettings::validate() const {
   if (spp < 1) fail(fmt::format("sampling: spp (K) must be >= 1, got {}", spp));
   if (k_max < 0) fail(fmt::format("sampling: k_max must be >= 0 (0 = no cap), got {}", k_max));
   if (!(band >= 0.0 && band < 1.0)) fail(fmt::format("sampling: band must be in [0, 1), got {}", band));
+  if (lanes != 0 && lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16)
+    fail(fmt::format("sampling: lanes must be 0 (automatic), 1, 4, 8 or 16, got {}", lanes));
 }
 
 std::string SamplingSettings::describe() const {

@@ -49,6 +49,7 @@ struct SamplingSettings {
   std::uint32_t seed = 1;                      // random and scrambled sequences
   std::uint32_t frame = 0;                     // progressive frame index: advances every sequence
   double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (DESIGN.md §3.5)
+  int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (8 on CPUs, 1 on GPUs)
 
   void validate() const;         // throws nf::Error naming the bad field
   std::string describe() const;  // one line: method=... sampler=... K=...

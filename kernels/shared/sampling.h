@@ -45,7 +45,7 @@ typedef struct {
   nf_int search_depth; /* CDF evaluations per 1D inversion, then linear interpolation; huge = exact */
   nf_uint seed;        /* random / scrambled sequences */
   nf_uint frame;       /* progressive frame index: advances every sequence */
-  nf_uint block;       /* Halton indices reserved per image and frame (>= the largest K_m) */
+  nf_uint block;       /* random: counters reserved per image (>= the largest K_m) */
   nf_int image;        /* per-image passes and the debug kernel: the image m */
   nf_float band;       /* |z| < band * delta uses the U-parametrised estimator (DESIGN.md §3.5) */
   nf_int vis_words;    /* 32-bit visibility words per surface; 0 = no visibility */
