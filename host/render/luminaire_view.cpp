@@ -22,9 +22,9 @@ glm::dvec3 light_field_radiance(const lum::Luminaire& l, glm::dvec2 s, glm::dvec
   if (!std::isfinite(x) || !std::isfinite(y)) return glm::dvec3(0.0);
   const int i1 = std::min(static_cast<int>(std::floor(x)), W - 1), i0 = std::max(i1 - n + 1, 0);
   const int j1 = std::min(static_cast<int>(std::floor(y)), H - 1), j0 = std::max(j1 - n + 1, 0);
-  const std::size_t texel =
-      (static_cast<std::size_t>(px.y) * static_cast<std::size_t>(l.image.resolution[0]) + static_cast<std::size_t>(px.x)) *
-      static_cast<std::size_t>(l.channels);
+  const std::size_t texel = (static_cast<std::size_t>(px.y) * static_cast<std::size_t>(l.image.resolution[0]) +
+                             static_cast<std::size_t>(px.x)) *
+                            static_cast<std::size_t>(l.channels);
   glm::dvec3 sum(0.0);
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i) {

@@ -1,0 +1,568 @@
+#include "render/frame.h"
+
+#include <epoxy/gl.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/matrix.hpp>
+
+#include "cl/cl_error.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "gl/shadow_maps.h"
+#include "gl/step0.h"
+#include "gl/tonemap.h"
+#include "render/sampler.h"
+
+namespace nf::render {
+
+// ---------------------------------------------------------------- settings -------------------
+
+std::string to_string(Visibility v) { return v == Visibility::none ? "none" : "shadowmaps"; }
+
+Visibility parse_visibility(const std::string& s, const std::string& what) {
+  if (s == "none") return Visibility::none;
+  if (s == "shadowmaps") return Visibility::shadowmaps;
+  fail(fmt::format("{}: unknown visibility '{}' (none, shadowmaps)", what, s));
+}
+
+void FrameSettings::validate() const {
+  sampling.validate();
+  if (shadow_map_size < 16 || shadow_map_size > 4096)
+    fail(fmt::format("shadow_map_size must be in 16..4096, got {}", shadow_map_size));
+  if (!(tonemap.exposure > 0.0) || !std::isfinite(tonemap.exposure))
+    fail(fmt::format("tone mapping: exposure must be > 0, got {}", tonemap.exposure));
+  if (!(tonemap.gamma > 0.0) || !std::isfinite(tonemap.gamma))
+    fail(fmt::format("tone mapping: gamma must be > 0, got {}", tonemap.gamma));
+}
+
+FrameSettings frame_settings(const scene::RenderSettings& r) {
+  FrameSettings f;
+  f.sampling.method = parse_method(r.method, "render.method");
+  f.sampling.sampler = parse_sampler(r.sampler, "render.sampler");
+  f.sampling.balance = parse_balance(r.balance, "render.balance");
+  f.sampling.search = parse_search(r.search, "render.search");
+  f.sampling.structure = parse_structure(r.structure, "render.structure");
+  f.sampling.spp = r.spp;
+  f.sampling.k_max = r.kmax;
+  f.sampling.search_depth = r.search_depth;
+  f.sampling.seed = r.seed;
+  f.visibility = parse_visibility(r.visibility, "render.visibility");
+  f.shadow_map_size = r.shadow_map_size;
+  f.tonemap = r.tonemap;
+  f.validate();
+  return f;
+}
+
+std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s) {
+  const SamplingSettings& p = s.sampling;
+  return {{"nearfield:method", to_string(p.method)},
+          {"nearfield:sampler", to_string(p.sampler)},
+          {"nearfield:spp", std::to_string(p.spp)},
+          {"nearfield:kmax", std::to_string(p.k_max)},
+          {"nearfield:search", to_string(p.search)},
+          {"nearfield:search_depth", std::to_string(p.search_depth)},
+          {"nearfield:balance", to_string(p.balance)},
+          {"nearfield:structure", to_string(p.structure)},
+          {"nearfield:visibility", to_string(s.visibility)},
+          {"nearfield:shadow_map_size", std::to_string(s.shadow_map_size)},
+          {"nearfield:seed", std::to_string(p.seed)},
+          {"nearfield:first_frame", std::to_string(p.frame)},
+          {"nearfield:band", fmt::format("{}", p.band)},
+          {"nearfield:lanes", std::to_string(p.lanes)},
+          {"nearfield:exposure", fmt::format("{}", s.tonemap.exposure)},
+          {"nearfield:gamma", fmt::format("{}", s.tonemap.gamma)}};
+}
+
+namespace {
+
+bool same_sampling(const SamplingSettings& a, const SamplingSettings& b) {
+  return a.method == b.method && a.sampler == b.sampler && a.balance == b.balance && a.search == b.search &&
+         a.structure == b.structure && a.spp == b.spp && a.k_max == b.k_max && a.search_depth == b.search_depth &&
+         a.seed == b.seed && a.frame == b.frame && a.band == b.band && a.lanes == b.lanes &&
+         a.describe() == b.describe();
+}
+
+bool same_camera(const scene::Camera& a, const scene::Camera& b) {
+  return a.position == b.position && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg &&
+         a.width == b.width && a.height == b.height && a.near == b.near;
+}
+
+void check_camera(const scene::Camera& c) {
+  if (c.width < 1 || c.height < 1 || c.width > 16384 || c.height > 16384)
+    fail(fmt::format("camera: resolution must be 1..16384 per side, got {}x{}", c.width, c.height));
+  if (!(c.fov_y_deg > 0.0 && c.fov_y_deg <= 179.0))
+    fail(fmt::format("camera: fov_y must be in (0, 179], got {}", c.fov_y_deg));
+}
+
+std::size_t pixel_count(const scene::Camera& c) {
+  return static_cast<std::size_t>(c.width) * static_cast<std::size_t>(c.height);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- construction ---------------
+
+Renderer::Renderer(scene::Scene scene, RendererOptions options)
+    : scene_(std::move(scene)), options_(std::move(options)) {
+  settings_ = frame_settings(scene_.render);
+  camera_ = scene_.camera;
+  check_camera(camera_);
+  const std::string scene_name = scene_.file.empty() ? std::string("<scene>") : scene_.file.string();
+  LuminaireSet set = load_luminaires(scene_.luminaires, scene_name, options_.luminaires);
+  if (options_.context) {
+    context_ = options_.context;
+  } else {
+    own_context_ = gl::create_headless_context();
+    context_ = own_context_.get();
+  }
+  gl_renderer_ = context_->info().renderer;
+  if (options_.runtime) {
+    rt_ = options_.runtime;
+  } else {
+    own_runtime_ = std::make_unique<cl::Runtime>(options_.cl_device);
+    rt_ = own_runtime_.get();
+  }
+  sources_ = std::move(set.sources);
+  for (auto& src : sources_) {
+    devices_.push_back(std::make_unique<DeviceLuminaire>(*rt_, src.precomputed));
+    // The device holds the tables now; the host keeps params, reference lights and the images
+    // (the luminaire seen by the camera is evaluated from them).
+    src.precomputed.sat = {};
+    src.precomputed.chroma = {};
+  }
+  for (std::size_t i = 0; i < scene_.luminaires.size(); ++i)
+    instances_.push_back({scene_.luminaires[i].to_world, scene_.luminaires[i].intensity, set.source_of[i]});
+  sampler_ = std::make_unique<Sampler>(*rt_);
+  resize(camera_.width, camera_.height);
+}
+
+Renderer::~Renderer() {
+  // GL objects need their context current when they go.
+  if (context_ && (step0_ || tonemapper_)) {
+    context_->make_current();
+    step0_.reset();
+    tonemapper_.reset();
+  }
+}
+
+void Renderer::stage() const {
+  if (options_.on_stage) options_.on_stage();
+}
+
+void Renderer::resize(int width, int height) {
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  sum_.assign(3 * n, 0.0);
+  frame_.assign(n, glm::vec4(0.0f));
+  kinds_.assign(n, PixelKind::background);
+  surfaces_.clear();
+  view_ = {};
+  frames_ = 0;
+}
+
+// ---------------------------------------------------------------- changes --------------------
+
+void Renderer::set_settings(const FrameSettings& s) {
+  s.validate();
+  const bool rebuild = s.visibility != settings_.visibility ||
+                       (s.visibility == Visibility::shadowmaps && s.shadow_map_size != settings_.shadow_map_size);
+  const bool changes_image = rebuild || !same_sampling(s.sampling, settings_.sampling);
+  if (changes_image) warm_ = false;
+  settings_ = s;
+  if (rebuild) {
+    if (step0_) {
+      context_->make_current();
+      step0_.reset();
+    }
+    vis_bufs_.clear();
+    vis_sizes_.clear();
+    camera_dirty_ = shadows_dirty_ = true;
+  }
+  if (changes_image) reset();
+}
+
+void Renderer::set_camera(const scene::Camera& c) {
+  check_camera(c);
+  if (same_camera(c, camera_)) return;
+  const bool resized = c.width != camera_.width || c.height != camera_.height;
+  camera_ = c;
+  camera_dirty_ = true;
+  if (resized) resize(c.width, c.height);
+  reset();
+}
+
+void Renderer::set_luminaire_transform(std::size_t i, const glm::dmat4& to_world) {
+  if (i >= instances_.size()) fail(fmt::format("luminaire {} out of range ({} instances)", i, instances_.size()));
+  if (!scene::is_rigid(to_world, 1e-6))
+    fail(fmt::format("luminaire {}: transforms must be rigid (rotation and translation only)", i));
+  if (instances_[i].to_world == to_world) return;
+  instances_[i].to_world = to_world;
+  scene_.luminaires[i].to_world = to_world;
+  if (has_shadow_maps()) shadows_dirty_ = true;
+  view_dirty_ = true;
+  reset();
+}
+
+void Renderer::set_luminaire_intensity(std::size_t i, double intensity) {
+  if (i >= instances_.size()) fail(fmt::format("luminaire {} out of range ({} instances)", i, instances_.size()));
+  if (!(intensity >= 0.0) || !std::isfinite(intensity))
+    fail(fmt::format("luminaire {}: intensity must be finite and >= 0, got {}", i, intensity));
+  if (instances_[i].intensity == intensity) return;
+  instances_[i].intensity = intensity;
+  scene_.luminaires[i].intensity = intensity;
+  view_dirty_ = true;
+  reset();
+}
+
+void Renderer::reset() {
+  frames_ = 0;
+  std::fill(sum_.begin(), sum_.end(), 0.0);
+  last_ = total_ = first_ = {};
+}
+
+bool Renderer::has_shadow_maps() const { return step0_ && step0_->has_shadow_maps(); }
+
+// ---------------------------------------------------------------- Step 0 ---------------------
+
+void Renderer::build_step0() {
+  context_->make_current();
+  step0_.reset();
+  scene_.render.visibility = to_string(settings_.visibility);
+  scene_.render.shadow_map_size = settings_.shadow_map_size;
+  std::vector<gl::ShadowMapSpec> specs;
+  if (scene_.needs_shadow_maps())  // DESIGN.md §5: nothing for `none` or when nothing can occlude
+    for (const auto& inst : instances_) {
+      const lum::Precomputed& pc = sources_[inst.source].precomputed;
+      specs.push_back(gl::make_shadow_map_spec(pc.params, pc.ref_lights, inst.to_world, settings_.shadow_map_size));
+    }
+  step0_ = std::make_unique<gl::Step0>(scene_, std::move(specs));
+  camera_dirty_ = shadows_dirty_ = true;
+  warm_ = false;  // the kernels' visibility option may change
+}
+
+void Renderer::run_step0(StepTimes& t) {
+  context_->make_current();
+  if (shadows_dirty_ && step0_->has_shadow_maps()) {
+    for (std::size_t i = 0; i < instances_.size(); ++i) step0_->shadow_maps(i)->set_to_world(instances_[i].to_world);
+    step0_->invalidate_shadow_maps();
+  }
+  step0_->run(camera_);
+  const gl::Step0Timings& s = step0_->timings();
+  t.gbuffer_ms += s.gbuffer_ms;
+  t.gbuffer_readback_ms += s.gbuffer_readback_ms;
+  t.shadow_maps_ms += s.shadow_maps_ms;
+  t.visibility_ms += s.visibility_ms;
+  t.step0_runs += 1;
+  if (s.shadow_maps_ms > 0.0) t.shadow_map_runs += 1;
+  camera_dirty_ = shadows_dirty_ = false;
+  view_dirty_ = true;
+  upload_visibility(t);
+}
+
+void Renderer::upload_visibility(StepTimes& t) {
+  Timer timer;
+  if (!step0_->has_shadow_maps()) {
+    vis_bufs_.clear();
+    vis_sizes_.clear();
+    return;
+  }
+  vis_bufs_.resize(instances_.size());
+  vis_sizes_.resize(instances_.size(), 0);
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const auto& v = step0_->visibility(i);
+    const std::size_t bytes = std::max<std::size_t>(v.size(), 1) * sizeof(std::uint32_t);
+    try {
+      if (vis_sizes_[i] != bytes) {
+        vis_bufs_[i] = ::cl::Buffer(rt_->context(), CL_MEM_READ_ONLY, bytes);
+        vis_sizes_[i] = bytes;
+      }
+      if (!v.empty())
+        rt_->queue().enqueueWriteBuffer(vis_bufs_[i], CL_TRUE, 0, v.size() * sizeof(std::uint32_t), v.data());
+    } catch (const ::cl::Error& e) {
+      cl::check(e.err(), fmt::format("uploading the visibility of luminaire {}", i));
+    }
+  }
+  t.visibility_upload_ms += timer.ms();
+}
+
+void Renderer::update_view(StepTimes& t) {
+  Timer timer;
+  std::vector<ViewInstance> vi;
+  for (const auto& inst : instances_) vi.push_back({&sources_[inst.source].luminaire, inst.to_world, inst.intensity});
+  const std::vector<NfSurface>& raw = step0_->surfaces();
+  view_ = see_luminaires(camera_, raw, vi);
+  for (std::size_t p = 0; p < kinds_.size(); ++p)
+    kinds_[p] = p < raw.size() && raw[p].valid ? PixelKind::surface : PixelKind::background;
+  surfaces_.clear();
+  if (view_.size() > 0) {  // hide the surfaces behind the luminaire: no samples are drawn for them
+    surfaces_ = raw;
+    for (const auto p : view_.pixel) {
+      surfaces_[static_cast<std::size_t>(p)].valid = 0;
+      kinds_[static_cast<std::size_t>(p)] = PixelKind::luminaire;
+    }
+  }
+  t.luminaire_view_ms += timer.ms();
+  timer.reset();
+  const auto& surf = surfaces();
+  const std::size_t bytes = std::max<std::size_t>(surf.size(), 1) * sizeof(NfSurface);
+  try {
+    if (surfaces_bytes_ != bytes) {
+      surfaces_buf_ = ::cl::Buffer(rt_->context(), CL_MEM_READ_ONLY, bytes);
+      surfaces_bytes_ = bytes;
+    }
+    if (!surf.empty())
+      rt_->queue().enqueueWriteBuffer(surfaces_buf_, CL_TRUE, 0, surf.size() * sizeof(NfSurface), surf.data());
+  } catch (const ::cl::Error& e) {
+    cl::check(e.err(), "uploading the surfaces");
+  }
+  t.surfaces_upload_ms += timer.ms();
+  view_dirty_ = false;
+}
+
+const std::vector<NfSurface>& Renderer::surfaces() const {
+  static const std::vector<NfSurface> none;
+  if (!surfaces_.empty()) return surfaces_;
+  return step0_ ? step0_->surfaces() : none;
+}
+
+// ---------------------------------------------------------------- frames ---------------------
+
+// Every instance with its world -> luminaire transform and visibility.
+std::vector<LightInstance> Renderer::lights() const {
+  std::vector<LightInstance> out;
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    LightInstance li;
+    li.luminaire = devices_[instances_[i].source].get();
+    li.instance = make_instance(glm::inverse(instances_[i].to_world), instances_[i].intensity);
+    if (i < vis_bufs_.size()) {
+      li.visibility = &vis_bufs_[i];
+      li.vis_words = step0_->words_per_pixel(i);
+    }
+    out.push_back(li);
+  }
+  return out;
+}
+
+// Builds the OpenCL programs for the current settings by running Steps 1-2 on one background
+// surface, so that no frame's times include a compiler run.
+void Renderer::warm_up() {
+  const ::cl::Buffer one = upload_surfaces(*rt_, {NfSurface{}});
+  auto ls = lights();
+  int words = 0;
+  for (std::size_t i = 0; has_shadow_maps() && i < instances_.size(); ++i)
+    words = std::max(words, step0_->words_per_pixel(i));
+  ::cl::Buffer vis;
+  if (words > 0) {
+    const std::vector<std::uint32_t> zeros(static_cast<std::size_t>(words), 0u);
+    try {
+      vis = ::cl::Buffer(rt_->context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, zeros.size() * sizeof(std::uint32_t),
+                         const_cast<std::uint32_t*>(zeros.data()));
+    } catch (const ::cl::Error& e) {
+      cl::check(e.err(), "warm-up visibility buffer");
+    }
+    for (std::size_t i = 0; i < ls.size(); ++i) {
+      ls[i].visibility = &vis;
+      ls[i].vis_words = step0_->words_per_pixel(i);
+    }
+  }
+  sampler_->run(one, 1, ls, settings_.sampling);
+  warm_ = true;
+}
+
+const StepTimes& Renderer::render_frame() {
+  StepTimes t;
+  t.frames = 1;
+  Timer build;
+  if (!step0_) build_step0();
+  if (!warm_) warm_up();
+  t.build_ms = build.ms();
+  Timer wall;
+  if (camera_dirty_ || shadows_dirty_) run_step0(t);
+  if (view_dirty_) update_view(t);
+  stage();
+
+  // Steps 1-2
+  SamplingSettings s = settings_.sampling;
+  s.frame = settings_.sampling.frame + static_cast<std::uint32_t>(frames_);
+  const int count = static_cast<int>(pixel_count(camera_));
+  const FrameStats fs = sampler_->run(surfaces_buf_, count, lights(), s);
+  t.step1_ms = fs.step1_ms;
+  t.step2_ms = fs.step2_ms;
+  t.sampler_wall_ms = fs.wall_ms;
+  stage();
+
+  // Progressive accumulation: sum of the frames, divided on output.
+  Timer timer;
+  frame_ = sampler_->read_radiance();
+  for (const auto k : sampler_->read_k()) t.samples += k;
+  t.readback_ms = timer.ms();
+  timer.reset();
+  for (std::size_t p = 0; p < frame_.size(); ++p)
+    for (int c = 0; c < 3; ++c) sum_[3 * p + static_cast<std::size_t>(c)] += frame_[p][c];
+  ++frames_;
+  t.accumulate_ms = timer.ms();
+  stage();
+
+  t.wall_ms = wall.ms();
+  last_ = t;
+  if (total_.frames == 0) first_ = t;
+  total_ += t;
+  return last_;
+}
+
+// ---------------------------------------------------------------- images ---------------------
+
+namespace {
+
+void put_luminaires(Image& img, const LuminaireView& view) {
+  for (std::size_t k = 0; k < view.size(); ++k) {
+    const std::size_t p = static_cast<std::size_t>(view.pixel[k]);
+    for (int c = 0; c < 3; ++c) img.pixels[3 * p + static_cast<std::size_t>(c)] = view.radiance[k][c];
+  }
+}
+
+}  // namespace
+
+Image Renderer::accumulated() const {
+  Image img(camera_.width, camera_.height, 3);
+  if (frames_ > 0) {
+    const double inv = 1.0 / frames_;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = static_cast<float>(sum_[i] * inv);
+  }
+  put_luminaires(img, view_);
+  return img;
+}
+
+Image Renderer::last_frame() const {
+  Image img(camera_.width, camera_.height, 3);
+  for (std::size_t p = 0; p < frame_.size(); ++p)
+    for (int c = 0; c < 3; ++c) img.pixels[3 * p + static_cast<std::size_t>(c)] = frame_[p][c];
+  put_luminaires(img, view_);
+  return img;
+}
+
+std::vector<std::uint8_t> Renderer::valid_mask() const {
+  std::vector<std::uint8_t> v(kinds_.size());
+  for (std::size_t p = 0; p < kinds_.size(); ++p) v[p] = kinds_[p] == PixelKind::surface ? 1 : 0;
+  return v;
+}
+
+Image Renderer::a_image() {
+  Image img(camera_.width, camera_.height, 1);
+  if (frames_ == 0) return img;
+  const auto a = sampler_->read_a();
+  std::copy_n(a.begin(), std::min(a.size(), img.pixels.size()), img.pixels.begin());
+  return img;
+}
+
+Image Renderer::k_image() {
+  Image img(camera_.width, camera_.height, 1);
+  if (frames_ == 0) return img;
+  const auto k = sampler_->read_k();
+  for (std::size_t p = 0; p < std::min(k.size(), img.pixels.size()); ++p) img.pixels[p] = static_cast<float>(k[p]);
+  return img;
+}
+
+Image Renderer::tonemapped(double* mean_out) const {
+  return tonemap(accumulated(), valid_mask(), settings_.tonemap, mean_out);
+}
+
+gl::Tonemapper& Renderer::tonemap_display() {
+  Timer timer;
+  context_->make_current();
+  if (!tonemapper_ || tonemapper_->width() != camera_.width || tonemapper_->height() != camera_.height)
+    tonemapper_ = std::make_unique<gl::Tonemapper>(camera_.width, camera_.height);
+  const Image img = accumulated();
+  std::vector<float> rgba(4 * kinds_.size());
+  for (std::size_t p = 0; p < kinds_.size(); ++p) {
+    for (int c = 0; c < 3; ++c)
+      rgba[4 * p + static_cast<std::size_t>(c)] = img.pixels[3 * p + static_cast<std::size_t>(c)];
+    rgba[4 * p + 3] = kinds_[p] == PixelKind::surface ? 1.0f : 0.0f;
+  }
+  tonemapper_->upload_rgba(rgba.data());
+  tonemapper_->render(settings_.tonemap);
+  glFinish();
+  const double ms = timer.ms();
+  std::vector<StepTimes*> times{&last_, &total_};
+  if (total_.frames <= 1) times.push_back(&first_);
+  for (StepTimes* t : times) {
+    t->step3_ms += ms;
+    t->wall_ms += ms;
+    t->tonemaps += 1;
+  }
+  return *tonemapper_;
+}
+
+// ---------------------------------------------------------------- introspection --------------
+
+std::vector<gl::MemoryItem> Renderer::memory() const {
+  std::vector<gl::MemoryItem> m;
+  const std::size_t n = pixel_count(camera_);
+  if (step0_)
+    for (const auto& item : step0_->memory()) m.push_back({"GL step 0: " + item.name, item.bytes});
+  for (std::size_t s = 0; s < sources_.size(); ++s) {
+    const auto& src = sources_[s];
+    m.push_back({fmt::format("CL luminaire {} ({} instance(s)): SAT, quanta, flux{}", src.label, src.instances.size(),
+                             devices_[s]->has_chroma() ? ", chroma" : ""),
+                 devices_[s]->bytes()});
+    std::size_t host = 0;
+    for (const auto& img : src.luminaire.images) host += img.size() * sizeof(float);
+    m.push_back({fmt::format("host luminaire {}: images (luminaire view)", src.label), host});
+  }
+  m.push_back({"CL surfaces (NfSurface)", n * sizeof(NfSurface)});
+  for (std::size_t i = 0; i < vis_sizes_.size(); ++i)
+    m.push_back({fmt::format("CL visibility bitmask, luminaire {}", i), vis_sizes_[i]});
+  m.push_back({"CL sampler outputs (radiance float4, A, K, per-instance A)",
+               n * (4 * sizeof(float) + 2 * sizeof(float) + sizeof(std::uint32_t))});
+  if (!surfaces_.empty())
+    m.push_back({"host surfaces with luminaire pixels masked", surfaces_.size() * sizeof(NfSurface)});
+  m.push_back({"host accumulation (double RGB)", sum_.size() * sizeof(double)});
+  m.push_back({"host last frame (float RGBA)", frame_.size() * sizeof(glm::vec4)});
+  if (view_.size() > 0)
+    m.push_back({"host luminaire view", view_.size() * (2 * sizeof(std::int32_t) + sizeof(glm::vec3))});
+  if (tonemapper_)
+    for (const auto& item : tonemapper_->memory()) m.push_back({"GL step 3: " + item.name, item.bytes});
+  return m;
+}
+
+RenderStats Renderer::stats() {
+  RenderStats s;
+  s.cl_device = rt_->info().name;
+  s.cl_device_detail = cl::describe(rt_->info());
+  s.gl_renderer = gl_renderer_;
+  s.width = camera_.width;
+  s.height = camera_.height;
+  s.settings = settings_attributes(settings_);
+  for (std::size_t i = 0; i < sources_.size(); ++i) {
+    const auto& src = sources_[i];
+    LuminaireStats l;
+    l.label = src.label;
+    l.instances = static_cast<int>(src.instances.size());
+    l.images = src.luminaire.num_images();
+    l.res_x = src.luminaire.image.resolution[0];
+    l.res_y = src.luminaire.image.resolution[1];
+    l.channels = src.luminaire.channels;
+    l.chroma = devices_[i]->has_chroma();
+    l.load_ms = src.load_ms;
+    l.precompute_ms = src.precomputed.precompute_ms;
+    l.device_bytes = devices_[i]->bytes();
+    s.luminaires.push_back(l);
+  }
+  s.pixels.total = kinds_.size();
+  for (const auto k : kinds_) {
+    if (k == PixelKind::surface) ++s.pixels.surface;
+    if (k == PixelKind::luminaire) ++s.pixels.luminaire;
+  }
+  if (frames_ > 0)
+    for (const float a : sampler_->read_a())
+      if (a > 0.0f) ++s.pixels.lit;
+  s.first_frame = first_;
+  s.last_frame = last_;
+  s.total = total_;
+  s.memory = memory();
+  return s;
+}
+
+}  // namespace nf::render

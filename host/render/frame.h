@@ -1,0 +1,195 @@
+#pragma once
+// The frame (paper §6.1, DESIGN.md §5): Step 0 in GL (G-buffer, shadow maps, visibility), Steps
+// 1-2 in OpenCL (render::Sampler), progressive accumulation, the luminaire seen by the camera, and
+// Step 3 tone mapping (GL for display, host for files). The viewer and `nearfield render` both
+// drive a Renderer:
+//
+//   Renderer r(scene);                       // or with RendererOptions{.context = window}
+//   r.set_settings(...); r.set_camera(...);  // any change that alters the image restarts the accumulation
+//   while (...) { r.render_frame(); r.tonemap_display().present(0, w, h); }
+//   r.accumulated(); r.tonemapped(); r.stats();
+//
+// Only what the scene needs is built (DESIGN.md §5): shadow maps and visibility buffers only when
+// visibility is `shadowmaps` and something can occlude; chroma only for RGB luminaires (see
+// DeviceLuminaire); one DeviceLuminaire per distinct manifest or preset, shared by its instances.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "cl/runtime.h"
+#include "core/image.h"
+#include "core/tonemap.h"
+#include "gl/context.h"
+#include "gl/scene_gpu.h"
+#include "kernels/shared/surface.h"
+#include "render/device_luminaire.h"
+#include "render/luminaire_cache.h"
+#include "render/luminaire_view.h"
+#include "render/sampler.h"
+#include "render/settings.h"
+#include "render/stats.h"
+#include "scene/scene.h"
+
+namespace nf::gl {
+class Step0;
+class Tonemapper;
+}  // namespace nf::gl
+
+namespace nf::render {
+
+enum class Visibility { none, shadowmaps };
+std::string to_string(Visibility v);
+Visibility parse_visibility(const std::string& s, const std::string& what = "visibility");
+
+// Everything about a frame that a user may change between frames.
+struct FrameSettings {
+  SamplingSettings sampling;  // sampling.frame: index of the first frame of an accumulation
+  Visibility visibility = Visibility::shadowmaps;
+  int shadow_map_size = 256;  // 16..4096
+  TonemapParams tonemap;
+
+  void validate() const;  // throws nf::Error naming the bad field
+};
+
+// The scene file's render settings, parsed (nf::Error names the bad value).
+FrameSettings frame_settings(const scene::RenderSettings& r);
+// Every setting as ("nearfield:<name>", value) pairs: EXR metadata and stats.
+std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s);
+
+struct RendererOptions {
+  gl::Context* context = nullptr;  // the GL context to render with (made current as needed); nullptr: headless EGL
+  cl::Runtime* runtime = nullptr;  // nullptr: a new runtime on `cl_device`
+  std::string cl_device;           // device spec (cl/runtime.h) when runtime is nullptr
+  LuminaireLoadOptions luminaires;
+  // Called after each stage of a frame (Step 0, Steps 1-2, accumulation): progress bars.
+  std::function<void()> on_stage;
+};
+
+// Per-pixel classes of the current camera view.
+enum class PixelKind : std::uint8_t { background = 0, surface = 1, luminaire = 2 };
+
+class Renderer {
+ public:
+  // Loads (or generates) and precomputes the luminaires, uploads them once per source, creates
+  // the GL context (if not given), Step 0 and the sampler. Settings come from scene.render; the
+  // camera from scene.camera. Throws nf::Error (bad luminaire files name the scene and the file).
+  explicit Renderer(scene::Scene scene, RendererOptions options = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // ---- changes (each one that alters the image restarts the accumulation) ------------------
+  // Visibility or shadow-map size changes rebuild Step 0; tone mapping changes keep the
+  // accumulation.
+  void set_settings(const FrameSettings& settings);
+  const FrameSettings& settings() const { return settings_; }
+  void set_camera(const scene::Camera& camera);  // resolution changes reallocate
+  const scene::Camera& camera() const { return camera_; }
+  std::size_t luminaire_count() const { return instances_.size(); }
+  const scene::LuminaireRef& luminaire(std::size_t i) const { return scene_.luminaires.at(i); }
+  // Moves luminaire instance i (rigid, luminaire-local -> world): invalidates its shadow maps.
+  void set_luminaire_transform(std::size_t i, const glm::dmat4& to_world);
+  void set_luminaire_intensity(std::size_t i, double intensity);
+  glm::dmat4 luminaire_transform(std::size_t i) const { return instances_.at(i).to_world; }
+  double luminaire_intensity(std::size_t i) const { return instances_.at(i).intensity; }
+  void reset();  // restart the accumulation (also done by the changes above)
+
+  // ---- frames -------------------------------------------------------------------------------
+  // Renders one frame (Step 0 only when the camera, a luminaire or the visibility settings
+  // changed; Steps 1-2 with sampling.frame = settings().sampling.frame + frames()) and adds it to
+  // the accumulation. Returns this frame's times.
+  const StepTimes& render_frame();
+  int frames() const { return frames_; }
+
+  // ---- images (rows from the top, width x height of the camera) ------------------------------
+  // Linear RGB radiance (W m^-2 sr^-1, or the luminaires' units): the mean of the accumulated
+  // frames on surfaces, L(u -> s) where the camera sees a luminaire, 0 on the background.
+  Image accumulated() const;
+  Image last_frame() const;  // the last frame alone (the same luminaire pixels)
+  const std::vector<PixelKind>& pixel_kinds() const { return kinds_; }
+  // 1 on scene surfaces: the tone-mapping mean's valid mask (luminaire pixels would darken it).
+  std::vector<std::uint8_t> valid_mask() const;
+  // The last frame's A(p) (Y m^2 summed over instances) and K(p) (samples drawn), 1 channel:
+  // false-colour views. Read back from the device on each call.
+  Image a_image();
+  Image k_image();
+  // Step 0's surfaces of the current view (world space; luminaire pixels have valid = 0).
+  const std::vector<NfSurface>& surfaces() const;
+
+  // ---- Step 3 -------------------------------------------------------------------------------
+  // Host tone mapping of accumulated() (files). `mean_out`: the L_mean used.
+  Image tonemapped(double* mean_out = nullptr) const;
+  // GL tone mapping of accumulated() into the display texture (timed as Step 3 and added to the
+  // last frame's and the total times). Present it with Tonemapper::present().
+  gl::Tonemapper& tonemap_display();
+
+  // ---- introspection ------------------------------------------------------------------------
+  RenderStats stats();  // reads A back to count lit pixels
+  const StepTimes& last_times() const { return last_; }
+  const StepTimes& total_times() const { return total_; }
+  std::vector<gl::MemoryItem> memory() const;
+  bool has_shadow_maps() const;
+  std::size_t source_count() const { return sources_.size(); }  // distinct luminaires
+  const DeviceLuminaire& device_luminaire(std::size_t source) const { return *devices_.at(source); }
+  const LuminaireSource& source(std::size_t s) const { return sources_.at(s); }
+  std::size_t source_of(std::size_t instance) const { return instances_.at(instance).source; }
+  const gl::Step0* step0() const { return step0_.get(); }
+  cl::Runtime& runtime() { return *rt_; }
+  std::string gl_renderer() const { return gl_renderer_; }
+  const scene::Scene& scene() const { return scene_; }
+
+ private:
+  struct Instance {
+    glm::dmat4 to_world{1.0};
+    double intensity = 1.0;
+    std::size_t source = 0;
+  };
+  void build_step0();
+  std::vector<LightInstance> lights() const;
+  void warm_up();
+  void run_step0(StepTimes& t);
+  void update_view(StepTimes& t);
+  void upload_visibility(StepTimes& t);
+  void resize(int width, int height);
+  void stage() const;
+
+  scene::Scene scene_;
+  RendererOptions options_;
+  std::unique_ptr<gl::Context> own_context_;
+  gl::Context* context_ = nullptr;
+  std::string gl_renderer_;
+  std::unique_ptr<cl::Runtime> own_runtime_;
+  cl::Runtime* rt_ = nullptr;
+
+  std::vector<LuminaireSource> sources_;  // images kept (luminaire view); SAT released after upload
+  std::vector<std::unique_ptr<DeviceLuminaire>> devices_;
+  std::vector<Instance> instances_;
+
+  FrameSettings settings_;
+  scene::Camera camera_;
+  std::unique_ptr<gl::Step0> step0_;
+  std::unique_ptr<Sampler> sampler_;
+  std::unique_ptr<gl::Tonemapper> tonemapper_;
+
+  bool camera_dirty_ = true, shadows_dirty_ = true, view_dirty_ = true, warm_ = false;
+  std::vector<NfSurface> surfaces_;  // Step 0's, luminaire pixels masked out
+  std::vector<PixelKind> kinds_;
+  LuminaireView view_;
+  ::cl::Buffer surfaces_buf_;
+  std::size_t surfaces_bytes_ = 0;
+  std::vector<::cl::Buffer> vis_bufs_;
+  std::vector<std::size_t> vis_sizes_;
+
+  int frames_ = 0;
+  std::vector<double> sum_;       // 3 per pixel: sum of the frames' radiance
+  std::vector<glm::vec4> frame_;  // the last frame's radiance
+  StepTimes last_, total_, first_;
+};
+
+}  // namespace nf::render
