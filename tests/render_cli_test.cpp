@@ -1,0 +1,165 @@
+// `nearfield render`: outputs, metadata, overrides, and clean failures (DESIGN.md §7: errors on
+// stderr, non-zero exit, no output file left behind).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/image_io.h"
+#include "support/testing.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nf::testing::run_nearfield;
+
+const char* kScene = R"({
+  "camera": { "position": [0.3, 1.6, 1.9], "target": [0, 0, 0], "fov_y": 60, "resolution": [640, 400] },
+  "objects": [ { "type": "plane", "size": [4, 4] },
+               { "type": "box", "size": [0.2, 0.2, 0.2], "transform": { "translate": [0, 0.2, 0] } } ],
+  "luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } } ],
+  "render": { "spp": 16 }
+})";
+
+fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
+  const fs::path p = dir / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::string q(const fs::path& p) {
+  std::string s(1, '\'');
+  s.append(p.string()).push_back('\'');
+  return s;
+}
+
+// Nothing but the given files in `dir` (no outputs, no temporaries).
+void expect_only(const fs::path& dir, std::set<std::string> names) {
+  for (const auto& e : fs::directory_iterator(dir)) EXPECT_TRUE(names.count(e.path().filename().string())) << e.path();
+}
+
+TEST(RenderCli, WritesExrPngAndStatsWithSettingsInTheMetadata) {
+  const auto dir = nf::testing::temp_dir("render_ok");
+  const auto scene = write(dir, "scene.json", kScene);
+  const auto r = run_nearfield("render " + q(scene) + " -o " + q(dir / "out.exr") + " --png " + q(dir / "out.png") +
+                               " --stats " + q(dir / "stats.json") +
+                               " --width 48 --spp 8 --method ours --sampler halton-scrambled --seed 7 --kmax 4"
+                               " --search binary --search-depth 12 --balance min1 --structure fused --visibility none"
+                               " --exposure 0.8 --gamma 2 --frames 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("steps (ms)"), std::string::npos) << r.out;
+  nf::ImageAttributes attrs;
+  const nf::Image img = nf::read_image(dir / "out.exr", &attrs);
+  EXPECT_EQ(img.width, 48);
+  EXPECT_EQ(img.height, 30);  // the scene's 16:10 kept
+  std::map<std::string, std::string> a(attrs.begin(), attrs.end());
+  const std::map<std::string, std::string> expect{
+      {"nearfield:spp", "8"},           {"nearfield:method", "ours"},  {"nearfield:sampler", "halton-scrambled"},
+      {"nearfield:seed", "7"},          {"nearfield:kmax", "4"},       {"nearfield:search", "binary"},
+      {"nearfield:search_depth", "12"}, {"nearfield:balance", "min1"}, {"nearfield:structure", "fused"},
+      {"nearfield:visibility", "none"}, {"nearfield:exposure", "0.8"}, {"nearfield:gamma", "2"},
+      {"nearfield:frames", "2"}};
+  for (const auto& [k, v] : expect) EXPECT_EQ(a[k], v) << k;
+  for (const char* k : {"nearfield:cl_device", "nearfield:render_ms", "nearfield:date", "nearfield:shadow_map_size"})
+    EXPECT_FALSE(a[k].empty()) << k;
+  const nf::Image png = nf::read_image(dir / "out.png");
+  EXPECT_EQ(png.width, 48);
+  std::ifstream in(dir / "stats.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["total"]["frames"], 2);
+  EXPECT_EQ(j["first_frame"]["step0_runs"], 1);
+  EXPECT_EQ(j["total"]["step0_runs"], 1);
+  EXPECT_GT(j["samples"]["total"].get<double>(), 0.0);
+  EXPECT_TRUE(j["phases_ms"].contains("total"));
+  EXPECT_TRUE(j["first_frame"]["fig10_percent"].contains("sampling_shading"));
+  expect_only(dir, {"scene.json", "out.exr", "out.png", "stats.json"});
+}
+
+TEST(RenderCli, MissingSceneFails) {
+  const auto dir = nf::testing::temp_dir("render_missing");
+  const auto r = run_nearfield("render " + q(dir / "nope.json") + " -o " + q(dir / "out.exr"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("nope.json"), std::string::npos) << r.err;
+  expect_only(dir, {});
+}
+
+TEST(RenderCli, BadScenesFailCleanly) {
+  const auto dir = nf::testing::temp_dir("render_bad");
+  write(dir, "bad_lum.json", "{ \"format\": \"nearfield-luminaire\", \"version\": 7 }");
+  const std::map<std::string, std::string> scenes{
+      {"syntax.json", "{ \"camera\": "},
+      {"material.json",
+       R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
+            "objects": [ { "type": "plane", "material": "nope" } ] })"},
+      {"luminaire.json",
+       R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
+            "objects": [ { "type": "plane" } ], "luminaires": [ { "manifest": "bad_lum.json" } ] })"},
+      {"preset.json",
+       R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
+            "objects": [ { "type": "plane" } ], "luminaires": [ { "preset": "no-such-preset" } ] })"},
+      {"setting.json",
+       R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
+            "render": { "method": "magic" } })"}};
+  std::set<std::string> files{"bad_lum.json"};
+  for (const auto& [name, text] : scenes) {
+    write(dir, name, text);
+    files.insert(name);
+    const auto r = run_nearfield("render " + q(dir / name) + " -o " + q(dir / "out.exr") + " --png " +
+                                 q(dir / "out.png") + " --stats " + q(dir / "stats.json"));
+    EXPECT_NE(r.exit_code, 0) << name;
+    EXPECT_NE(r.err.find(name), std::string::npos) << name << ": " << r.err;
+    if (name == "luminaire.json") {
+      EXPECT_NE(r.err.find("bad_lum.json"), std::string::npos) << r.err;
+    }
+    expect_only(dir, files);
+  }
+}
+
+TEST(RenderCli, BadOptionsFailBeforeAnyWork) {
+  const auto dir = nf::testing::temp_dir("render_options");
+  const auto scene = write(dir, "scene.json", kScene);
+  const std::string before = kScene;
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"-o " + q(scene), ".exr"},
+      {"-o " + q(dir / "x.exr") + " --stats " + q(scene), "refusing to overwrite"},
+      {"-o " + q(dir / "x.exr") + " --png " + q(dir / "x.json"), ".png"},
+      {"-o " + q(dir / "x.exr") + " --stats " + q(dir / "x.exr"), "two outputs"},
+      {"-o " + q(dir / "x.png"), ".exr"},
+      {"-o " + q(dir / "missing" / "x.exr"), "does not exist"},
+      {"-o " + q(dir / "x.exr") + " --method magic", "--method"},
+      {"-o " + q(dir / "x.exr") + " --spp 0", "spp"},
+      {"-o " + q(dir / "x.exr") + " --frames 0", "--frames"},
+      {"-o " + q(dir / "x.exr") + " --width 0", "resolution"},
+      {"-o " + q(dir / "x.exr") + " --gamma -1", "gamma"}};
+  for (const auto& [args, message] : cases) {
+    const auto r = run_nearfield("render " + q(scene) + " " + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+    expect_only(dir, {"scene.json"});
+  }
+  std::ifstream in(scene);
+  const std::string after((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(after, before);
+}
+
+// An output may not replace a file the scene reads through a luminaire manifest.
+TEST(RenderCli, RefusesToOverwriteALuminaireImage) {
+  const auto dir = nf::testing::temp_dir("render_inputs");
+  ASSERT_EQ(run_nearfield("luminaire gen --preset panel --res-scale 0.25 -o " + q(dir)).exit_code, 0);
+  std::string text = kScene;
+  text.replace(text.find("\"preset\": \"panel\""), 17, "\"manifest\": \"panel.json\"");
+  const auto scene = write(dir, "scene.json", text);
+  const auto size = fs::file_size(dir / "panel.exr");
+  const auto r = run_nearfield("render " + q(scene) + " -o " + q(dir / "panel.exr"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("refusing to overwrite"), std::string::npos) << r.err;
+  EXPECT_EQ(fs::file_size(dir / "panel.exr"), size);
+  expect_only(dir, {"scene.json", "panel.json", "panel.exr"});
+}
+
+}  // namespace
