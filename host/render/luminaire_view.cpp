@@ -49,10 +49,17 @@ LuminaireView see_luminaires(const scene::Camera& camera, const std::vector<NfSu
     glm::dmat4 to_local;
     lum::Rect rect, aperture;
   };
+  // A camera on or behind S (local z <= 0) cannot see it: a ray towards -z from there crosses S
+  // at t <= 0. Such instances are skipped, and the pixel loop with them when none is left.
   std::vector<Local> local;
-  for (const auto& inst : instances)
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    const auto& inst = instances[i];
     local.push_back({glm::inverse(inst.to_world), lum::image_rect(inst.luminaire->image),
                      lum::basis_extent(inst.luminaire->basis)});
+    if ((local.back().to_local * glm::dvec4(camera.position, 1.0)).z > 0.0) candidates.push_back(i);
+  }
+  if (candidates.empty()) return view;
   const auto inside = [](const lum::Rect& r, glm::dvec2 p) {
     return p.x >= r.lo.x && p.x <= r.hi.x && p.y >= r.lo.y && p.y <= r.hi.y;
   };
@@ -66,7 +73,7 @@ LuminaireView see_luminaires(const scene::Camera& camera, const std::vector<NfSu
         nearest = glm::length(glm::dvec3(surfaces[p].px, surfaces[p].py, surfaces[p].pz) - ray.origin);
       int best = -1;
       glm::dvec2 best_s(0.0), best_u(0.0);
-      for (std::size_t i = 0; i < instances.size(); ++i) {
+      for (const std::size_t i : candidates) {
         const glm::dvec3 o(local[i].to_local * glm::dvec4(ray.origin, 1.0));
         const glm::dvec3 d(local[i].to_local * glm::dvec4(ray.direction, 0.0));
         if (!(d.z < 0.0)) continue;  // not looking into the luminaire
