@@ -237,6 +237,9 @@ typedef struct {
   vf Xp, Rp;  /* p in continuous pixel coordinates (column, row from the top) */
   vf f;       /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
   vf bw, bh;  /* unclipped box width and height in pixels (same for every m) */
+  vf dz;      /* delta / z: u = s + (s - p) delta / z */
+  vf gs;      /* S-parametrisation factor: delta^2 / |z|^3 (goesele2003) or |z| (radiance) */
+  vf gu;      /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
   vi band;    /* mask: |z| < band delta, U-parametrisation (DESIGN.md §3.5) */
   vi lit;     /* mask: a valid surface with z > -delta */
   vu pix;     /* surface index: the per-pixel random streams */
@@ -244,6 +247,7 @@ typedef struct {
   float pw, ph; /* pixel size in metres */
   float Xo, Ro; /* basis grid corner o in pixel coordinates */
   float Hx, Hy; /* basis cell size in pixels */
+  float iHx, iHy; /* 1 / Hx, 1 / Hy */
 } NfCtx;
 
 NF_INLINE void nf_normalize3(float* x, float* y, float* z) {
@@ -341,6 +345,19 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->Rp = SEL((vf)(0.0f), c->Rp, c->lit);
   c->f = SEL((vf)(0.0f), c->f, c->lit);
   c->band = c->band & c->lit;
+  c->iHx = 1.0f / c->Hx;
+  c->iHy = 1.0f / c->Hy;
+  /* per-pixel factors of the estimators (unlit lanes: harmless values) */
+  const vf az = fabs(c->pz), dpz = delta + c->pz;
+  const vi gz = c->lit & (az > 0.0f), gpz = c->lit & (dpz > 0.0f);
+  c->dz = SEL((vf)(0.0f), delta / c->pz, gz);
+  if (L->reconstruction == NF_RECON_GOESELE2003) {
+    c->gs = SEL((vf)(0.0f), delta * delta / (az * az * az), gz);
+    c->gu = SEL((vf)(0.0f), delta * delta / (dpz * dpz * dpz), gpz);
+  } else {
+    c->gs = SEL((vf)(0.0f), az, gz);
+    c->gu = SEL((vf)(0.0f), dpz, gpz);
+  }
   return c->lit;
 }
 
@@ -649,11 +666,12 @@ NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const Nf
   const vi first = !one & (t < mf);
   const vi last = !one & !first & (t >= fm) & (ml > 0.0f);
   const vi inter = act & !one & !first & !last;
-  const vf pos_one = s->lo + u * (s->hi - s->lo);
-  const vf pos_first = s->lo + (t / mf) * (CVT_F(s->e1) - s->lo);
-  const vf pos_last = CVT_F(s->e2) + fmin((t - fm) / ml, 1.0f) * (s->hi - CVT_F(s->e2));
+  /* first: lo + (t / mf) (e1 - lo); last: e2 + ((t - fm) / ml) (hi - e2); one: lo + u (hi - lo) */
+  const vf q = SEL(fmin(SEL(t, t - fm, last) / SEL(mf, ml, last), 1.0f), u, one);
+  const vf start = SEL(s->lo, CVT_F(s->e2), last & !one);
+  const vf end = SEL(CVT_F(s->e1), s->hi, last | one);
   vi cell = SEL(s->e0, s->e2, last);
-  const vf pos = SEL(SEL(pos_first, pos_last, last), pos_one, one);
+  const vf pos = start + q * (end - start);
   vf fr = clamp(pos - CVT_F(cell), 0.0f, NF_ONE_MINUS_ULP);
   vl vlo[4], vhi[4];
   if (kind == 0) {
@@ -775,18 +793,15 @@ NF_INLINE vf nf_geom_s(const NfCtx* c, const NfLuminaire* L, int i, int j, vf X,
   const vf dx = dX * c->pw, dy = -dR * c->ph, dz = -z;
   const vf r2 = dx * dx + dy * dy + dz * dz;
   const vf r = sqrt(r2);
-  const vf az = fabs(z);
-  const vi ok = (r > 0.0f) & (az > 0.0f);
-  const vf k = L->delta / z;
-  const vf tx = (X + dX * k - c->Xo) / c->Hx - (float)i;
-  const vf ty = (c->Ro - (R + dR * k)) / c->Hy - (float)j;
+  const vi ok = (r > 0.0f) & (c->gs > 0.0f);
+  const vf tx = (X + dX * c->dz - c->Xo) * c->iHx - (float)i;
+  const vf ty = (c->Ro - (R + dR * c->dz)) * c->iHy - (float)j;
   const vf phi = nf_phi(L->basis_kind, tx) * nf_phi(L->basis_kind, ty);
   const vf inv = SEL(-1.0f / r, 1.0f / r, z > 0.0f);
   *wx = dx * inv;
   *wy = dy * inv;
   *wz = dz * inv;
-  const vf g = L->reconstruction == NF_RECON_GOESELE2003 ? phi * L->delta * L->delta * r / (az * az * az)
-                                                          : phi * az / (r2 * r);
+  const vf g = L->reconstruction == NF_RECON_GOESELE2003 ? phi * c->gs * r : phi * c->gs * (inv * inv * fabs(inv));
   return SEL((vf)(0.0f), g, ok & (phi > 0.0f));
 }
 
@@ -814,13 +829,13 @@ NF_INLINE vf nf_geom_u(const NfCtx* c, const NfLuminaire* L, __global const long
   const vf dx = (Xu - c->Xp) * c->pw, dy = -(Ru - c->Rp) * c->ph, ddz = -dz;
   const vf r2 = dx * dx + dy * dy + ddz * ddz;
   const vf r = sqrt(r2);
-  const vi ok = in & (r > 0.0f) & (dz > 0.0f) & (phi > 0.0f);
+  const vi ok = in & (r > 0.0f) & (c->gu > 0.0f) & (phi > 0.0f);
   const vf inv = 1.0f / r;
   *wx = dx * inv;
   *wy = dy * inv;
   *wz = ddz * inv;
   const float area = (float)(n * n) * L->cell_x * L->cell_y;
-  const vf G = L->reconstruction == NF_RECON_GOESELE2003 ? L->delta * L->delta * r / (dz * dz * dz) : dz / (r2 * r);
+  const vf G = L->reconstruction == NF_RECON_GOESELE2003 ? c->gu * r : c->gu * (inv * inv * inv);
   return SEL((vf)(0.0f), area * Y * phi * G, ok);
 }
 
@@ -852,17 +867,20 @@ typedef struct {
    A_m / A, finite as the box collapses; at a degenerate box, Y_m at p); global: the image flux.
    Lanes that are not lit get 0. */
 NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global const long* sat,
-                        __global const float* quantum, __global const float* flux, NfBox* b) {
+                        __global const float* quantum, __global const NfImageInfo* info, NfBox* b) {
 #if NF_METHOD == NF_METHOD_GLOBAL
   nf_split((vf)(0.0f), (vf)((float)L->res_x), L->res_x, &b->sx);
   nf_split((vf)(0.0f), (vf)((float)L->res_y), L->res_y, &b->sr);
-  const vf a = (vf)(flux[m]);
+  const vf a = (vf)(info[m].flux);
   return SEL((vf)(0.0f), a, c->lit & (a > 0.0f) & isfinite(a));
 #else
   __global const long* img = sat + (size_t)m * (size_t)L->sat_stride;
   const int L1 = L->res_x + 1;
   const float q = quantum[m];
-  const vi ok = nf_box(c, L, m, &b->sx, &b->sr);
+  const NfImageInfo inf = info[m];
+  /* boxes that miss the non-zero pixels have A_m = 0 exactly: no SAT reads */
+  const vi ok = nf_box(c, L, m, &b->sx, &b->sr) & (b->sx.hi > (float)inf.col0) & (b->sx.lo < (float)inf.col1) &
+                (b->sr.hi > (float)inf.row0) & (b->sr.lo < (float)inf.row1);
   vf a = (vf)(0.0f);
   if (ANY(ok)) {
     nf_box_sums(img, L1, &b->sx, &b->sr, &b->B);
@@ -1016,7 +1034,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
 
 #define NF_KERNEL_ARGS                                                                                         \
   const NfSampleParams P, const NfLuminaire L, const NfInstance I, __global const NfSurface *surfaces,        \
-      __global const long *sat, __global const float *quantum, __global const float *flux,                    \
+      __global const long *sat, __global const float *quantum, __global const NfImageInfo *info,                    \
       __global const float4 *chroma, __global const uint *vis, __global const float *halton3
 
 /* Step 1, per-image pass (paper §6.1): A(p) += A_m(p) for m = P.image. */
@@ -1027,7 +1045,7 @@ __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
   if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
   NfBox b;
   float a[NF_LANES];
-  VSTORE(nf_prepare(&c, &L, P.image, sat, quantum, flux, &b), a);
+  VSTORE(nf_prepare(&c, &L, P.image, sat, quantum, info, &b), a);
   for (int l = 0; l < NF_LANES; ++l)
     if (a[l] > 0.0f) A_out[first + l] += a[l];
 }
@@ -1044,7 +1062,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   const vf A = VLOAD(a);
   const int m = P.image;
   NfBox b;
-  const vf Am = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+  const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   vf inv_p;
   const vi K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
   if (!ANY(K > 0)) return;
@@ -1077,7 +1095,7 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
   vf A = (vf)(0.0f);
   for (int m = 0; m < M; ++m) {
     NfBox b;
-    const vf a = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+    const vf a = nf_prepare(&c, &L, m, sat, quantum, info, &b);
     if (cached) am[m] = a;
     A += a;
   }
@@ -1093,9 +1111,9 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
       if (!ANY(Am > 0.0f)) continue;
       K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
-      nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+      nf_prepare(&c, &L, m, sat, quantum, info, &b);
     } else {
-      Am = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+      Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
       K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
@@ -1145,7 +1163,7 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
     return;
   }
   NfBox b;
-  const float Am = nf_prepare(&c, &L, m, sat, quantum, flux, &b);
+  const float Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   float rx = 0.0f, ry = 0.0f;
 #if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
   nf_rotation(&P, c.pix, m, &rx, &ry);

@@ -21,6 +21,8 @@ static_assert(offsetof(NfSampleParams, seed) == 16);
 static_assert(offsetof(NfSampleParams, band) == 32);
 static_assert(offsetof(NfSampleParams, flux_total) == 40);
 static_assert(sizeof(NfSampleDebug) == 32);
+static_assert(sizeof(NfImageInfo) == 32);
+static_assert(offsetof(NfImageInfo, col0) == 4);
 static_assert(offsetof(NfSampleDebug, weight) == 24);
 
 namespace {

@@ -50,16 +50,31 @@ DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : 
     fail(fmt::format("luminaire upload: chroma has {} floats, expected {}", pc.chroma.size(), M * pixels * 4));
   if (!(p.delta > 0.0f)) fail(fmt::format("luminaire upload: delta must be > 0, got {}", p.delta));
 
-  // Per-image flux from the SAT itself (exact integer total), so `global` is consistent with it.
-  flux_.resize(M + 1);
+  // Per image: flux from the SAT itself (exact integer total, so `global` is consistent with it)
+  // and the bounding box of the non-zero pixels (a pixel is non-zero iff its SAT units are).
+  info_.assign(M, NfImageInfo{});
   flux_total_ = 0.0;
+  const int w = p.res_x + 1;
   for (std::size_t m = 0; m < M; ++m) {
-    const std::int64_t total = pc.sat[m * p.sat_stride + p.sat_stride - 1];
+    const std::int64_t* sat = pc.sat.data() + m * static_cast<std::size_t>(p.sat_stride);
+    const std::int64_t total = sat[p.sat_stride - 1];
     const double f = static_cast<double>(total) * static_cast<double>(pc.quantum[m]) * p.pixel_area;
-    flux_[m] = static_cast<float>(f);
+    NfImageInfo& in = info_[m];
+    in.flux = static_cast<float>(f);
     flux_total_ += f;
+    if (total <= 0) continue;
+    // columns: SAT[Ny][a] (column sums) strictly increases across a non-zero column
+    const std::int64_t* last = sat + static_cast<std::size_t>(p.res_y) * w;
+    int c0 = 0, c1 = p.res_x, r0 = 0, r1 = p.res_y;
+    while (c0 < p.res_x && last[c0 + 1] == last[c0]) ++c0;
+    while (c1 > c0 && last[c1] == last[c1 - 1]) --c1;
+    while (r0 < p.res_y && sat[static_cast<std::size_t>(r0 + 1) * w + p.res_x] == sat[static_cast<std::size_t>(r0) * w + p.res_x]) ++r0;
+    while (r1 > r0 && sat[static_cast<std::size_t>(r1) * w + p.res_x] == sat[static_cast<std::size_t>(r1 - 1) * w + p.res_x]) --r1;
+    in.col0 = c0, in.col1 = c1, in.row0 = r0, in.row1 = r1;
   }
-  flux_[M] = static_cast<float>(flux_total_);
+  flux_.resize(M);
+  for (std::size_t m = 0; m < M; ++m) flux_[m] = info_[m].flux;
+  info_buf_ = upload(rt, info_, "image info", bytes_);
 
   if (rt.info().type == "CPU") {
     // On a CPU device the kernels read host memory: give the SAT (tens of MB, read at random rows)
@@ -81,7 +96,6 @@ DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : 
   }
   if (!sat_host_) sat_ = upload(rt, pc.sat, "SAT", bytes_);
   quantum_ = upload(rt, pc.quantum, "quantum", bytes_);
-  flux_buf_ = upload(rt, flux_, "flux", bytes_);
   if (p.has_chroma) {
     chroma_ = upload(rt, pc.chroma, "chroma", bytes_);
   } else {

@@ -7,6 +7,7 @@
 
 #include "cl/runtime.h"
 #include "kernels/shared/luminaire.h"
+#include "kernels/shared/sampling.h"
 #include "luminaire/luminaire.h"
 
 namespace nf::render {
@@ -22,10 +23,11 @@ class DeviceLuminaire {
   int num_images() const { return params_.num_images; }
   double flux_total() const { return flux_total_; }  // sum of the image fluxes, Y m^2
   const std::vector<float>& flux() const { return flux_; }
+  const std::vector<NfImageInfo>& image_info() const { return info_; }
 
   const ::cl::Buffer& sat() const { return sat_; }
   const ::cl::Buffer& quantum() const { return quantum_; }
-  const ::cl::Buffer& flux_buffer() const { return flux_buf_; }
+  const ::cl::Buffer& info_buffer() const { return info_buf_; }  // NfImageInfo per image
   const ::cl::Buffer& chroma() const { return chroma_; }  // a 16-byte placeholder when monochrome
 
   std::size_t bytes() const { return bytes_; }  // device memory held
@@ -37,8 +39,9 @@ class DeviceLuminaire {
   std::unique_ptr<void, HostFree> sat_host_;  // CPU devices: the SAT in huge pages, used in place
   NfLuminaire params_{};
   std::vector<float> flux_;
+  std::vector<NfImageInfo> info_;
   double flux_total_ = 0.0;
-  ::cl::Buffer sat_, quantum_, flux_buf_, chroma_;
+  ::cl::Buffer sat_, quantum_, info_buf_, chroma_;
   std::size_t bytes_ = 0;
 };
 

@@ -196,7 +196,7 @@ void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightIn
   k.setArg(3, surfaces);
   k.setArg(4, lum.sat());
   k.setArg(5, lum.quantum());
-  k.setArg(6, lum.flux_buffer());
+  k.setArg(6, lum.info_buffer());
   k.setArg(7, lum.chroma());
   k.setArg(8, li.visibility && li.vis_words > 0 ? *li.visibility : dummy_vis_);
   k.setArg(9, halton3_);
