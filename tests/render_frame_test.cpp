@@ -86,8 +86,9 @@ TEST(RenderFrame, InstancesShareOneLuminaireAndMonochromeHasNoChroma) {
   const NfLuminaire& p = dev.params();
   const std::size_t m = static_cast<std::size_t>(p.num_images);
   const std::size_t sat = m * static_cast<std::size_t>(p.sat_stride) * sizeof(std::int64_t);
-  // SAT, quanta and flux only (plus the kernels' 16-byte chroma placeholder)
-  EXPECT_LE(dev.bytes(), sat + (2 * m + 1) * sizeof(float) + 16);
+  // The SAT and small per-image tables only: chroma would add 16 bytes per image pixel (twice the
+  // SAT); the kernels get a 16-byte placeholder.
+  EXPECT_LE(dev.bytes(), sat + 64 * m + 4096);
   const auto mem = r->memory();
   EXPECT_EQ(std::count_if(mem.begin(), mem.end(), [](const auto& i) { return i.name.rfind("CL luminaire", 0) == 0; }),
             1);
