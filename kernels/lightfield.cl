@@ -524,64 +524,103 @@ NF_INLINE vf nf_pixel_luminance(__global const long* img, int L1, vi col, vi row
 /* Inversion of a piecewise-linear cumulative J on integer knots, J(lo) = jlo <= t < jhi = J(hi),
    for the lanes in `run`: finds the knot interval [k, k+1] holding t and the fraction inside it,
    from the exact inverse of that linear piece.
-   Secant (paper §5): regula falsi with the Illinois modification; the interpolated point is
-   rounded to a knot strictly inside the bracket; it stops when the bracket is one piece.
-   Binary: the midpoint knot. After `depth` evaluations the rest is linear interpolation across
-   the current bracket (the speed/accuracy knob). *iters counts the evaluations of J.
-   EVAL(k) evaluates J at the knot vector k (every lane's k stays in [lo, hi]). */
+   Secant (paper §5): regula falsi with the Illinois modification, stopping when the bracket is one
+   piece. Each step evaluates J at the two knots around the interpolated point (k = floor, k + 1:
+   independent reads whose latencies overlap), which brackets t at once wherever J is close to
+   linear; a bracket of two pieces gets one evaluation at its middle knot.
+   Binary: one evaluation at the middle knot per step.
+   `depth` caps the evaluations of J per inversion; a bracket still wider than one piece is then
+   inverted linearly across (the speed/accuracy knob). *iters counts the evaluations. */
 #if NF_SEARCH == NF_SEARCH_SECANT
-#define NF_INVERT_CHOOSE                                                               \
-  const vf den_ = ghi - glo;                                                           \
-  const vf q_ = SEL((vf)(0.5f), clamp(-glo / den_, 0.0f, 1.0f), den_ > 0.0f);          \
-  vi k = lo + CVT_I(q_ * CVT_F(hi - lo) + 0.5f);                                       \
-  k = min(max(k, lo + 1), hi - 1);
-#define NF_INVERT_UPDATE                                         \
-  {                                                              \
-    const vi s_old = side;                                       \
-    glo = SEL(glo, jk - t, le);                                  \
-    ghi = SEL(ghi, ghi * 0.5f, le & (s_old == -1));              \
-    ghi = SEL(ghi, jk - t, gt);                                  \
-    glo = SEL(glo, glo * 0.5f, gt & (s_old == 1));               \
-    side = SEL(SEL(side, (vi)(1), gt), (vi)(-1), le);            \
-  }
-#define NF_INVERT_STATE \
+#define NF_PAIRS 1
+#else
+#define NF_PAIRS 0
+#endif
+
+/* Chooses k (and pair lanes) for the current bracket. */
+#if NF_PAIRS
+#define NF_INVERT_CHOOSE                                                             \
+  const vi room = hi - lo;                                                           \
+  const vi pair = run & (room >= 3) & (it + 1 < depth);                              \
+  const vf den_ = ghi - glo;                                                         \
+  const vf q_ = SEL((vf)(0.5f), clamp(-glo / den_, 0.0f, 1.0f), den_ > 0.0f);        \
+  const vf x_ = q_ * CVT_F(room);                                                    \
+  vi k = lo + SEL(CVT_I(x_ + 0.5f), CVT_I(x_), pair);                                \
+  k = min(max(k, lo + 1), hi - 1 - SEL((vi)(0), (vi)(1), pair));                     \
+  k = SEL(lo, k, run);                                                               \
+  const vi k1 = SEL(k, k + 1, pair);
+#define NF_INVERT_STATE                                                                  \
   vf glo = jlo - t, ghi = jhi - t; /* Illinois-modified values, glo <= 0 < ghi */ \
   vi side = (vi)(0);
 #else
-#define NF_INVERT_CHOOSE vi k = lo + ((hi - lo) >> 1);
-#define NF_INVERT_UPDATE
+#define NF_INVERT_CHOOSE                 \
+  const vi pair = (vi)(0);               \
+  vi k = SEL(lo, lo + ((hi - lo) >> 1), run); \
+  const vi k1 = k;
 #define NF_INVERT_STATE
 #endif
 
-#define NF_INVERT_BODY(EVAL)                                             \
-  vi it = (vi)(0);                                                       \
-  NF_INVERT_STATE                                                        \
-  run = run & (hi - lo > 1);                                             \
-  for (int n_ = 0; n_ < depth && ANY(run); ++n_) {                       \
-    NF_INVERT_CHOOSE                                                     \
-    k = SEL(lo, k, run);                                                 \
-    const vf jk = EVAL(k);                                               \
-    it += SEL((vi)(0), (vi)(1), run);                                    \
-    const vi le = run & (jk <= t), gt = run & !(jk <= t);                \
-    lo = SEL(lo, k, le);                                                 \
-    jlo = SEL(jlo, jk, le);                                              \
-    hi = SEL(hi, k, gt);                                                 \
-    jhi = SEL(jhi, jk, gt);                                              \
-    NF_INVERT_UPDATE                                                     \
-    run = run & (hi - lo > 1);                                           \
-  }                                                                      \
-  *iters += it;                                                          \
-  const vf den = jhi - jlo;                                              \
-  const vi width = max(hi - lo, (vi)(1));                                \
-  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f);  \
-  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);         \
-  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);                   \
-  *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);                \
+/* Moves the bracket ends given J(k) = jk and, for pair lanes, J(k+1) = jk1. Defines the masks
+   a (J(k) <= t), b (J(k+1) <= t), mid (t inside [k, k+1]) and gt (t < J(k)). */
+#define NF_INVERT_MOVE                                        \
+  it += SEL((vi)(0), SEL((vi)(1), (vi)(2), pair), run);       \
+  const vi a = run & (jk <= t);                               \
+  const vi b = pair & (jk1 <= t);                             \
+  const vi mid = a & pair & !b;                               \
+  const vi gt = run & !a;                                     \
+  lo = SEL(lo, SEL(k, k1, b), a);                             \
+  jlo = SEL(jlo, SEL(jk, jk1, b), a);                         \
+  hi = SEL(SEL(hi, k, gt), k1, mid);                          \
+  jhi = SEL(SEL(jhi, jk, gt), jk1, mid);                      \
+  NF_INVERT_ILLINOIS                                          \
+  run = run & (hi - lo > 1) & (it < depth);
+
+#if NF_PAIRS
+#define NF_INVERT_ILLINOIS                                      \
+  {                                                             \
+    const vi s_old = side, lo_only = a & !mid;                  \
+    glo = SEL(glo, jlo - t, a);                                 \
+    ghi = SEL(ghi, jhi - t, gt | mid);                          \
+    ghi = SEL(ghi, ghi * 0.5f, lo_only & (s_old == -1));        \
+    glo = SEL(glo, glo * 0.5f, gt & (s_old == 1));              \
+    side = SEL(SEL(side, (vi)(1), gt), (vi)(-1), lo_only);      \
+  }
+#else
+#define NF_INVERT_ILLINOIS
+#endif
+
+/* The exact inverse inside the final bracket (one piece), or linear across it (depth reached). */
+#define NF_INVERT_FINISH                                                   \
+  *iters += it;                                                            \
+  const vf den = jhi - jlo;                                                \
+  const vi width = max(hi - lo, (vi)(1));                                  \
+  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f);    \
+  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);           \
+  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);                     \
+  *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);
+
+#if NF_PAIRS
+#define NF_EVAL_SECOND(EVAL) const vf jk1 = EVAL(k1);
+#else
+#define NF_EVAL_SECOND(EVAL) const vf jk1 = jk;
+#endif
+
+#define NF_INVERT_BODY(EVAL)                 \
+  vi it = (vi)(0);                           \
+  NF_INVERT_STATE                            \
+  run = run & (hi - lo > 1) & (it < depth);  \
+  while (ANY(run)) {                         \
+    NF_INVERT_CHOOSE                         \
+    const vf jk = EVAL(k);                   \
+    NF_EVAL_SECOND(EVAL)                     \
+    NF_INVERT_MOVE                           \
+  }                                          \
+  NF_INVERT_FINISH                           \
   return lo + kk;
 
 /* ours, along x: J(k) = w0 (D_0(k) - b0) + (D_1(k) - b1) + w2 (D_2(k) - b2), 3 row bands, from the
    SAT entries at rows r0..r3 of column k. The search keeps the entries of its bracket ends
-   (lo[], hi[]), so that the y set-up of the column found needs no further reads. */
+   (vlo[], vhi[]), so that the y set-up of the column found needs no further reads. */
 NF_INLINE vf nf_j_x3(vl v0, vl v1, vl v2, vl v3, vl b0, vl b1, vl b2, vf w0, vf w2) {
   return w0 * CVT_F((v1 - v0) - b0) + CVT_F((v2 - v1) - b1) + w2 * CVT_F((v3 - v2) - b2);
 }
@@ -590,37 +629,31 @@ NF_INLINE vi nf_invert_x3(__global const long* img, vi r0, vi r1, vi r2, vi r3, 
                           vl* vhi, vi* width_out) {
   vi it = (vi)(0);
   NF_INVERT_STATE
-  run = run & (hi - lo > 1);
-  for (int n_ = 0; n_ < depth && ANY(run); ++n_) {
+  run = run & (hi - lo > 1) & (it < depth);
+  while (ANY(run)) {
     NF_INVERT_CHOOSE
-    k = SEL(lo, k, run);
     const vl v0 = GATHER(img, r0 + k), v1 = GATHER(img, r1 + k), v2 = GATHER(img, r2 + k), v3 = GATHER(img, r3 + k);
     const vf jk = nf_j_x3(v0, v1, v2, v3, b0, b1, b2, w0, w2);
-    it += SEL((vi)(0), (vi)(1), run);
-    const vi le = run & (jk <= t), gt = run & !(jk <= t);
-    lo = SEL(lo, k, le);
-    jlo = SEL(jlo, jk, le);
-    hi = SEL(hi, k, gt);
-    jhi = SEL(jhi, jk, gt);
-    vlo[0] = SELL(vlo[0], v0, le);
-    vlo[1] = SELL(vlo[1], v1, le);
-    vlo[2] = SELL(vlo[2], v2, le);
-    vlo[3] = SELL(vlo[3], v3, le);
-    vhi[0] = SELL(vhi[0], v0, gt);
-    vhi[1] = SELL(vhi[1], v1, gt);
-    vhi[2] = SELL(vhi[2], v2, gt);
-    vhi[3] = SELL(vhi[3], v3, gt);
-    NF_INVERT_UPDATE
-    run = run & (hi - lo > 1);
+#if NF_PAIRS
+    const vl u0 = GATHER(img, r0 + k1), u1 = GATHER(img, r1 + k1), u2 = GATHER(img, r2 + k1), u3 = GATHER(img, r3 + k1);
+    const vf jk1 = nf_j_x3(u0, u1, u2, u3, b0, b1, b2, w0, w2);
+#else
+    const vl u0 = v0, u1 = v1, u2 = v2, u3 = v3;
+    const vf jk1 = jk;
+#endif
+    NF_INVERT_MOVE
+    /* the SAT entries of the new bracket ends */
+    vlo[0] = SELL(vlo[0], SELL(v0, u0, b), a);
+    vlo[1] = SELL(vlo[1], SELL(v1, u1, b), a);
+    vlo[2] = SELL(vlo[2], SELL(v2, u2, b), a);
+    vlo[3] = SELL(vlo[3], SELL(v3, u3, b), a);
+    vhi[0] = SELL(SELL(vhi[0], v0, gt), u0, mid);
+    vhi[1] = SELL(SELL(vhi[1], v1, gt), u1, mid);
+    vhi[2] = SELL(SELL(vhi[2], v2, gt), u2, mid);
+    vhi[3] = SELL(SELL(vhi[3], v3, gt), u3, mid);
   }
-  *iters += it;
-  const vf den = jhi - jlo;
-  const vi width = max(hi - lo, (vi)(1));
+  NF_INVERT_FINISH
   *width_out = width;
-  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f);
-  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);
-  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);
-  *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);
   return lo + kk;
 }
 
