@@ -1,0 +1,254 @@
+// The viewer's files: image (EXR + PNG), scene, window screenshot, statistics JSON. Every file is
+// written to a temporary name and renamed into place; an image's EXR and PNG are committed
+// together. Inputs of the scene are never overwritten: the scene file being viewed only after
+// the user confirms in the panel (scripts: refused), luminaire files never.
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <fstream>
+#include <numeric>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "app/viewer_impl.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "scene/scene_writer.h"
+
+namespace nf::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lower_extension(const fs::path& p) {
+  std::string e = p.extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+fs::path with_extension(fs::path p, const std::string& ext, const std::string& what) {
+  if (p.empty()) fail(fmt::format("{}: no file name given", what));
+  if (p.extension().empty()) p += ext;
+  if (lower_extension(p) != ext) fail(fmt::format("{} {}: the file name must end in {}", what, p.string(), ext));
+  return p;
+}
+
+bool same_file(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
+}
+
+struct Summary {
+  std::size_t frames = 0;
+  double loop_mean = 0, loop_median = 0, render_mean = 0, samples_per_second = 0;
+  double fps() const { return loop_mean > 0 ? 1000.0 / loop_mean : 0.0; }
+};
+
+Summary summarise(const std::vector<FrameRecord>& records, bool moving) {
+  Summary s;
+  std::vector<double> loops;
+  double render = 0, samples = 0;
+  for (const auto& r : records)
+    if (r.moving == moving) {
+      loops.push_back(r.loop_ms);
+      render += r.render_ms;
+      samples += static_cast<double>(r.samples);
+    }
+  s.frames = loops.size();
+  if (loops.empty()) return s;
+  const double total = std::accumulate(loops.begin(), loops.end(), 0.0);
+  s.loop_mean = total / static_cast<double>(loops.size());
+  s.render_mean = render / static_cast<double>(loops.size());
+  std::sort(loops.begin(), loops.end());
+  s.loop_median = loops[loops.size() / 2];
+  s.samples_per_second = samples / (total / 1000.0);
+  return s;
+}
+
+nlohmann::json summary_json(const Summary& s) {
+  return {{"frames", s.frames},
+          {"fps", s.fps()},
+          {"loop_ms_mean", s.loop_mean},
+          {"loop_ms_median", s.loop_median},
+          {"render_ms_mean", s.render_mean},
+          {"samples_per_second", s.samples_per_second}};
+}
+
+std::string summary_text(const char* what, const Summary& s) {
+  if (s.frames == 0) return fmt::format("{}: no frames", what);
+  return fmt::format(
+      "{}: {:.1f} fps ({:.1f} ms per frame, median {:.1f}; renderer {:.1f} ms; {:.3g} samples/s; {} frames)", what,
+      s.fps(), s.loop_mean, s.loop_median, s.render_mean, s.samples_per_second, s.frames);
+}
+
+}  // namespace
+
+std::vector<fs::path> Viewer::luminaire_files() const {
+  std::vector<fs::path> files;
+  for (const auto& l : original_.luminaires) {
+    if (l.manifest.empty()) continue;
+    files.push_back(l.manifest);
+    std::ifstream in(l.manifest);
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    if (!j.is_discarded() && j.contains("image") && j["image"].is_object() && j["image"].contains("file") &&
+        j["image"]["file"].is_string())
+      files.push_back(l.manifest.parent_path() / j["image"]["file"].get<std::string>());
+  }
+  return files;
+}
+
+void Viewer::refuse_inputs(const fs::path& p, bool confirmed) const {
+  if (!confirmed && same_file(p, original_.file))
+    fail(fmt::format("{}: refusing to overwrite the scene file being viewed", p.string()));
+  for (const auto& f : luminaire_files())
+    if (same_file(p, f)) fail(fmt::format("{}: refusing to overwrite a luminaire file of the scene", p.string()));
+}
+
+// ---------------------------------------------------------------- saving ---------------------
+
+void Viewer::save_image(const fs::path& path, bool confirmed) {
+  const fs::path exr = with_extension(path, ".exr", "save");
+  fs::path png = exr;
+  png.replace_extension(".png");
+  refuse_inputs(exr, confirmed);
+  refuse_inputs(png, confirmed);
+  AtomicFile exr_file(exr), png_file(png);
+  const Image hdr = renderer_->accumulated();
+  const scene::Camera& c = renderer_->camera();
+  ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
+                        {"nearfield:scene", original_.file.string()},
+                        {"nearfield:source", "nearfield view"},
+                        {"nearfield:content", "linear radiance, W m^-2 sr^-1 (the luminaires' units)"},
+                        {"nearfield:gl_renderer", renderer_->gl_renderer()},
+                        {"nearfield:frames", std::to_string(renderer_->frames())},
+                        {"nearfield:samples", std::to_string(renderer_->total_times().samples)},
+                        {"nearfield:camera", fmt::format("position {} {} {} target {} {} {} up {} {} {} fov_y {}",
+                                                         c.position.x, c.position.y, c.position.z, c.target.x,
+                                                         c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg)}};
+  for (const auto& kv : render::settings_attributes(renderer_->settings())) attrs.push_back(kv);
+  write_exr(exr_file.temp_path(), hdr, attrs);
+  write_png(png_file.temp_path(), renderer_->tonemapped());
+  exr_file.commit();
+  png_file.commit();
+  status(fmt::format("saved {} and {} ({} frames)", exr.string(), png.string(), renderer_->frames()));
+}
+
+void Viewer::save_scene_file(const fs::path& path, bool confirmed) {
+  const fs::path json = with_extension(path, ".json", "save-scene");
+  refuse_inputs(json, confirmed);
+  scene::SceneState st;
+  st.camera = orbit_.camera(render_width(), render_height());
+  for (std::size_t i = 0; i < lums_.size(); ++i) {
+    scene::LuminaireState l;
+    l.to_world = luminaire_matrix(i);
+    l.intensity = lums_[i].intensity;
+    l.has_euler = true;
+    l.translate = lums_[i].translate;
+    l.euler_deg = lums_[i].euler;
+    st.luminaires.push_back(l);
+  }
+  st.render = render_settings(settings_.frame);
+  scene::save_scene(original_, st, json);
+  status(fmt::format("saved {}", json.string()));
+}
+
+void Viewer::save_screenshot(const fs::path& path, bool confirmed) {
+  const fs::path png = with_extension(path, ".png", "screenshot");
+  refuse_inputs(png, confirmed);
+  int w = 0, h = 0;
+  window_->framebuffer_size(w, h);
+  if (w <= 0 || h <= 0) fail("screenshot: the window has no pixels");
+  std::vector<std::uint8_t> px(4 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        img.at(x, y, c) =
+            px[4 * (static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) +
+               static_cast<std::size_t>(c)] /
+            255.0f;
+  write_png(png, img);
+  status(fmt::format("saved {}", png.string()));
+}
+
+void Viewer::request_save(const std::string& kind, const fs::path& path) {
+  try {
+    const std::string ext = kind == "scene" ? ".json" : kind == "image" ? ".exr" : ".png";
+    const fs::path p = with_extension(path, ext, kind);
+    refuse_inputs(p, true);  // luminaire files: never
+    std::error_code ec;
+    fs::path other = p;
+    other.replace_extension(".png");
+    if (same_file(p, original_.file)) {
+      pending_ = PendingSave{kind, p, fmt::format("{} is the scene file being viewed.\nOverwrite it?", p.string())};
+    } else if (fs::exists(p, ec) || (kind == "image" && fs::exists(other, ec))) {
+      pending_ = PendingSave{kind, p,
+                             fmt::format("{} already exists.\nOverwrite it?",
+                                         kind == "image" && !fs::exists(p, ec) ? other.string() : p.string())};
+    } else {
+      perform_save(kind, p, false);
+    }
+  } catch (const Error& e) {
+    status(e.what(), true);
+  }
+}
+
+void Viewer::perform_save(const std::string& kind, const fs::path& path, bool confirmed) {
+  try {
+    if (kind == "image") save_image(path, confirmed);
+    if (kind == "scene") save_scene_file(path, confirmed);
+    if (kind == "screenshot") capture_ = path;  // taken after this frame is drawn
+  } catch (const Error& e) {
+    status(e.what(), true);
+  }
+}
+
+// ---------------------------------------------------------------- statistics -----------------
+
+std::string Viewer::fps_summary() const {
+  return fmt::format("view: {} frames at {}x{}; {}; {}", frames_rendered_, renderer_->camera().width,
+                     renderer_->camera().height, summary_text("static camera", summarise(records_, false)),
+                     summary_text("moving", summarise(records_, true)));
+}
+
+void Viewer::write_stats() {
+  int ww = 0, wh = 0;
+  window_->framebuffer_size(ww, wh);
+  nlohmann::json j;
+  j["format"] = "nearfield-view-stats";
+  j["version"] = 1;
+  j["scene"] = opt_.scene.string();
+  j["window"] = {ww, wh};
+  j["resolution"] = {renderer_->camera().width, renderer_->camera().height};
+  j["scale"] = settings_.scale;
+  j["fast_motion"] = settings_.fast_motion;
+  j["frames_rendered"] = frames_rendered_;
+  j["static"] = summary_json(summarise(records_, false));
+  j["moving"] = summary_json(summarise(records_, true));
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& r : records_)
+    frames.push_back(
+        {{"loop_ms", r.loop_ms}, {"render_ms", r.render_ms}, {"moving", r.moving}, {"samples", r.samples}});
+  j["frames"] = frames;
+  const nlohmann::json rs = nlohmann::json::parse(render::to_json(renderer_->stats()), nullptr, false);
+  if (!rs.is_discarded()) j["renderer"] = rs;
+  AtomicFile f(opt_.stats);
+  {
+    std::ofstream out(f.temp_path(), std::ios::binary);
+    out << j.dump(2) << "\n";
+    out.close();
+    if (!out) fail(fmt::format("{}: write failed", opt_.stats.string()));
+  }
+  f.commit();
+}
+
+}  // namespace nf::app
