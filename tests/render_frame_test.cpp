@@ -16,7 +16,10 @@
 #include "core/error.h"
 #include "gl/step0.h"
 #include "gl/tonemap.h"
+#include "luminaire/basis.h"
 #include "luminaire/generator.h"
+#include "luminaire/geometry.h"
+#include "render/luminaire_view.h"
 #include "render_support.h"
 
 namespace {
@@ -301,6 +304,41 @@ TEST(RenderFrame, CameraSeesTheLuminaire) {
   r->set_luminaire_intensity(0, 2.0);
   r->render_frame();
   EXPECT_NEAR(r->accumulated().at(32, 32, 0), 2.0 * spec.l0, 2e-4 * spec.l0);
+}
+
+// L(u -> s) against a brute-force sum over every image (DESIGN.md §3.2), for both reconstructions.
+TEST(RenderFrame, LightFieldRadianceMatchesBruteForce) {
+  for (const char* preset : {"car1", "led-rgb"}) {
+    lum::GenOptions g;
+    g.resolution_scale = 0.25;
+    const lum::Luminaire l = lum::generate_preset(preset, g);
+    const lum::Rect ext = lum::basis_extent(l.basis), rect = lum::image_rect(l.image);
+    int nonzero = 0;
+    for (int k = 0; k < 400; ++k) {
+      // a low-discrepancy walk over the image rectangle and the basis extent (a bit beyond both)
+      const double a = std::fmod(k * 0.7548776662, 1.0), b = std::fmod(k * 0.5698402910, 1.0);
+      const double c = std::fmod(k * 0.4142135624, 1.0), d = std::fmod(k * 0.7320508076, 1.0);
+      const glm::dvec2 s = rect.lo + (rect.hi - rect.lo) * glm::dvec2(1.1 * a - 0.05, 1.1 * b - 0.05);
+      const glm::dvec2 u = ext.lo + (ext.hi - ext.lo) * glm::dvec2(1.2 * c - 0.1, 1.2 * d - 0.1);
+      glm::dvec3 expect(0.0);
+      const glm::ivec2 px = lum::pixel_of(l.image, s);
+      if (px.x >= 0) {
+        const double dist2 = glm::dot(s - u, s - u) + l.delta * l.delta, cos_theta = l.delta / std::sqrt(dist2);
+        const double factor =
+            l.reconstruction == lum::Reconstruction::goesele2003 ? l.delta * l.delta / std::pow(cos_theta, 4.0) : 1.0;
+        for (int m = 0; m < l.num_images(); ++m) {
+          const float* texel =
+              l.images[m].data() + (static_cast<std::size_t>(px.y) * l.image.resolution[0] + px.x) * l.channels;
+          const glm::dvec3 cm = l.channels == 1 ? glm::dvec3(texel[0]) : glm::dvec3(texel[0], texel[1], texel[2]);
+          expect += cm * lum::basis_value(l.basis, m, u) * factor;
+        }
+      }
+      const glm::dvec3 got = render::light_field_radiance(l, s, u);
+      for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(got[ch], expect[ch], 1e-9 * (1.0 + expect[ch])) << preset << " " << k;
+      nonzero += expect.x > 0.0;
+    }
+    EXPECT_GT(nonzero, 20) << preset;
+  }
 }
 
 // ---------------------------------------------------------------- shadows --------------------

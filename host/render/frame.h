@@ -63,7 +63,9 @@ FrameSettings frame_settings(const scene::RenderSettings& r);
 std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s);
 
 struct RendererOptions {
-  gl::Context* context = nullptr;  // the GL context to render with (made current as needed); nullptr: headless EGL
+  // The GL context to render with (made current before any GL work; it must outlive the
+  // Renderer); nullptr: a headless EGL context of the Renderer's own.
+  gl::Context* context = nullptr;
   cl::Runtime* runtime = nullptr;  // nullptr: a new runtime on `cl_device`
   std::string cl_device;           // device spec (cl/runtime.h) when runtime is nullptr
   LuminaireLoadOptions luminaires;
