@@ -127,7 +127,7 @@ std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool 
 
 int Sampler::lanes(const SamplingSettings& s) const {
   if (s.lanes > 0) return s.lanes;
-  return rt_.info().type == "CPU" ? 8 : 1;
+  return rt_.info().type == "CPU" ? 16 : 1;
 }
 
 ::cl::Kernel& Sampler::kernel(const std::string& name, const std::string& options) {

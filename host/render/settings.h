@@ -42,14 +42,14 @@ struct SamplingSettings {
   SamplerKind sampler = SamplerKind::halton;
   Balance balance = Balance::roulette;  // unbiased default (DESIGN.md §3.4); see docs/sampling.md
   SearchKind search = SearchKind::secant;
-  Structure structure = Structure::per_image;  // the faster on PoCL (bench/, docs/sampling.md)
+  Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
   int spp = 200;                               // K of Eq. 12, >= 1
   int k_max = 0;                               // cap on K_m(p); 0 = no cap (K)
   int search_depth = -1;                       // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
   std::uint32_t seed = 1;                      // random and scrambled sequences
   std::uint32_t frame = 0;                     // progressive frame index: advances every sequence
   double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (DESIGN.md §3.5)
-  int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (8 on CPUs, 1 on GPUs)
+  int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
 
   void validate() const;         // throws nf::Error naming the bad field
   std::string describe() const;  // one line: method=... sampler=... K=...
