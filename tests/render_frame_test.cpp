@@ -42,6 +42,22 @@ bool has_item(const std::vector<gl::MemoryItem>& m, const std::string& part) {
   return std::any_of(m.begin(), m.end(), [&](const auto& i) { return i.name.find(part) != std::string::npos; });
 }
 
+// scene::RenderSettings promises the defaults of render::SamplingSettings (the scene layer cannot
+// include render, so the strings are repeated there).
+TEST(RenderFrame, SceneDefaultsMatchSamplingDefaults) {
+  const render::FrameSettings f = render::frame_settings(scene::RenderSettings{});
+  const render::SamplingSettings d;
+  EXPECT_EQ(f.sampling.method, d.method);
+  EXPECT_EQ(f.sampling.sampler, d.sampler);
+  EXPECT_EQ(f.sampling.balance, d.balance);
+  EXPECT_EQ(f.sampling.search, d.search);
+  EXPECT_EQ(f.sampling.structure, d.structure);
+  EXPECT_EQ(f.sampling.spp, d.spp);
+  EXPECT_EQ(f.sampling.k_max, d.k_max);
+  EXPECT_EQ(f.sampling.search_depth, d.search_depth);
+  EXPECT_EQ(f.sampling.seed, d.seed);
+}
+
 // ---------------------------------------------------------------- what gets built ------------
 
 TEST(RenderFrame, NoShadowMapsWhenVisibilityIsNone) {

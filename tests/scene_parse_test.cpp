@@ -185,7 +185,7 @@ TEST_F(SceneParse, DefaultsWhenOptionalSectionsAreMissing) {
   EXPECT_EQ(s.render.sampler, "halton");
   EXPECT_EQ(s.render.kmax, 0);
   EXPECT_EQ(s.render.search_depth, -1);
-  EXPECT_EQ(s.render.structure, "per-image");
+  EXPECT_EQ(s.render.structure, defaults.structure);
   EXPECT_EQ(s.render.balance, defaults.balance);
   EXPECT_NE(s.render.balance, "paper");  // the default must be unbiased (DESIGN §3.4)
   EXPECT_EQ(s.render.visibility, "shadowmaps");

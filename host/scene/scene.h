@@ -41,7 +41,7 @@ struct RenderSettings {
   int search_depth = -1;                  // CDF evaluations per 1D inversion, 1..1024; -1 = unlimited (exact)
   std::string search = "secant";          // secant | binary
   std::string balance = "roulette";       // paper | min1 | roulette (min1 and roulette are unbiased)
-  std::string structure = "per-image";    // per-image | fused (Step 1/2 passes)
+  std::string structure = "fused";        // per-image | fused (Step 1/2 passes)
   std::string visibility = "shadowmaps";  // none | shadowmaps
   int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
   std::uint32_t seed = 1;                 // sampler seed (random, halton-scrambled)
