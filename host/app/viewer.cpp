@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -147,6 +148,12 @@ void Viewer::iterate() {
     quit_ = true;
     return;
   }
+  int fw = 0, fh = 0;
+  window_->framebuffer_size(fw, fh);
+  if (fw <= 0 || fh <= 0) {  // minimised: keep the accumulation, draw nothing
+    glfwWaitEventsTimeout(0.1);
+    return;
+  }
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
@@ -174,16 +181,22 @@ void Viewer::render_one() {
 void Viewer::after_frame(double loop_ms) {
   last_loop_ms_ = loop_ms;
   if (!rendered_) return;
-  loop_ms_ema_ = loop_ms_ema_ == 0.0 ? loop_ms : 0.9 * loop_ms_ema_ + 0.1 * loop_ms;
-  fps_history_.push_back(static_cast<float>(1000.0 / std::max(loop_ms, 1e-3)));
-  if (fps_history_.size() > 120) fps_history_.pop_front();
+  if (frames_rendered_ > 1) {  // the first frame builds everything
+    recent_ms_.push_back(loop_ms);
+    if (recent_ms_.size() > 8) recent_ms_.pop_front();
+    loop_ms_recent_ =
+        std::accumulate(recent_ms_.begin(), recent_ms_.end(), 0.0) / static_cast<double>(recent_ms_.size());
+    fps_history_.push_back(static_cast<float>(1000.0 / std::max(loop_ms, 1e-3)));
+    if (fps_history_.size() > 120) fps_history_.pop_front();
+  }
   const render::StepTimes& t = renderer_->last_times();
   FrameRecord r;
   r.loop_ms = loop_ms;
   r.render_ms = t.wall_ms;
   r.moving = t.step0_runs > 0;
+  r.rebuilt = t.build_ms > 0.5;  // (build_ms is timed on every frame)
   r.samples = t.samples;
-  if (t.build_ms < 1.0) records_.push_back(r);  // frames that built shaders or kernels are not typical
+  if (frames_rendered_ > 1) records_.push_back(r);  // the first frame builds everything: not typical
   last_times_ = t;
 }
 

@@ -42,6 +42,7 @@ struct FrameRecord {
   double loop_ms = 0;    // the whole iteration: input, render, display, panel, swap
   double render_ms = 0;  // renderer wall clock (Steps 0-3)
   bool moving = false;   // Step 0 ran (the camera, a luminaire or the visibility changed)
+  bool rebuilt = false;  // Step 0 or the kernels were rebuilt (visibility or sampling settings changed)
   std::uint64_t samples = 0;
 };
 
@@ -158,7 +159,8 @@ class Viewer {
   int frames_rendered_ = 0;
   std::vector<FrameRecord> records_;
   std::deque<float> fps_history_;
-  double loop_ms_ema_ = 0.0, last_loop_ms_ = 0.0;
+  std::deque<double> recent_ms_;  // the last few loop times (ms)
+  double loop_ms_recent_ = 0.0, last_loop_ms_ = 0.0;
   render::StepTimes last_times_;
 
   // panel text fields and messages

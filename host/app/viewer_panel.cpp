@@ -79,9 +79,10 @@ void Viewer::draw_panel() {
   int fw = 0, fh = 0;
   window_->framebuffer_size(fw, fh);
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(370, static_cast<float>(std::max(fh - 16, 200))), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(400, static_cast<float>(std::max(fh - 16, 200))), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.85f);
   if (ImGui::Begin("nearfield view")) {
+    ImGui::PushItemWidth(-190.0f);  // room for the labels
     panel_header();
     if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) panel_rendering();
     if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) panel_display();
@@ -97,6 +98,7 @@ void Viewer::draw_panel() {
       ImGui::TextColored(colour, "%s", status_.c_str());
       ImGui::PopTextWrapPos();
     }
+    ImGui::PopItemWidth();
   }
   ImGui::End();
 }
@@ -228,8 +230,8 @@ void Viewer::panel_luminaires() {
 
 void Viewer::panel_statistics() {
   const render::StepTimes& t = last_times_;
-  ImGui::Text("%.1f fps (%.1f ms per loop, renderer %.1f ms)", loop_ms_ema_ > 0 ? 1000.0 / loop_ms_ema_ : 0.0,
-              loop_ms_ema_, t.wall_ms);
+  ImGui::Text("%.1f fps (%.1f ms per loop, renderer %.1f ms)", loop_ms_recent_ > 0 ? 1000.0 / loop_ms_recent_ : 0.0,
+              loop_ms_recent_, t.wall_ms);
   if (!fps_history_.empty()) {
     std::vector<float> v(fps_history_.begin(), fps_history_.end());
     ImGui::PlotLines("##fps", v.data(), static_cast<int>(v.size()), 0, "fps", 0.0f, FLT_MAX,
