@@ -20,10 +20,10 @@
 
    Exactness (DESIGN.md §3.4): every mass is a non-negative weighted sum of exact int64 differences
    of SAT entries converted to float; no fp64 is needed. */
-#include "shared/types.h"
 #include "shared/luminaire.h"
-#include "shared/surface.h"
 #include "shared/sampling.h"
+#include "shared/surface.h"
+#include "shared/types.h"
 
 #ifndef NF_METHOD
 #define NF_METHOD NF_METHOD_OURS
@@ -95,11 +95,12 @@ typedef NF_CAT(long, NF_LANES) vl;
 #define NF_G(p, i, T) (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3])
 #define LANE_IDS (vi)(0, 1, 2, 3)
 #elif NF_LANES == 8
-#define NF_G(p, i, T) (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7])
+#define NF_G(p, i, T) \
+  (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7])
 #define LANE_IDS (vi)(0, 1, 2, 3, 4, 5, 6, 7)
 #elif NF_LANES == 16
-#define NF_G(p, i, T)                                                                                             \
-  (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7],     \
+#define NF_G(p, i, T)                                                                                         \
+  (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7], \
       (p)[(i).s8], (p)[(i).s9], (p)[(i).sa], (p)[(i).sb], (p)[(i).sc], (p)[(i).sd], (p)[(i).se], (p)[(i).sf])
 #define LANE_IDS (vi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)
 #else
@@ -234,19 +235,19 @@ typedef struct {
   vi brdf;
   vf alpha, metallic;
   vf br, bg, bb;
-  vf Xp, Rp;  /* p in continuous pixel coordinates (column, row from the top) */
-  vf f;       /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
-  vf bw, bh;  /* unclipped box width and height in pixels (same for every m) */
-  vf dz;      /* delta / z: u = s + (s - p) delta / z */
-  vf gs;      /* S-parametrisation factor: delta^2 / |z|^3 (goesele2003) or |z| (radiance) */
-  vf gu;      /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
-  vi band;    /* mask: |z| < band delta, U-parametrisation (DESIGN.md §3.5) */
-  vi lit;     /* mask: a valid surface with z > -delta */
-  vu pix;     /* surface index: the per-pixel random streams */
+  vf Xp, Rp; /* p in continuous pixel coordinates (column, row from the top) */
+  vf f;      /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
+  vf bw, bh; /* unclipped box width and height in pixels (same for every m) */
+  vf dz;     /* delta / z: u = s + (s - p) delta / z */
+  vf gs;     /* S-parametrisation factor: delta^2 / |z|^3 (goesele2003) or |z| (radiance) */
+  vf gu;     /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
+  vi band;   /* mask: |z| < band delta, U-parametrisation (DESIGN.md §3.5) */
+  vi lit;    /* mask: a valid surface with z > -delta */
+  vu pix;    /* surface index: the per-pixel random streams */
   /* luminaire constants */
-  float pw, ph; /* pixel size in metres */
-  float Xo, Ro; /* basis grid corner o in pixel coordinates */
-  float Hx, Hy; /* basis cell size in pixels */
+  float pw, ph;   /* pixel size in metres */
+  float Xo, Ro;   /* basis grid corner o in pixel coordinates */
+  float Hx, Hy;   /* basis cell size in pixels */
   float iHx, iHy; /* 1 / Hx, 1 / Hy */
 } NfCtx;
 
@@ -263,8 +264,7 @@ NF_INLINE void nf_normalize3(float* x, float* y, float* z) {
 NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const NfSampleParams* P,
                       __global const NfSurface* surf, uint first) {
   float px[NF_LANES], py[NF_LANES], pz[NF_LANES], nx[NF_LANES], ny[NF_LANES], nz[NF_LANES];
-  float vx[NF_LANES], vy[NF_LANES], vz[NF_LANES], al[NF_LANES], me[NF_LANES], br[NF_LANES], bg[NF_LANES],
-      bb[NF_LANES];
+  float vx[NF_LANES], vy[NF_LANES], vz[NF_LANES], al[NF_LANES], me[NF_LANES], br[NF_LANES], bg[NF_LANES], bb[NF_LANES];
   int brdf[NF_LANES], valid[NF_LANES];
   uint pix[NF_LANES];
   const float* M = I->to_local;
@@ -539,22 +539,22 @@ NF_INLINE vf nf_pixel_luminance(__global const long* img, int L1, vi col, vi row
 
 /* Chooses k (and pair lanes) for the current bracket. */
 #if NF_PAIRS
-#define NF_INVERT_CHOOSE                                                             \
-  const vi room = hi - lo;                                                           \
-  const vi pair = run & (room >= 3) & (it + 1 < depth);                              \
-  const vf den_ = ghi - glo;                                                         \
-  const vf q_ = SEL((vf)(0.5f), clamp(-glo / den_, 0.0f, 1.0f), den_ > 0.0f);        \
-  const vf x_ = q_ * CVT_F(room);                                                    \
-  vi k = lo + SEL(CVT_I(x_ + 0.5f), CVT_I(x_), pair);                                \
-  k = min(max(k, lo + 1), hi - 1 - SEL((vi)(0), (vi)(1), pair));                     \
-  k = SEL(lo, k, run);                                                               \
+#define NF_INVERT_CHOOSE                                                      \
+  const vi room = hi - lo;                                                    \
+  const vi pair = run & (room >= 3) & (it + 1 < depth);                       \
+  const vf den_ = ghi - glo;                                                  \
+  const vf q_ = SEL((vf)(0.5f), clamp(-glo / den_, 0.0f, 1.0f), den_ > 0.0f); \
+  const vf x_ = q_ * CVT_F(room);                                             \
+  vi k = lo + SEL(CVT_I(x_ + 0.5f), CVT_I(x_), pair);                         \
+  k = min(max(k, lo + 1), hi - 1 - SEL((vi)(0), (vi)(1), pair));              \
+  k = SEL(lo, k, run);                                                        \
   const vi k1 = SEL(k, k + 1, pair);
-#define NF_INVERT_STATE                                                                  \
+#define NF_INVERT_STATE                                                           \
   vf glo = jlo - t, ghi = jhi - t; /* Illinois-modified values, glo <= 0 < ghi */ \
   vi side = (vi)(0);
 #else
-#define NF_INVERT_CHOOSE                 \
-  const vi pair = (vi)(0);               \
+#define NF_INVERT_CHOOSE                      \
+  const vi pair = (vi)(0);                    \
   vi k = SEL(lo, lo + ((hi - lo) >> 1), run); \
   const vi k1 = k;
 #define NF_INVERT_STATE
@@ -562,41 +562,41 @@ NF_INLINE vf nf_pixel_luminance(__global const long* img, int L1, vi col, vi row
 
 /* Moves the bracket ends given J(k) = jk and, for pair lanes, J(k+1) = jk1. Defines the masks
    a (J(k) <= t), b (J(k+1) <= t), mid (t inside [k, k+1]) and gt (t < J(k)). */
-#define NF_INVERT_MOVE                                        \
-  it += SEL((vi)(0), SEL((vi)(1), (vi)(2), pair), run);       \
-  const vi a = run & (jk <= t);                               \
-  const vi b = pair & (jk1 <= t);                             \
-  const vi mid = a & pair & !b;                               \
-  const vi gt = run & !a;                                     \
-  lo = SEL(lo, SEL(k, k1, b), a);                             \
-  jlo = SEL(jlo, SEL(jk, jk1, b), a);                         \
-  hi = SEL(SEL(hi, k, gt), k1, mid);                          \
-  jhi = SEL(SEL(jhi, jk, gt), jk1, mid);                      \
-  NF_INVERT_ILLINOIS                                          \
+#define NF_INVERT_MOVE                                  \
+  it += SEL((vi)(0), SEL((vi)(1), (vi)(2), pair), run); \
+  const vi a = run & (jk <= t);                         \
+  const vi b = pair & (jk1 <= t);                       \
+  const vi mid = a & pair & !b;                         \
+  const vi gt = run & !a;                               \
+  lo = SEL(lo, SEL(k, k1, b), a);                       \
+  jlo = SEL(jlo, SEL(jk, jk1, b), a);                   \
+  hi = SEL(SEL(hi, k, gt), k1, mid);                    \
+  jhi = SEL(SEL(jhi, jk, gt), jk1, mid);                \
+  NF_INVERT_ILLINOIS                                    \
   run = run & (hi - lo > 1) & (it < depth);
 
 #if NF_PAIRS
-#define NF_INVERT_ILLINOIS                                      \
-  {                                                             \
-    const vi s_old = side, lo_only = a & !mid;                  \
-    glo = SEL(glo, jlo - t, a);                                 \
-    ghi = SEL(ghi, jhi - t, gt | mid);                          \
-    ghi = SEL(ghi, ghi * 0.5f, lo_only & (s_old == -1));        \
-    glo = SEL(glo, glo * 0.5f, gt & (s_old == 1));              \
-    side = SEL(SEL(side, (vi)(1), gt), (vi)(-1), lo_only);      \
+#define NF_INVERT_ILLINOIS                                 \
+  {                                                        \
+    const vi s_old = side, lo_only = a & !mid;             \
+    glo = SEL(glo, jlo - t, a);                            \
+    ghi = SEL(ghi, jhi - t, gt | mid);                     \
+    ghi = SEL(ghi, ghi * 0.5f, lo_only & (s_old == -1));   \
+    glo = SEL(glo, glo * 0.5f, gt & (s_old == 1));         \
+    side = SEL(SEL(side, (vi)(1), gt), (vi)(-1), lo_only); \
   }
 #else
 #define NF_INVERT_ILLINOIS
 #endif
 
 /* The exact inverse inside the final bracket (one piece), or linear across it (depth reached). */
-#define NF_INVERT_FINISH                                                   \
-  *iters += it;                                                            \
-  const vf den = jhi - jlo;                                                \
-  const vi width = max(hi - lo, (vi)(1));                                  \
-  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f);    \
-  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);           \
-  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);                     \
+#define NF_INVERT_FINISH                                                \
+  *iters += it;                                                         \
+  const vf den = jhi - jlo;                                             \
+  const vi width = max(hi - lo, (vi)(1));                               \
+  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f); \
+  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);        \
+  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);                  \
   *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);
 
 #if NF_PAIRS
@@ -605,17 +605,17 @@ NF_INLINE vf nf_pixel_luminance(__global const long* img, int L1, vi col, vi row
 #define NF_EVAL_SECOND(EVAL) const vf jk1 = jk;
 #endif
 
-#define NF_INVERT_BODY(EVAL)                 \
-  vi it = (vi)(0);                           \
-  NF_INVERT_STATE                            \
-  run = run & (hi - lo > 1) & (it < depth);  \
-  while (ANY(run)) {                         \
-    NF_INVERT_CHOOSE                         \
-    const vf jk = EVAL(k);                   \
-    NF_EVAL_SECOND(EVAL)                     \
-    NF_INVERT_MOVE                           \
-  }                                          \
-  NF_INVERT_FINISH                           \
+#define NF_INVERT_BODY(EVAL)                \
+  vi it = (vi)(0);                          \
+  NF_INVERT_STATE                           \
+  run = run & (hi - lo > 1) & (it < depth); \
+  while (ANY(run)) {                        \
+    NF_INVERT_CHOOSE                        \
+    const vf jk = EVAL(k);                  \
+    NF_EVAL_SECOND(EVAL)                    \
+    NF_INVERT_MOVE                          \
+  }                                         \
+  NF_INVERT_FINISH                          \
   return lo + kk;
 
 /* ours, along x: J(k) = w0 (D_0(k) - b0) + (D_1(k) - b1) + w2 (D_2(k) - b2), 3 row bands, from the
@@ -625,8 +625,8 @@ NF_INLINE vf nf_j_x3(vl v0, vl v1, vl v2, vl v3, vl b0, vl b1, vl b2, vf w0, vf 
   return w0 * CVT_F((v1 - v0) - b0) + CVT_F((v2 - v1) - b1) + w2 * CVT_F((v3 - v2) - b2);
 }
 NF_INLINE vi nf_invert_x3(__global const long* img, vi r0, vi r1, vi r2, vi r3, vl b0, vl b1, vl b2, vf w0, vf w2,
-                          vi lo, vi hi, vf jlo, vf jhi, vf t, vi run, int depth, vf* frac, vi* iters, vl* vlo,
-                          vl* vhi, vi* width_out) {
+                          vi lo, vi hi, vf jlo, vf jhi, vf t, vi run, int depth, vf* frac, vi* iters, vl* vlo, vl* vhi,
+                          vi* width_out) {
   vi it = (vi)(0);
   NF_INVERT_STATE
   run = run & (hi - lo > 1) & (it < depth);
@@ -660,9 +660,7 @@ NF_INLINE vi nf_invert_x3(__global const long* img, vi r0, vi r1, vi r2, vi r3, 
 /* paper / global, along x: the full-column cumulative J(k) = SAT[Ny][k] - b. */
 #define NF_EVAL_ROW(k) CVT_F(GATHER(img, rowN + (k)) - b)
 NF_INLINE vi nf_invert_row(__global const long* img, int rowN, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t, vi run,
-                           int depth, vf* frac, vi* iters) {
-  NF_INVERT_BODY(NF_EVAL_ROW)
-}
+                           int depth, vf* frac, vi* iters){NF_INVERT_BODY(NF_EVAL_ROW)}
 
 /* along y in column col: the column cumulative J(k) = (SAT[k][col+1] - SAT[k][col]) - b. */
 NF_INLINE vf nf_eval_col(__global const long* img, int L1, vi col, vl b, vi k) {
@@ -670,8 +668,8 @@ NF_INLINE vf nf_eval_col(__global const long* img, int L1, vi col, vl b, vi k) {
   return CVT_F((GATHER(img, o + 1) - GATHER(img, o)) - b);
 }
 #define NF_EVAL_COL(k) nf_eval_col(img, L1, col, b, (k))
-NF_INLINE vi nf_invert_col(__global const long* img, int L1, vi col, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t,
-                           vi run, int depth, vf* frac, vi* iters) {
+NF_INLINE vi nf_invert_col(__global const long* img, int L1, vi col, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t, vi run,
+                           int depth, vf* frac, vi* iters) {
   NF_INVERT_BODY(NF_EVAL_COL)
 }
 
@@ -684,7 +682,7 @@ typedef struct {
   vi r0, r1, r2, r3; /* kind 0: row offsets of the bands */
   vl b0, b1, b2;
   vf w0, w2;
-  vi col; /* kind 2 */
+  vi col;   /* kind 2 */
   int rowN; /* kind 1 */
 } NfCum;
 
@@ -752,9 +750,8 @@ NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const Nf
    global (Eq. 6): the box is the whole image.
    Returns the mask of samples that carry energy (0: a zero-mass column, reachable only with a
    depth-limited search or `paper`). */
-NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx, const NfSpan* sr,
-                     const NfBoxSums* B, vf ux, vf uy, vi act, int depth, vi* col, vf* fx, vi* row, vf* fy, vi* itx,
-                     vi* ity) {
+NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx, const NfSpan* sr, const NfBoxSums* B,
+                     vf ux, vf uy, vi act, int depth, vi* col, vf* fx, vi* row, vf* fy, vi* itx, vi* ity) {
   NfCum e;
 #if NF_METHOD == NF_METHOD_OURS
   e.r0 = sr->e0 * L1;
@@ -924,8 +921,7 @@ NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global co
   const vi point = c->band & !((c->bw >= NF_POINT_BOX) & (c->bh >= NF_POINT_BOX));
   if (ANY(point)) {
     /* B_m(p) -> p for every m (Eq. 9: at z = 0 all of U sees C_m(p)) */
-    const vi inside =
-        point & (c->Xp >= 0.0f) & (c->Xp < (float)L->res_x) & (c->Rp >= 0.0f) & (c->Rp < (float)L->res_y);
+    const vi inside = point & (c->Xp >= 0.0f) & (c->Xp < (float)L->res_x) & (c->Rp >= 0.0f) & (c->Rp < (float)L->res_y);
     const vi col = SEL((vi)(0), min(CVT_I(c->Xp), (vi)(L->res_x - 1)), inside);
     const vi row = SEL((vi)(0), min(CVT_I(c->Rp), (vi)(L->res_y - 1)), inside);
     const vf y = nf_pixel_luminance(img, L1, col, row, q);
@@ -1025,8 +1021,8 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
       gs = SEL((vf)(0.0f), Y * nf_geom_s(c, L, i, j, X, R, &gx, &gy, &gz), Y > 0.0f);
 #else
       vf fx, fy;
-      const vi ok = nf_draw(img, L1, L->res_y, &b->sx, &b->sr, &b->B, ux, uy, as_, P->search_depth, &cs, &fx, &rs,
-                            &fy, &itx, &ity);
+      const vi ok = nf_draw(img, L1, L->res_y, &b->sx, &b->sr, &b->B, ux, uy, as_, P->search_depth, &cs, &fx, &rs, &fy,
+                            &itx, &ity);
       gs = nf_geom_s(c, L, i, j, CVT_F(cs) + fx, CVT_F(rs) + fy, &gx, &gy, &gz);
       gs = SEL((vf)(0.0f), gs, ok);
 #endif
@@ -1065,9 +1061,9 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
 
 /* ---------------------------------------------------------------- kernels ----------------- */
 
-#define NF_KERNEL_ARGS                                                                                         \
-  const NfSampleParams P, const NfLuminaire L, const NfInstance I, __global const NfSurface *surfaces,        \
-      __global const long *sat, __global const float *quantum, __global const NfImageInfo *info,                    \
+#define NF_KERNEL_ARGS                                                                                 \
+  const NfSampleParams P, const NfLuminaire L, const NfInstance I, __global const NfSurface *surfaces, \
+      __global const long *sat, __global const float *quantum, __global const NfImageInfo *info,       \
       __global const float4 *chroma, __global const uint *vis, __global const float *halton3
 
 /* Step 1, per-image pass (paper §6.1): A(p) += A_m(p) for m = P.image. */
@@ -1084,8 +1080,7 @@ __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
 }
 
 /* Step 2, per-image pass: recomputes A_m(p) and B_m(p), K_m from the A(p) of Step 1, samples, Eq. 14. */
-__kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __global float4* rgb,
-                             __global uint* kcount) {
+__kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __global float4* rgb, __global uint* kcount) {
   const uint first = get_global_id(0) * NF_LANES;
   if (first >= (uint)P.count) return;
   NfCtx c;
@@ -1231,8 +1226,8 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
   nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
   d.weight = g > 0.0f ? g * rr * (b.sx.hi - b.sx.lo) * (b.sr.hi - b.sr.lo) * L.pixel_area : 0.0f;
 #else
-  const int ok = nf_draw(img, L1, L.res_y, &b.sx, &b.sr, &b.B, ux, uy, 1, P.search_depth, &d.col, &d.fx, &d.row,
-                         &d.fy, &d.iters_x, &d.iters_y);
+  const int ok = nf_draw(img, L1, L.res_y, &b.sx, &b.sr, &b.B, ux, uy, 1, P.search_depth, &d.col, &d.fx, &d.row, &d.fy,
+                         &d.iters_x, &d.iters_y);
   const float g = ok ? nf_geom_s(&c, &L, i, j, (float)d.col + d.fx, (float)d.row + d.fy, &wx, &wy, &wz) : 0.0f;
   nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
   d.weight = g > 0.0f ? g * rr * Am : 0.0f;

@@ -39,10 +39,10 @@ typedef struct {
 
 /* Per image m, precomputed on the host from the SAT (host/render/device_luminaire.cpp). */
 typedef struct {
-  nf_float flux;                  /* A_m over the whole image (Y m^2): method global */
-  nf_int col0, col1, row0, row1;  /* bounding box of the non-zero pixels: columns [col0, col1), rows
-                                     [row0, row1) (from the top); all 0 for an all-zero image. A box
-                                     missing it has A_m = 0 exactly and needs no SAT read. */
+  nf_float flux;                 /* A_m over the whole image (Y m^2): method global */
+  nf_int col0, col1, row0, row1; /* bounding box of the non-zero pixels: columns [col0, col1), rows
+                                    [row0, row1) (from the top); all 0 for an all-zero image. A box
+                                    missing it has A_m = 0 exactly and needs no SAT read. */
   nf_int pad0, pad1, pad2;
 } NfImageInfo; /* 32 bytes */
 
