@@ -219,13 +219,20 @@ TEST(SamplingKernels, InstancesAddUpScaleAndMoveRigidly) {
   const Output oa = run_once(sampler, buf, count, a, s);
   const Output ob = run_once(sampler, buf, count, b, s);
   const std::vector<LightInstance> both{a, b};
-  sampler.run(buf, count, both, s);
-  const auto rgb = sampler.read_radiance();
-  const auto k = sampler.read_k();
-  for (int i = 0; i < count; ++i) {
-    for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(rgb[i][c], oa.rgb[i][c] + ob.rgb[i][c], 1e-5f * (oa.rgb[i][c] + ob.rgb[i][c]) + 1e-30f);
-    EXPECT_EQ(k[i], oa.k[i] + ob.k[i]);
+  for (auto st : {Structure::fused, Structure::per_image}) {
+    SamplingSettings s2 = s;
+    s2.structure = st;
+    sampler.run(buf, count, both, s2);
+    const auto rgb = sampler.read_radiance();
+    const auto k = sampler.read_k();
+    const auto A = sampler.read_a();
+    for (int i = 0; i < count; ++i) {
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(rgb[i][c], oa.rgb[i][c] + ob.rgb[i][c], 1e-4f * (oa.rgb[i][c] + ob.rgb[i][c]) + 1e-30f)
+            << to_string(st) << " " << i;
+      EXPECT_EQ(k[i], oa.k[i] + ob.k[i]);
+      EXPECT_NEAR(A[i], oa.a[i] + ob.a[i], 1e-5f * (oa.a[i] + ob.a[i]));
+    }
   }
   // intensity 2.5 vs 1 with the same transform
   LightInstance b1 = b;
