@@ -51,6 +51,8 @@ TEST(ViewScript, ErrorsNameTheLine) {
   EXPECT_NE(error_of("display Z\n").find("image, A or K"), std::string::npos);
   EXPECT_NE(error_of("panel maybe\n").find("on or off"), std::string::npos);
   EXPECT_NE(error_of("fov 180\n").find("(0, 179]"), std::string::npos);
+  EXPECT_NE(error_of("section stats on\n").find("unknown panel section 'stats'"), std::string::npos);
+  EXPECT_EQ(error_of("section statistics on\nsection rendering off\n"), "");
 }
 
 TEST(ViewSettings, ApplyByNameValidatesAndLeavesSettingsUnchangedOnError) {

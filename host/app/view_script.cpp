@@ -1,5 +1,6 @@
 #include "app/view_script.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -37,6 +38,7 @@ const std::vector<Signature>& signatures() {
       {"luminaire", {A::index, A::text}, {A::number, A::number, A::number}},
       {"display", {A::text}, {}},
       {"panel", {A::on_off}, {}},
+      {"section", {A::text, A::on_off}, {}},
       {"save", {A::text}, {}},
       {"save-scene", {A::text}, {}},
       {"screenshot", {A::text}, {}},
@@ -112,6 +114,10 @@ void check_semantics(const Script& s, const ScriptCommand& c) {
   } else if (c.name == "display") {
     if (c.args[0] != "image" && c.args[0] != "A" && c.args[0] != "K")
       fail(fmt::format("{}: display: expected image, A or K, got '{}'", s.where(c), c.args[0]));
+  } else if (c.name == "section") {
+    const auto& names = panel_sections();
+    if (std::find(names.begin(), names.end(), c.args[0]) == names.end())
+      fail(fmt::format("{}: section: unknown panel section '{}'", s.where(c), c.args[0]));
   } else if (c.name == "zoom") {
     if (!(script_number(s, c, 0) > 0.0)) fail(fmt::format("{}: zoom: the factor must be > 0", s.where(c)));
   } else if (c.name == "fov") {
@@ -139,6 +145,12 @@ ScriptCommand parse_line(const Script& s, const std::vector<std::string>& words,
 }
 
 }  // namespace
+
+const std::vector<std::string>& panel_sections() {
+  static const std::vector<std::string> names{"rendering",  "display", "camera",   "luminaires",
+                                              "statistics", "files",   "shortcuts"};
+  return names;
+}
 
 std::string Script::where(const ScriptCommand& c) const { return fmt::format("{}:{}", name, c.line); }
 

@@ -18,6 +18,8 @@
 //   luminaire I intensity V
 //   display image|A|K             what the window shows (K and A in false colour)
 //   panel on|off                  the ImGui panel
+//   section NAME on|off           open or close a panel section (rendering, display, camera,
+//                                 luminaires, statistics, files, shortcuts)
 //   save PATH.exr                 the accumulated HDR image, plus PATH.png (tone-mapped)
 //   save-scene PATH.json          the current camera, luminaires and settings as a scene file
 //   screenshot PATH.png           the window as shown (panel included when it is on)
@@ -45,6 +47,9 @@ struct Script {
 // unknown setting names or values.
 Script parse_script(const std::string& text, const std::string& name);
 Script load_script(const std::filesystem::path& file);
+
+// The panel's sections, as `section` names them.
+const std::vector<std::string>& panel_sections();
 
 // Typed arguments (checked by parse_script; these throw nf::Error naming the line otherwise).
 double script_number(const Script& s, const ScriptCommand& c, std::size_t i);

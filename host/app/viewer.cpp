@@ -460,6 +460,8 @@ void Viewer::execute(const ScriptCommand& c) {
       redisplay_ = true;
     } else if (c.name == "panel") {
       panel_ = script_switch(s, c, 0);
+    } else if (c.name == "section") {
+      open_sections_[c.args[0]] = script_switch(s, c, 1);
     } else if (c.name == "save") {
       sync();
       save_image(c.args[0]);

@@ -236,8 +236,11 @@ void Viewer::write_stats() {
   j["moving"] = summary_json(summarise(records_, true));
   nlohmann::json frames = nlohmann::json::array();
   for (const auto& r : records_)
-    frames.push_back(
-        {{"loop_ms", r.loop_ms}, {"render_ms", r.render_ms}, {"moving", r.moving}, {"samples", r.samples}});
+    frames.push_back({{"loop_ms", r.loop_ms},
+                      {"render_ms", r.render_ms},
+                      {"moving", r.moving},
+                      {"rebuilt", r.rebuilt},
+                      {"samples", r.samples}});
   j["frames"] = frames;
   const nlohmann::json rs = nlohmann::json::parse(render::to_json(renderer_->stats()), nullptr, false);
   if (!rs.is_discarded()) j["renderer"] = rs;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -115,6 +116,7 @@ class Viewer {
   void panel_files();
   void panel_shortcuts();
   void confirm_popup();
+  bool section(const char* title, const char* name, bool open_by_default);
   void combo(const char* label, const char* key, const std::string& current, const std::vector<std::string>& names);
 
   ViewerOptions opt_;
@@ -130,6 +132,7 @@ class Viewer {
   DisplayMode display_ = DisplayMode::image;
   bool false_log_ = true;
   bool panel_ = true;
+  std::map<std::string, bool> open_sections_;  // scripted `section` requests, applied on the next draw
 
   // what was last pushed into the renderer
   std::optional<scene::Camera> synced_camera_;

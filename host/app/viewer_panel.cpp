@@ -84,13 +84,13 @@ void Viewer::draw_panel() {
   if (ImGui::Begin("nearfield view")) {
     ImGui::PushItemWidth(-190.0f);  // room for the labels
     panel_header();
-    if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) panel_rendering();
-    if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) panel_display();
-    if (ImGui::CollapsingHeader("Camera")) panel_camera();
-    if (ImGui::CollapsingHeader("Luminaires")) panel_luminaires();
-    if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) panel_statistics();
-    if (ImGui::CollapsingHeader("Files")) panel_files();
-    if (ImGui::CollapsingHeader("Shortcuts")) panel_shortcuts();
+    if (section("Rendering", "rendering", true)) panel_rendering();
+    if (section("Display", "display", true)) panel_display();
+    if (section("Camera", "camera", false)) panel_camera();
+    if (section("Luminaires", "luminaires", false)) panel_luminaires();
+    if (section("Statistics", "statistics", true)) panel_statistics();
+    if (section("Files", "files", false)) panel_files();
+    if (section("Shortcuts", "shortcuts", false)) panel_shortcuts();
     if (!status_.empty()) {
       ImGui::Separator();
       const ImVec4 colour = status_error_ ? ImVec4(1.0f, 0.45f, 0.4f, 1.0f) : ImVec4(0.6f, 0.9f, 0.6f, 1.0f);
@@ -101,6 +101,16 @@ void Viewer::draw_panel() {
     ImGui::PopItemWidth();
   }
   ImGui::End();
+}
+
+// A collapsing header; a scripted `section NAME on|off` opens or closes it once.
+bool Viewer::section(const char* title, const char* name, bool open_by_default) {
+  const auto it = open_sections_.find(name);
+  if (it != open_sections_.end()) {
+    ImGui::SetNextItemOpen(it->second);
+    open_sections_.erase(it);
+  }
+  return ImGui::CollapsingHeader(title, open_by_default ? ImGuiTreeNodeFlags_DefaultOpen : 0);
 }
 
 void Viewer::panel_header() {
