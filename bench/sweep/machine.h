@@ -1,0 +1,34 @@
+#pragma once
+// The machine a benchmark ran on (DESIGN.md §9: every figure names its machine): CPU model, cores,
+// memory, load, the OpenCL device in use and every device found, the GL renderer, the build and
+// the source commit.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cl/runtime.h"
+
+namespace nf::bench {
+
+struct MachineInfo {
+  std::string cpu_model;
+  unsigned cores = 0;     // online logical CPUs (nproc)
+  double memory_gib = 0;  // MemTotal
+  std::string loadavg;    // /proc/loadavg at the time of the call (1, 5, 15 min)
+  std::string kernel;     // uname -sr
+  std::string hostname;
+  cl::DeviceInfo cl_device;             // the one used
+  std::vector<std::string> cl_devices;  // cl::describe() of every device found
+  std::string gl_renderer;              // filled by whoever creates a GL context ("" when none)
+  std::string git_commit;               // HEAD of the source tree, "+dirty" when it has local changes
+  std::string build;                    // compiler, build type
+  std::string date_utc;
+};
+
+MachineInfo collect_machine(const cl::Runtime& rt);
+std::string read_loadavg();
+std::string utc_now();
+nlohmann::json to_json(const MachineInfo& m);
+
+}  // namespace nf::bench
