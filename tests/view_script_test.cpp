@@ -46,7 +46,10 @@ TEST(ViewScript, ErrorsNameTheLine) {
   EXPECT_NE(error_of("set method best\n").find("best"), std::string::npos);
   EXPECT_NE(error_of("set colour red\n").find("unknown setting 'colour'"), std::string::npos);
   EXPECT_NE(error_of("luminaire 0 scale 2 2 2\n").find("translate, rotate or intensity"), std::string::npos);
-  EXPECT_NE(error_of("luminaire 0 translate 1 2\n").find("3 number(s)"), std::string::npos);
+  EXPECT_NE(error_of("luminaire 0 translate 1 2\n").find("3 numbers"), std::string::npos);
+  EXPECT_NE(error_of("luminaire 0 translate 1 2 3 0\n").find("frame count"), std::string::npos);
+  EXPECT_NE(error_of("luminaire 0 intensity 1 2\n").find("1 number"), std::string::npos);
+  EXPECT_EQ(error_of("luminaire 0 rotate 0 170 0 12\n"), "");
   EXPECT_NE(error_of("luminaire -1 intensity 2\n").find("index"), std::string::npos);
   EXPECT_NE(error_of("display Z\n").find("image, A or K"), std::string::npos);
   EXPECT_NE(error_of("panel maybe\n").find("on or off"), std::string::npos);

@@ -35,7 +35,7 @@ const std::vector<Signature>& signatures() {
       {"fov", {A::number}, {}},
       {"reset-view", {}, {}},
       {"set", {A::text, A::text}, {}},
-      {"luminaire", {A::index, A::text}, {A::number, A::number, A::number}},
+      {"luminaire", {A::index, A::text}, {A::number, A::number, A::number, A::count}},
       {"display", {A::text}, {}},
       {"panel", {A::on_off}, {}},
       {"section", {A::text, A::on_off}, {}},
@@ -93,10 +93,12 @@ void check_arg(const Script& s, const ScriptCommand& c, std::size_t i, Arg kind)
 
 void check_luminaire(const Script& s, const ScriptCommand& c) {
   const std::string& what = c.args[1];
-  const std::size_t want = what == "intensity" ? 3 : 5;
   if (what != "translate" && what != "rotate" && what != "intensity")
     fail(fmt::format("{}: luminaire: expected translate, rotate or intensity, got '{}'", s.where(c), what));
-  if (c.args.size() != want) fail(fmt::format("{}: luminaire {}: expected {} number(s)", s.where(c), what, want - 2));
+  if (what == "intensity" && c.args.size() != 3)
+    fail(fmt::format("{}: luminaire intensity: expected 1 number", s.where(c)));
+  if (what != "intensity" && c.args.size() != 5 && c.args.size() != 6)
+    fail(fmt::format("{}: luminaire {}: expected 3 numbers and an optional frame count", s.where(c), what));
   if (what == "intensity" && !(script_number(s, c, 2) >= 0.0))
     fail(fmt::format("{}: luminaire intensity: must be >= 0", s.where(c)));
 }

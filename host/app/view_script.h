@@ -13,8 +13,10 @@
 //   set NAME VALUE                method sampler spp kmax balance search search_depth structure
 //                                 visibility shadow_map_size seed exposure gamma scale
 //                                 fast_motion (on|off) pause (on|off) max_frames
-//   luminaire I translate X Y Z   absolute placement of luminaire I (0-based), metres
-//   luminaire I rotate RX RY RZ   absolute Euler angles (degrees, R = Rz Ry Rx, as in scenes)
+//   luminaire I translate X Y Z [N]  absolute placement of luminaire I (0-based), metres; with
+//                                 N, moved there linearly over N frames
+//   luminaire I rotate RX RY RZ [N]  absolute Euler angles (degrees, R = Rz Ry Rx, as in
+//                                 scenes); with N, interpolated over N frames
 //   luminaire I intensity V
 //   display image|A|K             what the window shows (K and A in false colour)
 //   panel on|off                  the ImGui panel

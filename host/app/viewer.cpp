@@ -413,10 +413,16 @@ bool Viewer::step_script() {
   }
   if (budget_ == 0) return false;
   if (animation_) {
-    const Animation& a = *animation_;
+    Animation& a = *animation_;
     if (a.kind == "orbit") orbit_.orbit(a.a, a.b);
     if (a.kind == "pan") orbit_.pan(a.a, a.b);
     if (a.kind == "zoom") orbit_.zoom(a.a);
+    if (a.kind == "translate" || a.kind == "rotate") {
+      ++a.step;
+      const glm::dvec3 v =
+          a.step >= a.steps ? a.to : a.from + (a.to - a.from) * (static_cast<double>(a.step) / a.steps);
+      (a.kind == "translate" ? lums_[a.luminaire].translate : lums_[a.luminaire].euler) = v;
+    }
   }
   if (--budget_ == 0) animation_.reset();
   return true;
@@ -492,6 +498,18 @@ void Viewer::luminaire_command(const ScriptCommand& c) {
     return;
   }
   const glm::dvec3 v(script_number(s, c, 2), script_number(s, c, 3), script_number(s, c, 4));
+  const int steps = c.args.size() > 5 ? script_integer(s, c, 5) : 0;
+  if (steps > 0) {  // interpolated over `steps` frames, one frame each
+    Animation a;
+    a.kind = what;
+    a.luminaire = static_cast<std::size_t>(i);
+    a.from = what == "translate" ? e.translate : e.euler;
+    a.to = v;
+    a.steps = steps;
+    animation_ = a;
+    budget_ = steps;
+    return;
+  }
   if (what == "translate") e.translate = v;
   if (what == "rotate") e.euler = v;
 }

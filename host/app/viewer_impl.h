@@ -49,8 +49,11 @@ struct FrameRecord {
 
 // A scripted camera motion spread over frames.
 struct Animation {
-  std::string kind;  // "orbit", "pan", "zoom"
+  std::string kind;  // "orbit", "pan", "zoom" (a, b per frame), "translate", "rotate" (luminaire)
   double a = 0, b = 0;
+  std::size_t luminaire = 0;
+  glm::dvec3 from{0.0}, to{0.0};
+  int step = 0, steps = 0;
 };
 
 // An action waiting for the user's confirmation (overwriting a file).
