@@ -41,6 +41,15 @@ TEST(FalseColour, LogScaleSpansThePositiveRangeAndZeroIsBlack) {
   }
 }
 
+TEST(FalseColour, AutomaticLogRangeSpansAtMostFourDecades) {
+  nf::Image img(3, 1, 1);
+  img.pixels = {1e-9f, 1e-2f, 100.0f};
+  const auto r = false_colour(img);
+  EXPECT_NEAR(r.lo, 1e-2, 1e-9);
+  EXPECT_DOUBLE_EQ(r.hi, 100.0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.image.at(0, 0, c), colour_map(0.0)[c], 1e-6);  // clamped, not black
+}
+
 TEST(FalseColour, LinearScaleStartsAtZeroAndFixedRangesClamp) {
   nf::Image img(3, 1, 1);
   img.pixels = {4.0f, 8.0f, 16.0f};

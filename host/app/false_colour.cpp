@@ -67,6 +67,8 @@ FalseColourResult false_colour(const Image& values, const FalseColourOptions& op
     r.hi = options.hi;
   } else {
     positive_range(values, r.lo, r.hi);
+    if (options.log_scale && r.hi > 0.0)
+      r.lo = std::max(r.lo, r.hi * std::pow(10.0, -std::max(options.log_decades, 0.0)));
     if (!options.log_scale && r.hi > 0.0) r.lo = 0.0;
   }
   r.image = Image(values.width, values.height, 3);

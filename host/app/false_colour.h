@@ -18,10 +18,11 @@ glm::vec3 colour_map(double t);
 struct FalseColourOptions {
   bool log_scale = true;
   // The value range. Automatic (or when the given one is unusable: hi <= lo, not finite, or
-  // lo <= 0 on a log scale): [smallest, largest] positive finite value on a log scale,
-  // [0, largest] on a linear scale.
+  // lo <= 0 on a log scale): on a log scale from the smallest positive finite value, but at most
+  // `log_decades` below the largest, to the largest; on a linear scale [0, largest].
   bool auto_range = true;
   double lo = 0.0, hi = 0.0;
+  double log_decades = 4.0;
   glm::vec3 zero_colour{0.0f};
 };
 

@@ -234,7 +234,7 @@ void Viewer::panel_luminaires() {
   ImGui::DragScalar("intensity", ImGuiDataType_Double, &e.intensity, 0.01f, &zero, &big, "%.3f");
   e.intensity = std::max(e.intensity, 0.0);
   if (ImGui::Button("reset luminaire")) reset_luminaire(static_cast<std::size_t>(selected_));
-  ImGui::TextDisabled("rotate: [rx, ry, rz], R = Rz Ry Rx (as in scene files)");
+  ImGui::TextDisabled("rotate [rx, ry, rz]: R = Rz Ry Rx, as in scenes");
   ImGui::TextDisabled("Ctrl+left drag: move; Ctrl+right drag: turn");
 }
 
@@ -250,9 +250,11 @@ void Viewer::panel_statistics() {
   const double seconds = last_loop_ms_ / 1000.0;
   ImGui::Text("%.3g samples/s (%llu samples last frame)", seconds > 0 ? static_cast<double>(t.samples) / seconds : 0.0,
               static_cast<unsigned long long>(t.samples));
-  ImGui::Text("Step 0 %s: %.1f ms (G-buffer %.1f, shadow maps %.1f, visibility %.1f)",
-              t.step0_runs > 0 ? "ran" : "skipped", t.step0_ms(), t.gbuffer_ms + t.gbuffer_readback_ms,
-              t.shadow_maps_ms, t.visibility_ms);
+  if (t.step0_runs > 0)
+    ImGui::Text("Step 0: %.1f ms (G-buffer %.1f, shadow maps %.1f,\n        visibility %.1f)", t.step0_ms(),
+                t.gbuffer_ms + t.gbuffer_readback_ms, t.shadow_maps_ms, t.visibility_ms);
+  else
+    ImGui::TextUnformatted("Step 0: skipped (camera and luminaires unchanged)");
   const render::Breakdown b = render::fig10_breakdown(t);
   const int frames = std::max(renderer_->frames(), 1);
   const render::Breakdown m = render::fig10_breakdown(renderer_->total_times());
@@ -269,8 +271,9 @@ void Viewer::panel_statistics() {
     breakdown_row("total", b.total(), b.total());
     ImGui::EndTable();
   }
-  ImGui::Text("mean over %d frames: %.1f ms (A %.1f, sampling+shading %.1f)", renderer_->frames(), m.total() / frames,
-              m.a_estimation / frames, m.sampling_shading / frames);
+  ImGui::Text("mean over %d frames: %.1f ms\n  (est. A %.1f, sampling + shading %.1f, shadow %.1f)",
+              renderer_->frames(), m.total() / frames, m.a_estimation / frames, m.sampling_shading / frames,
+              m.shadow / frames);
   const auto mem = renderer_->memory();
   std::size_t total = 0;
   for (const auto& item : mem) total += item.bytes;
