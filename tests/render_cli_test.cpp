@@ -135,7 +135,8 @@ TEST(RenderCli, BadOptionsFailBeforeAnyWork) {
       {"-o " + q(dir / "x.exr") + " --spp 0", "spp"},
       {"-o " + q(dir / "x.exr") + " --frames 0", "--frames"},
       {"-o " + q(dir / "x.exr") + " --width 0", "resolution"},
-      {"-o " + q(dir / "x.exr") + " --gamma -1", "gamma"}};
+      {"-o " + q(dir / "x.exr") + " --gamma -1", "gamma"},
+      {"-o " + q(dir / "x.exr") + " --lanes 3", "lanes"}};
   for (const auto& [args, message] : cases) {
     const auto r = run_nearfield("render " + q(scene) + " " + args);
     EXPECT_NE(r.exit_code, 0) << args;

@@ -39,7 +39,7 @@ namespace fs = std::filesystem;
 struct RenderCmd {
   std::string scene, out, png, stats;
   std::string method, sampler, search, balance, structure, visibility;
-  int spp = 0, kmax = 0, search_depth = 0, shadow_map_size = 0, width = 0, height = 0, frames = 1;
+  int spp = 0, kmax = 0, search_depth = 0, shadow_map_size = 0, width = 0, height = 0, frames = 1, lanes = 0;
   std::uint32_t seed = 0;
   double exposure = 0.0, gamma = 0.0;
   std::map<std::string, CLI::Option*> given;  // option name -> its CLI11 option
@@ -162,6 +162,11 @@ void run_render(const RenderCmd& o) {
   check_outputs(o, outputs);
   apply_overrides(o, scene);
   render::frame_settings(scene.render);  // validate before any heavy work
+  if (o.has("--lanes")) {
+    render::SamplingSettings lanes;
+    lanes.lanes = o.lanes;
+    lanes.validate();
+  }
   // Temporary outputs now: a missing output folder fails before rendering.
   AtomicFile exr_file(o.out);
   std::unique_ptr<AtomicFile> png_file, stats_file;
@@ -175,6 +180,11 @@ void run_render(const RenderCmd& o) {
   ropt.cl_device = global_options().cl_device;
   ropt.on_stage = [&progress] { progress.advance(); };
   render::Renderer renderer(std::move(scene), ropt);
+  if (o.has("--lanes")) {  // not a scene setting: a device tuning knob (SamplingSettings::lanes)
+    render::FrameSettings f = renderer.settings();
+    f.sampling.lanes = o.lanes;
+    renderer.set_settings(f);
+  }
   progress.advance();
   phases.emplace_back("setup", t.ms());
 
@@ -254,6 +264,7 @@ const CommandRegistration reg("render", [](CLI::App& app) {
   add("--gamma", o.gamma, "Tone mapping gamma (> 0)");
   add("--width", o.width, "Image width (alone: keeps the scene's aspect ratio)");
   add("--height", o.height, "Image height (alone: keeps the scene's aspect ratio)");
+  add("--lanes", o.lanes, "Surfaces per work-item: 1, 4, 8, 16 (0 = automatic)");
   cmd->callback([] { run_render(o); });
 });
 
