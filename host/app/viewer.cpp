@@ -10,6 +10,8 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -30,6 +32,16 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = 3.14159265358979323846;
 constexpr auto kFastMotionHold = std::chrono::milliseconds(300);  // interactive: still this long = stopped
+
+// User + system time of every thread of this process, milliseconds.
+double process_cpu_ms() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  auto ms = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_usec) * 1e-3;
+  };
+  return ms(u.ru_utime) + ms(u.ru_stime);
+}
 
 bool same_view(const scene::Camera& a, const scene::Camera& b) {
   return a.position == b.position && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
@@ -140,6 +152,7 @@ bool Viewer::accumulating() const {
 
 void Viewer::iterate() {
   Timer loop;
+  const double cpu0 = process_cpu_ms();
   if (!scripted() && !accumulating() && !pending_)
     glfwWaitEventsTimeout(0.05);  // idle: do not spin
   else
@@ -168,7 +181,7 @@ void Viewer::iterate() {
   if (render_now && !quit_) render_one();
   display();
   window_->swap_buffers();
-  after_frame(loop.ms());
+  after_frame(loop.ms(), process_cpu_ms() - cpu0);
 }
 
 void Viewer::render_one() {
@@ -178,7 +191,7 @@ void Viewer::render_one() {
   ++frames_rendered_;
 }
 
-void Viewer::after_frame(double loop_ms) {
+void Viewer::after_frame(double loop_ms, double cpu_ms) {
   last_loop_ms_ = loop_ms;
   if (!rendered_) return;
   if (frames_rendered_ > 1) {  // the first frame builds everything
@@ -192,6 +205,7 @@ void Viewer::after_frame(double loop_ms) {
   const render::StepTimes& t = renderer_->last_times();
   FrameRecord r;
   r.loop_ms = loop_ms;
+  r.cpu_ms = cpu_ms;
   r.render_ms = t.wall_ms;
   r.moving = t.step0_runs > 0;
   r.rebuilt = t.build_ms > 0.5;  // (build_ms is timed on every frame)

@@ -45,18 +45,19 @@ bool same_file(const fs::path& a, const fs::path& b) {
 
 struct Summary {
   std::size_t frames = 0;
-  double loop_mean = 0, loop_median = 0, render_mean = 0, samples_per_second = 0;
+  double loop_mean = 0, loop_median = 0, render_mean = 0, cpu_mean = 0, samples_per_second = 0;
   double fps() const { return loop_mean > 0 ? 1000.0 / loop_mean : 0.0; }
 };
 
 Summary summarise(const std::vector<FrameRecord>& records, bool moving) {
   Summary s;
   std::vector<double> loops;
-  double render = 0, samples = 0;
+  double render = 0, samples = 0, cpu = 0;
   for (const auto& r : records)
     if (r.moving == moving) {
       loops.push_back(r.loop_ms);
       render += r.render_ms;
+      cpu += r.cpu_ms;
       samples += static_cast<double>(r.samples);
     }
   s.frames = loops.size();
@@ -64,6 +65,7 @@ Summary summarise(const std::vector<FrameRecord>& records, bool moving) {
   const double total = std::accumulate(loops.begin(), loops.end(), 0.0);
   s.loop_mean = total / static_cast<double>(loops.size());
   s.render_mean = render / static_cast<double>(loops.size());
+  s.cpu_mean = cpu / static_cast<double>(loops.size());
   std::sort(loops.begin(), loops.end());
   s.loop_median = loops[loops.size() / 2];
   s.samples_per_second = samples / (total / 1000.0);
@@ -76,14 +78,16 @@ nlohmann::json summary_json(const Summary& s) {
           {"loop_ms_mean", s.loop_mean},
           {"loop_ms_median", s.loop_median},
           {"render_ms_mean", s.render_mean},
+          {"cpu_ms_mean", s.cpu_mean},
           {"samples_per_second", s.samples_per_second}};
 }
 
 std::string summary_text(const char* what, const Summary& s) {
   if (s.frames == 0) return fmt::format("{}: no frames", what);
   return fmt::format(
-      "{}: {:.1f} fps ({:.1f} ms per frame, median {:.1f}; renderer {:.1f} ms; {:.3g} samples/s; {} frames)", what,
-      s.fps(), s.loop_mean, s.loop_median, s.render_mean, s.samples_per_second, s.frames);
+      "{}: {:.1f} fps ({:.1f} ms per frame, median {:.1f}; renderer {:.1f} ms; CPU {:.0f} ms; {:.3g} samples/s; {} "
+      "frames)",
+      what, s.fps(), s.loop_mean, s.loop_median, s.render_mean, s.cpu_mean, s.samples_per_second, s.frames);
 }
 
 }  // namespace
@@ -237,6 +241,7 @@ void Viewer::write_stats() {
   nlohmann::json frames = nlohmann::json::array();
   for (const auto& r : records_)
     frames.push_back({{"loop_ms", r.loop_ms},
+                      {"cpu_ms", r.cpu_ms},
                       {"render_ms", r.render_ms},
                       {"moving", r.moving},
                       {"rebuilt", r.rebuilt},

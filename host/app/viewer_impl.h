@@ -41,6 +41,7 @@ struct LuminaireEdit {
 // One rendered frame, for fps statistics.
 struct FrameRecord {
   double loop_ms = 0;    // the whole iteration: input, render, display, panel, swap
+  double cpu_ms = 0;     // CPU time of this process (all threads) in the iteration
   double render_ms = 0;  // renderer wall clock (Steps 0-3)
   bool moving = false;   // Step 0 ran (the camera, a luminaire or the visibility changed)
   bool rebuilt = false;  // Step 0 or the kernels were rebuilt (visibility or sampling settings changed)
@@ -86,7 +87,7 @@ class Viewer {
   void sync();
   void render_one();
   void display();
-  void after_frame(double loop_ms);
+  void after_frame(double loop_ms, double cpu_ms);
   void set(const std::string& name, const std::string& value);  // apply_setting, errors to the status line
   void status(const std::string& text, bool error = false);
   void reset_view();
