@@ -207,7 +207,7 @@ void Viewer::after_frame(double loop_ms, double cpu_ms) {
   r.loop_ms = loop_ms;
   r.cpu_ms = cpu_ms;
   r.render_ms = t.wall_ms;
-  r.moving = t.step0_runs > 0;
+  r.moving = motion_now_ || t.step0_runs > 0;
   r.rebuilt = t.build_ms > 0.5;  // (build_ms is timed on every frame)
   r.samples = t.samples;
   if (frames_rendered_ > 1) records_.push_back(r);  // the first frame builds everything: not typical
@@ -224,6 +224,7 @@ void Viewer::sync() {
       (synced_camera_ && !same_view(cam, *synced_camera_)) || (!synced_lums_.empty() && ms != synced_lums_);
   const auto now = Clock::now();
   if (motion) last_motion_ = now;
+  motion_now_ = motion;
   moving_ = motion || (!scripted() && now - last_motion_ < kFastMotionHold);
   fast_active_ = settings_.fast_motion && settings_.frame.visibility == render::Visibility::shadowmaps && moving_;
 

@@ -43,7 +43,7 @@ struct FrameRecord {
   double loop_ms = 0;    // the whole iteration: input, render, display, panel, swap
   double cpu_ms = 0;     // CPU time of this process (all threads) in the iteration
   double render_ms = 0;  // renderer wall clock (Steps 0-3)
-  bool moving = false;   // Step 0 ran (the camera, a luminaire or the visibility changed)
+  bool moving = false;   // the camera or a luminaire moved, or Step 0 ran (e.g. visibility toggled)
   bool rebuilt = false;  // Step 0 or the kernels were rebuilt (visibility or sampling settings changed)
   std::uint64_t samples = 0;
 };
@@ -141,7 +141,7 @@ class Viewer {
   // what was last pushed into the renderer
   std::optional<scene::Camera> synced_camera_;
   std::vector<glm::dmat4> synced_lums_;
-  bool moving_ = false, fast_active_ = false;
+  bool moving_ = false, fast_active_ = false, motion_now_ = false;
   std::chrono::steady_clock::time_point last_motion_{};
 
   // display
