@@ -43,6 +43,15 @@ double process_cpu_ms() {
   return ms(u.ru_utime) + ms(u.ru_stime);
 }
 
+void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
+  auto* viewer = static_cast<Viewer*>(glfwGetWindowUserPointer(window));
+  if (viewer && (action == GLFW_PRESS || action == GLFW_REPEAT)) viewer->queue_key(key, mods, action == GLFW_REPEAT);
+}
+
+// A button held since before this frame: the motion of the frame that pressed it (which may
+// include a jump of the pointer onto the window) does not count.
+bool dragging(int button) { return ImGui::IsMouseDown(button) && !ImGui::IsMouseClicked(button); }
+
 bool same_view(const scene::Camera& a, const scene::Camera& b) {
   return a.position == b.position && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
 }
@@ -90,6 +99,10 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
   if (ww <= 0) ww = 1280;
   if (wh <= 0) wh = std::max(1, static_cast<int>(std::lround(ww / scene.camera.aspect())));
   window_ = std::make_unique<gl::Window>(ww, wh, fmt::format("nearfield view - {}", o.scene.filename().string()));
+
+  // Our key callback first: ImGui's GLFW back end chains to it.
+  glfwSetWindowUserPointer(window_->handle(), this);
+  glfwSetKeyCallback(window_->handle(), on_key);
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -173,6 +186,7 @@ void Viewer::iterate() {
   rendered_ = false;
   bool render_now = true;
   if (scripted()) {
+    keys_.clear();  // scripts own the viewer
     render_now = step_script();
   } else {
     handle_input();
@@ -316,50 +330,108 @@ void Viewer::display() {
 
 void Viewer::handle_input() {
   const ImGuiIO& io = ImGui::GetIO();
-  if (!io.WantCaptureKeyboard && !pending_) handle_keys();
+  if (!io.WantCaptureKeyboard && !pending_)
+    for (const KeyEvent& k : keys_) handle_key(k);
+  keys_.clear();
   if (!io.WantCaptureMouse && !pending_) handle_mouse();
 }
 
-void Viewer::handle_keys() {
-  const ImGuiIO& io = ImGui::GetIO();
-  auto pressed = [](int key) { return ImGui::IsKeyPressed(key, true); };
-  auto once = [](int key) { return ImGui::IsKeyPressed(key, false); };
+// Key presses are queued by a GLFW callback (ImGui 1.86 only keeps key states, so a tap shorter
+// than a frame, common at a few frames per second, would be lost).
+void Viewer::queue_key(int key, int mods, bool repeat) {
+  if (keys_.size() < 64) keys_.push_back({key, mods, repeat});
+}
+
+void Viewer::handle_key(const KeyEvent& k) {
+  const bool ctrl = (k.mods & GLFW_MOD_CONTROL) != 0, shift = (k.mods & GLFW_MOD_SHIFT) != 0;
   const auto& f = settings_.frame;
-  if (once(GLFW_KEY_ESCAPE) || (once(GLFW_KEY_Q) && !io.KeyCtrl)) quit_ = true;
-  if (once(GLFW_KEY_TAB) || once(GLFW_KEY_F1)) panel_ = !panel_;
-  if (once(GLFW_KEY_HOME) || once(GLFW_KEY_H)) reset_view();
-  if (once(GLFW_KEY_SPACE)) settings_.paused = !settings_.paused;
-  if (once(GLFW_KEY_C)) renderer_->reset();
-  if (once(GLFW_KEY_D)) {
-    display_ = display_ == DisplayMode::image ? DisplayMode::a
-               : display_ == DisplayMode::a   ? DisplayMode::k
-                                              : DisplayMode::image;
-    redisplay_ = true;
+  if (!k.repeat) switch (k.key) {  // once per press
+      case GLFW_KEY_ESCAPE:
+        quit_ = true;
+        return;
+      case GLFW_KEY_Q:
+        if (!ctrl) quit_ = true;
+        return;
+      case GLFW_KEY_TAB:
+      case GLFW_KEY_F1:
+        panel_ = !panel_;
+        return;
+      case GLFW_KEY_HOME:
+      case GLFW_KEY_H:
+        reset_view();
+        return;
+      case GLFW_KEY_SPACE:
+        settings_.paused = !settings_.paused;
+        return;
+      case GLFW_KEY_C:
+        renderer_->reset();
+        return;
+      case GLFW_KEY_D:
+        display_ = display_ == DisplayMode::image ? DisplayMode::a
+                   : display_ == DisplayMode::a   ? DisplayMode::k
+                                                  : DisplayMode::image;
+        redisplay_ = true;
+        return;
+      case GLFW_KEY_V:
+        set("visibility", f.visibility == render::Visibility::none ? "shadowmaps" : "none");
+        return;
+      case GLFW_KEY_F:
+        settings_.fast_motion = !settings_.fast_motion;
+        return;
+      case GLFW_KEY_N:
+        if (!lums_.empty()) selected_ = (selected_ + 1) % static_cast<int>(lums_.size());
+        return;
+      case GLFW_KEY_S:
+        if (ctrl) request_save(shift ? "scene" : "image", shift ? scene_path_ : image_path_);
+        return;
+      case GLFW_KEY_F12:
+        request_save("screenshot", screenshot_path_);
+        return;
+      default:
+        break;
+    }
+  switch (k.key) {  // also on auto-repeat
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD:
+      set("exposure", fmt::format("{}", f.tonemap.exposure * 1.25));
+      break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT:
+      set("exposure", fmt::format("{}", f.tonemap.exposure / 1.25));
+      break;
+    case GLFW_KEY_RIGHT_BRACKET:
+      set("spp", std::to_string(std::min(f.sampling.spp * 2, 1 << 24)));
+      break;
+    case GLFW_KEY_LEFT_BRACKET:
+      set("spp", std::to_string(std::max(f.sampling.spp / 2, 1)));
+      break;
+    case GLFW_KEY_PERIOD:
+      set("scale", fmt::format("{}", std::min(settings_.scale * 1.25, kMaxScale)));
+      break;
+    case GLFW_KEY_COMMA:
+      set("scale", fmt::format("{}", std::max(settings_.scale / 1.25, kMinScale)));
+      break;
+    case GLFW_KEY_LEFT:
+      orbit_.orbit(-5.0, 0.0);
+      break;
+    case GLFW_KEY_RIGHT:
+      orbit_.orbit(5.0, 0.0);
+      break;
+    case GLFW_KEY_UP:
+      orbit_.orbit(0.0, 5.0);
+      break;
+    case GLFW_KEY_DOWN:
+      orbit_.orbit(0.0, -5.0);
+      break;
+    case GLFW_KEY_PAGE_UP:
+      orbit_.zoom(1.0 / 1.1);
+      break;
+    case GLFW_KEY_PAGE_DOWN:
+      orbit_.zoom(1.1);
+      break;
+    default:
+      break;
   }
-  if (once(GLFW_KEY_V)) set("visibility", f.visibility == render::Visibility::none ? "shadowmaps" : "none");
-  if (once(GLFW_KEY_F)) settings_.fast_motion = !settings_.fast_motion;
-  if (once(GLFW_KEY_N) && !lums_.empty()) selected_ = (selected_ + 1) % static_cast<int>(lums_.size());
-  if (pressed(GLFW_KEY_EQUAL) || pressed(GLFW_KEY_KP_ADD))
-    set("exposure", fmt::format("{}", f.tonemap.exposure * 1.25));
-  if (pressed(GLFW_KEY_MINUS) || pressed(GLFW_KEY_KP_SUBTRACT))
-    set("exposure", fmt::format("{}", f.tonemap.exposure / 1.25));
-  if (pressed(GLFW_KEY_RIGHT_BRACKET)) set("spp", std::to_string(std::min(f.sampling.spp * 2, 1 << 24)));
-  if (pressed(GLFW_KEY_LEFT_BRACKET)) set("spp", std::to_string(std::max(f.sampling.spp / 2, 1)));
-  if (pressed(GLFW_KEY_PERIOD)) set("scale", fmt::format("{}", std::min(settings_.scale * 1.25, kMaxScale)));
-  if (pressed(GLFW_KEY_COMMA)) set("scale", fmt::format("{}", std::max(settings_.scale / 1.25, kMinScale)));
-  if (pressed(GLFW_KEY_LEFT)) orbit_.orbit(-5.0, 0.0);
-  if (pressed(GLFW_KEY_RIGHT)) orbit_.orbit(5.0, 0.0);
-  if (pressed(GLFW_KEY_UP)) orbit_.orbit(0.0, 5.0);
-  if (pressed(GLFW_KEY_DOWN)) orbit_.orbit(0.0, -5.0);
-  if (pressed(GLFW_KEY_PAGE_UP)) orbit_.zoom(1.0 / 1.1);
-  if (pressed(GLFW_KEY_PAGE_DOWN)) orbit_.zoom(1.1);
-  if (io.KeyCtrl && once(GLFW_KEY_S)) {
-    if (io.KeyShift)
-      request_save("scene", scene_path_);
-    else
-      request_save("image", image_path_);
-  }
-  if (once(GLFW_KEY_F12)) request_save("screenshot", screenshot_path_);
 }
 
 void Viewer::handle_mouse() {
@@ -370,7 +442,7 @@ void Viewer::handle_mouse() {
   const bool moved = (dx != 0.0f || dy != 0.0f) && std::isfinite(dx) && std::isfinite(dy);
   const double to_half_heights = 2.0 / std::max(fh, 1);
   auto pan = [&] { orbit_.pan(-dx * to_half_heights, dy * to_half_heights); };
-  if (moved && ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+  if (moved && dragging(ImGuiMouseButton_Left)) {
     if (io.KeyCtrl)
       drag_luminaire(dx, dy, false);
     else if (io.KeyShift)
@@ -378,13 +450,13 @@ void Viewer::handle_mouse() {
     else
       orbit_.orbit(-0.3 * dx, 0.3 * dy);
   }
-  if (moved && ImGui::IsMouseDown(ImGuiMouseButton_Right)) {
+  if (moved && dragging(ImGuiMouseButton_Right)) {
     if (io.KeyCtrl)
       drag_luminaire(dx, dy, true);
     else
       pan();
   }
-  if (moved && ImGui::IsMouseDown(ImGuiMouseButton_Middle)) pan();
+  if (moved && dragging(ImGuiMouseButton_Middle)) pan();
   if (io.MouseWheel != 0.0f) orbit_.zoom(std::pow(0.9, static_cast<double>(io.MouseWheel)));
 }
 

@@ -57,6 +57,12 @@ struct Animation {
   int step = 0, steps = 0;
 };
 
+// A key press (or auto-repeat) since the last frame.
+struct KeyEvent {
+  int key = 0, mods = 0;
+  bool repeat = false;
+};
+
 // An action waiting for the user's confirmation (overwriting a file).
 struct PendingSave {
   std::string kind;  // "image", "scene", "screenshot"
@@ -70,8 +76,8 @@ class Viewer {
   ~Viewer();
   int run();
 
-  // ---- state the panel edits (viewer_panel.cpp) ----
   void draw_panel();
+  void queue_key(int key, int mods, bool repeat);  // from the GLFW key callback
 
  private:
   // loop (viewer.cpp)
@@ -81,7 +87,7 @@ class Viewer {
   void execute(const ScriptCommand& c);
   void luminaire_command(const ScriptCommand& c);
   void handle_input();
-  void handle_keys();
+  void handle_key(const KeyEvent& k);
   void handle_mouse();
   void drag_luminaire(float dx, float dy, bool rotate);
   void sync();
@@ -169,6 +175,8 @@ class Viewer {
   std::deque<double> recent_ms_;  // the last few loop times (ms)
   double loop_ms_recent_ = 0.0, last_loop_ms_ = 0.0;
   render::StepTimes last_times_;
+
+  std::vector<KeyEvent> keys_;
 
   // panel text fields and messages
   std::string image_path_, scene_path_, screenshot_path_;
