@@ -26,6 +26,19 @@ CloseupGeometry closeup_geometry(const lum::Luminaire& l);
 // wall. Lambert, base colour 0.8 grey, viewer direction -z.
 std::vector<NfSurface> closeup_surfaces(const CloseupGeometry& g, int res);
 
+// How much an image varies inside the boxes B_m(p) the wall's points see: what importance
+// sampling inside a box (`ours`) can gain over uniform sampling of it (`uniform`). Over a grid x
+// grid subset of the wall and every image with light in its box, weighted by A_m(p):
+//   box_pixels  mean box width in image pixels (the geometric mean of its two sides)
+//   cv          coefficient of variation (std / mean) of Y_m over the box's pixels
+// With importance sampling by Y_m, the part of the variance that comes from Y_m's variation
+// inside the box (relative variance cv^2) is what `ours` removes.
+struct BoxStats {
+  double box_pixels = 0, cv = 0;
+  int boxes = 0;
+};
+BoxStats box_stats(const lum::Luminaire& l, const CloseupGeometry& g, int grid = 16);
+
 // Fingerprint of a luminaire's content (parameters and every pixel): reference cache keys.
 std::string luminaire_fingerprint(const lum::Luminaire& l);
 
@@ -47,6 +60,7 @@ class CloseupTarget final : public Target {
 
   const lum::Precomputed& precomputed() const { return pc_; }
   const CloseupGeometry& geometry() const { return geom_; }
+  const lum::Luminaire& luminaire_data() const { return lum_; }
 
  private:
   cl::Runtime& rt_;

@@ -150,6 +150,7 @@ class Runner {
       Timer t;
       targets_.push_back(std::make_unique<CloseupTarget>(rt_, c, plan_.closeup_res, plan_.closeup_scale));
       auto* ct = static_cast<CloseupTarget*>(targets_.back().get());
+      const BoxStats bs = box_stats(ct->luminaire_data(), ct->geometry());
       log::info("target {}: {}x{} wall at z = {:.3f} m, half size {:.3f} m; precompute {:.0f} ms ({:.0f} ms in all)",
                 ct->name(), ct->width(), ct->height(), ct->geometry().distance, ct->geometry().half_size,
                 ct->precomputed().precompute_ms, t.ms());
@@ -163,6 +164,8 @@ class Runner {
                        {"resolution_scale", plan_.closeup_scale},
                        {"precompute_ms", ct->precomputed().precompute_ms},
                        {"device_bytes", ct->precomputed().bytes()},
+                       {"box_pixels", bs.box_pixels},
+                       {"box_cv", bs.cv},
                        {"description", ct->describe()}};
       targets_json_.push_back(j);
     }
