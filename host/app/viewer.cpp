@@ -220,6 +220,9 @@ void Viewer::after_frame(double loop_ms, double cpu_ms) {
   FrameRecord r;
   r.loop_ms = loop_ms;
   r.cpu_ms = cpu_ms;
+  r.step0_ms = t.step0_ms();
+  r.steps12_ms = t.step1_ms + t.step2_ms;
+  r.shadow_ms = render::fig10_breakdown(t).shadow;
   r.render_ms = t.wall_ms;
   r.moving = motion_now_ || t.step0_runs > 0;
   r.rebuilt = t.build_ms > 0.5;  // (build_ms is timed on every frame)

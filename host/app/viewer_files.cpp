@@ -242,6 +242,9 @@ void Viewer::write_stats() {
   for (const auto& r : records_)
     frames.push_back({{"loop_ms", r.loop_ms},
                       {"cpu_ms", r.cpu_ms},
+                      {"step0_ms", r.step0_ms},
+                      {"steps12_ms", r.steps12_ms},
+                      {"shadow_ms", r.shadow_ms},
                       {"render_ms", r.render_ms},
                       {"moving", r.moving},
                       {"rebuilt", r.rebuilt},

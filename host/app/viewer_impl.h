@@ -40,9 +40,10 @@ struct LuminaireEdit {
 
 // One rendered frame, for fps statistics.
 struct FrameRecord {
-  double loop_ms = 0;    // the whole iteration: input, render, display, panel, swap
-  double cpu_ms = 0;     // CPU time of this process (all threads) in the iteration
-  double render_ms = 0;  // renderer wall clock (Steps 0-3)
+  double loop_ms = 0;                                  // the whole iteration: input, render, display, panel, swap
+  double cpu_ms = 0;                                   // CPU time of this process (all threads) in the iteration
+  double step0_ms = 0, steps12_ms = 0, shadow_ms = 0;  // renderer: Step 0, Steps 1-2 kernels, Fig. 10 "shadow"
+  double render_ms = 0;                                // renderer wall clock (Steps 0-3)
   bool moving = false;   // the camera or a luminaire moved, or Step 0 ran (e.g. visibility toggled)
   bool rebuilt = false;  // Step 0 or the kernels were rebuilt (visibility or sampling settings changed)
   std::uint64_t samples = 0;
