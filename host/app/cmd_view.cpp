@@ -62,7 +62,8 @@ const CommandRegistration reg("view", [](CLI::App& app) {
   cmd->add_option("--screenshot", c.screenshot,
                   "Save the window as PNG after --frames N (or at the script's end), then quit");
   cmd->add_option("--stats", c.stats, "Write fps and renderer statistics as JSON on exit");
-  cmd->add_option("--set", c.set, "Setting override NAME=VALUE (spp, method, visibility, exposure, ...; repeatable)");
+  cmd->add_option("--set", c.set, "Setting override NAME=VALUE (spp, method, visibility, exposure, ...; repeatable)")
+      ->allow_extra_args(false);
   cmd->add_flag("!--no-panel", c.options.panel, "Start with the panel hidden (Tab shows it)");
   cmd->add_flag("--fast-motion", c.options.fast_motion, "Visibility 'none' while the camera or a luminaire moves");
   cmd->callback([] { run_view(c); });
