@@ -1083,10 +1083,15 @@ __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
 __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __global float4* rgb, __global uint* kcount) {
   const uint first = get_global_id(0) * NF_LANES;
   if (first >= (uint)P.count) return;
+  float a[NF_LANES];
+  int lit = 0;
+  for (int l = 0; l < NF_LANES; ++l) {
+    a[l] = first + l < (uint)P.count ? A_in[first + l] : 0.0f;
+    lit |= a[l] > 0.0f;
+  }
+  if (!lit) return; /* A(p) = 0: no samples (before the set-up) */
   NfCtx c;
   if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
-  float a[NF_LANES];
-  for (int l = 0; l < NF_LANES; ++l) a[l] = first + l < (uint)P.count ? A_in[first + l] : 0.0f;
   const vf A = VLOAD(a);
   const int m = P.image;
   NfBox b;
