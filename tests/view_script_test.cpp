@@ -85,6 +85,7 @@ TEST(ViewSettings, ApplyByNameValidatesAndLeavesSettingsUnchangedOnError) {
                                                                              {"scale", "3"},
                                                                              {"shadow_map_size", "8"},
                                                                              {"pause", "perhaps"},
+                                                                             {"lanes", "3"},
                                                                              {"nonsense", "1"}}) {
     EXPECT_THROW(apply_setting(s, k, v), nf::Error) << k << "=" << v;
     EXPECT_EQ(s.frame.sampling.spp, before.frame.sampling.spp);

@@ -11,7 +11,7 @@
 //   fov DEGREES                   vertical field of view
 //   reset-view                    the scene file's camera
 //   set NAME VALUE                method sampler spp kmax balance search search_depth structure
-//                                 visibility shadow_map_size seed exposure gamma scale
+//                                 visibility shadow_map_size seed lanes exposure gamma scale
 //                                 fast_motion (on|off) pause (on|off) max_frames
 //   luminaire I translate X Y Z [N]  absolute placement of luminaire I (0-based), metres; with
 //                                 N, moved there linearly over N frames

@@ -67,6 +67,8 @@ void set_one(ViewSettings& s, const std::string& name, const std::string& v) {
     s.frame.shadow_map_size = static_cast<int>(parse_int(name, v, 16, 4096));
   } else if (name == "seed") {
     p.seed = static_cast<std::uint32_t>(parse_int(name, v, 0, 2147483647));
+  } else if (name == "lanes") {
+    p.lanes = static_cast<int>(parse_int(name, v, 0, 16));  // 0 = automatic; validate() checks 1, 4, 8, 16
   } else if (name == "exposure") {
     s.frame.tonemap.exposure = positive(name, v);
   } else if (name == "gamma") {
