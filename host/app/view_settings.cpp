@@ -93,10 +93,10 @@ void set_one(ViewSettings& s, const std::string& name, const std::string& v) {
 }  // namespace
 
 const std::vector<std::string>& setting_names() {
-  static const std::vector<std::string> names{"method", "sampler",      "spp",       "kmax",       "balance",
-                                              "search", "search_depth", "structure", "visibility", "shadow_map_size",
-                                              "seed",   "exposure",     "gamma",     "scale",      "fast_motion",
-                                              "pause",  "max_frames"};
+  static const std::vector<std::string> names{
+      "method",     "sampler",         "spp",  "kmax",  "balance",  "search", "search_depth", "structure",
+      "visibility", "shadow_map_size", "seed", "lanes", "exposure", "gamma",  "scale",        "fast_motion",
+      "pause",      "max_frames"};
   return names;
 }
 
