@@ -51,7 +51,7 @@
 #define NF_FUSED_CACHE 128
 #endif
 
-#define NF_INLINE inline __attribute__((always_inline))
+#define NF_INLINE static inline __attribute__((always_inline, unused))
 #define NF_PI 3.14159265358979f
 #define NF_ONE_MINUS_ULP 0x1.fffffep-1f
 /* Band boxes narrower than this (pixels) are balanced with the luminance at p (z = 0 limit). */
