@@ -17,7 +17,7 @@ import sys
 POINT_COLUMNS = [
     "study", "target", "kind", "luminaire", "width", "height", "method", "sampler", "balance", "search",
     "search_depth", "k_max", "structure", "K", "frames", "spp", "reps", "samples", "samples_per_pixel",
-    "step0_ms", "step1_ms", "step2_ms", "cl_other_ms", "accumulate_ms", "time_ms", "time_median_ms", "wall_ms",
+    "step0_ms", "step1_ms", "step2_ms", "cl_other_ms", "accumulate_ms", "time_ms", "time_median_ms", "wall_ms", "cpu_ms",
     "samples_per_s", "delta_e", "delta_e_max", "rel_mse", "rel_bias", "ref_key",
 ]
 REFERENCE_COLUMNS = [

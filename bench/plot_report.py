@@ -73,7 +73,7 @@ class Points:
     NUMERIC = {
         "width", "height", "search_depth", "k_max", "K", "frames", "spp", "reps", "samples",
         "samples_per_pixel", "step0_ms", "step1_ms", "step2_ms", "cl_other_ms", "accumulate_ms",
-        "time_ms", "time_median_ms", "wall_ms", "samples_per_s", "delta_e", "delta_e_max", "rel_mse",
+        "time_ms", "time_median_ms", "wall_ms", "cpu_ms", "samples_per_s", "delta_e", "delta_e_max", "rel_mse",
         "rel_bias",
     }
 
@@ -108,7 +108,7 @@ class Points:
                 continue
             if r["structure"] != "fused" or r["k_max"] != 0:
                 continue
-            pts[r[x]] = r[y]
+            pts[r[x]] = r.get(y, float("nan"))
         xs = sorted(pts)
         return np.array(xs, dtype=float), np.array([pts[v] for v in xs], dtype=float)
 
@@ -450,6 +450,10 @@ def headline(P, t, sampler):
     t_u = loglog_interp(xt, yt, spp_u) if np.isfinite(spp_u) else float("nan")
     h["uniform_time_ms"] = t_u
     h["uniform_time_ratio"] = ratio(t_u, ours["time_ms"])
+    xc, yc = P.curve(t, "uniform", sampler, y="cpu_ms")
+    ok = np.isfinite(yc) & (yc > 0)
+    if ok.sum() >= 2 and np.isfinite(spp_u) and ours.get("cpu_ms", 0) > 0:
+        h["uniform_cpu_ratio"] = ratio(loglog_interp(xc[ok], yc[ok], spp_u), ours["cpu_ms"])
     # global (Halton only): rel. MSE falls as 1/spp for an unbiased estimator, so its
     # extrapolation is sound; ΔE saturates at large errors (tone mapping), so its is not.
     xg, yg = P.curve(t, "global", "halton")
@@ -479,6 +483,14 @@ def study_search(P, t, depth=3):
     if not sec or not bin_:
         return None
     return sec[0], bin_[0]
+
+
+def cpu_txt(a, b):
+    """'; CPU ×r' for two points that both carry a process CPU time (load-robust), else ''."""
+    ca, cb = a.get("cpu_ms", float("nan")), b.get("cpu_ms", float("nan"))
+    if not (math.isfinite(ca) and math.isfinite(cb)) or cb <= 0:
+        return ""
+    return f" (CPU time ×{fmt(ca / cb)})"
 
 
 def with_how(v, how):
@@ -571,7 +583,9 @@ def write_report(out, meta, P, R, B, micro):
              "values decoded as sRGB before Lab); **rel. MSE** = Σ(x − r)² / Σ r² over those pixels and R, G, B "
              "(linear HDR); **bias** = Σ Y(x) / Σ Y(r) − 1. **time** = Steps 1-2 (OpenCL device time from "
              "profiling events) + host overhead of the sampler (clears, launches, waits) + readback and "
-             "accumulation, per image, without Step 0; **samples/s** = samples drawn / Steps 1-2 device time.")
+             "accumulation, per image, without Step 0; **CPU time** = the process's user + system CPU time over the "
+             "same work (all PoCL threads; barely affected by other processes, unlike the device times); "
+             "**samples/s** = samples drawn / Steps 1-2 device time.")
     L.append("")
 
     # ---- headline
@@ -603,10 +617,12 @@ def write_report(out, meta, P, R, B, micro):
                 fmt(h.get("uniform_spp_ratio_fit")) + "×",
                 fmt(h.get("uniform_mse_ratio")) + "×",
                 fmt(h.get("uniform_time_ratio")) + "×",
+                fmt(h.get("uniform_cpu_ratio")) + "×",
             ])
         L.append(md_table(["target", "ours ΔE @252", "uniform ΔE @252", "ΔE ratio @252 (paper 2.4×)",
                            "uniform spp / 252 for equal ΔE, interp. (paper 4×)", "same, fit",
-                           "rel. MSE ratio @252", "uniform time / ours time for equal ΔE (paper 1.7×)"], rows))
+                           "rel. MSE ratio @252", "uniform time / ours time for equal ΔE (paper 1.7×)",
+                           "same, CPU time"], rows))
         L.append("")
     hs = [h for h in H["halton"] if "global_252_de" in h]
     if hs:
@@ -645,7 +661,7 @@ def write_report(out, meta, P, R, B, micro):
             s, b = sb
             rows.append([t, "secant vs binary search, depth 3, K = 200 (Fig. 5)",
                          f"ΔE {fmt(s['delta_e'])} vs {fmt(b['delta_e'])} (binary/secant {fmt(ratio(b['delta_e'], s['delta_e']))}×); "
-                         f"time {fmt(s['time_ms'])} vs {fmt(b['time_ms'])} ms", PAPER["search"]])
+                         f"time {fmt(s['time_ms'])} vs {fmt(b['time_ms'])} ms" + cpu_txt(b, s), PAPER["search"]])
     for t in targets:
         parts = []
         for spp in (16, 32, 63):
@@ -662,7 +678,8 @@ def write_report(out, meta, P, R, B, micro):
             a, b = k7[0], k0[0]
             rows.append([t, "K_max = 7 vs unbounded, K = 200 (Fig. 9)",
                          f"ΔE {fmt(a['delta_e'])} vs {fmt(b['delta_e'])} (max {fmt(a['delta_e_max'])} vs {fmt(b['delta_e_max'])}); "
-                         f"samples ×{fmt(ratio(a['samples'], b['samples']))}; time ×{fmt(ratio(a['time_ms'], b['time_ms']))}",
+                         f"samples ×{fmt(ratio(a['samples'], b['samples']))}; time ×{fmt(ratio(a['time_ms'], b['time_ms']))}"
+                         + cpu_txt(a, b),
                          PAPER["kmax"]])
     for t in targets:
         rows_p = sorted([r for r in P.select(study="spp", target=t, method="paper", sampler="random")],
@@ -681,7 +698,8 @@ def write_report(out, meta, P, R, B, micro):
             if pi and fu:
                 a, b = pi[0], fu[0]
                 rows.append([t, f"per-image vs fused passes, ours, {spp} spp",
-                             f"time {fmt(a['time_ms'])} vs {fmt(b['time_ms'])} ms (per-image/fused {fmt(ratio(a['time_ms'], b['time_ms']))}×); "
+                             f"time {fmt(a['time_ms'])} vs {fmt(b['time_ms'])} ms (per-image/fused {fmt(ratio(a['time_ms'], b['time_ms']))}×)"
+                             f"{cpu_txt(a, b)}; "
                              f"ΔE {fmt(a['delta_e'])} vs {fmt(b['delta_e'])}", PAPER["structure"]])
                 break
     L.append(md_table(["target", "comparison", "measured", "paper"], rows))
@@ -746,10 +764,11 @@ def write_report(out, meta, P, R, B, micro):
             r = P.point(t, m, 252)
             if r:
                 rows.append([t, m, fmt(r["step1_ms"]), fmt(r["step2_ms"]), fmt(r["cl_other_ms"]), fmt(r["accumulate_ms"]),
-                             fmt(r["time_ms"]), fmt(r["samples_per_pixel"]), fmt(r["samples_per_s"] / 1e6),
+                             fmt(r["time_ms"]), fmt(r.get("cpu_ms", float("nan"))), fmt(r["samples_per_pixel"]),
+                             fmt(r["samples_per_s"] / 1e6),
                              fmt(r["delta_e"]), fmt(r["rel_mse"]), f"{100 * r['rel_bias']:+.2f} %"])
     L.append(md_table(["target", "method", "Step 1 ms", "Step 2 ms", "CL other ms", "accum. ms", "time ms",
-                       "samples/pixel", "Msamples/s", "ΔE", "rel. MSE", "bias"], rows))
+                       "CPU ms", "samples/pixel", "Msamples/s", "ΔE", "rel. MSE", "bias"], rows))
     L.append("")
     L.append("samples/pixel averages over all pixels (unlit ones draw none); K_m rounding and roulette make it "
              "differ from K. `global` draws K per pixel everywhere.")

@@ -79,7 +79,6 @@ MachineInfo collect_machine(const cl::Runtime& rt) {
   utsname u{};
   if (uname(&u) == 0) {
     m.kernel = fmt::format("{} {}", u.sysname, u.release);
-    m.hostname = u.nodename;
   }
   m.cl_device = rt.info();
   for (const auto& d : cl::list_devices()) m.cl_devices.push_back(cl::describe(d));
@@ -101,7 +100,6 @@ nlohmann::json to_json(const MachineInfo& m) {
   j["memory_gib"] = std::round(m.memory_gib * 10.0) / 10.0;
   j["loadavg"] = m.loadavg;
   j["kernel"] = m.kernel;
-  j["hostname"] = m.hostname;
   j["cl_device"] = {{"name", m.cl_device.name},
                     {"type", m.cl_device.type},
                     {"version", m.cl_device.version},

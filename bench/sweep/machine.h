@@ -13,11 +13,10 @@ namespace nf::bench {
 
 struct MachineInfo {
   std::string cpu_model;
-  unsigned cores = 0;     // online logical CPUs (nproc)
-  double memory_gib = 0;  // MemTotal
-  std::string loadavg;    // /proc/loadavg at the time of the call (1, 5, 15 min)
-  std::string kernel;     // uname -sr
-  std::string hostname;
+  unsigned cores = 0;                   // online logical CPUs (nproc)
+  double memory_gib = 0;                // MemTotal
+  std::string loadavg;                  // /proc/loadavg at the time of the call (1, 5, 15 min)
+  std::string kernel;                   // uname -sr
   cl::DeviceInfo cl_device;             // the one used
   std::vector<std::string> cl_devices;  // cl::describe() of every device found
   std::string gl_renderer;              // filled by whoever creates a GL context ("" when none)

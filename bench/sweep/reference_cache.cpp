@@ -5,11 +5,13 @@
 #include <ctime>
 
 #include "bench/sweep/hash.h"
+#include "cl/runtime.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "gl/shader.h"
 
 namespace nf::bench {
 namespace {
@@ -78,6 +80,23 @@ bool load(const fs::path& file, const fs::path& even_file, const std::string& de
   }
 }
 
+// The estimator code a reference depends on: the OpenCL kernels, and for scenes the GL shaders of
+// Step 0. A change to either recomputes the references (a bug fix there may change the truth).
+std::string code_fingerprint(const Target& target) {
+  Fnv64 k;
+  k.add(cl::kernel_source("lightfield.cl"));
+  std::string out = "kernels=" + k.hex();
+  if (target.kind() == "scene") {
+    Fnv64 g;
+    for (const auto& f : gl::embedded_shader_files()) {
+      g.add(f.path);
+      g.add(f.text);
+    }
+    out += " shaders=" + g.hex();
+  }
+  return out;
+}
+
 }  // namespace
 
 render::SamplingSettings ReferenceSpec::settings() const {
@@ -99,8 +118,8 @@ Reference get_reference(Target& target, const ReferenceSpec& spec, const fs::pat
   if (spec.frames < 2 || spec.frames % 2)
     fail(fmt::format("reference: frames must be even and >= 2, got {}", spec.frames));
   const render::SamplingSettings s = spec.settings();
-  const std::string description =
-      fmt::format("v{} {} | {} | frames={}", kCacheVersion, target.describe(), s.describe(), spec.frames);
+  const std::string description = fmt::format("v{} {} | {} | {} band={} | frames={}", kCacheVersion, target.describe(),
+                                              code_fingerprint(target), s.describe(), s.band, spec.frames);
   Reference r;
   r.key = fnv_hex(description);
   r.spp = spec.spp();

@@ -3,8 +3,9 @@
 // of the `random` sampler (Philox per pixel, a seed of its own so that no sweep point shares its
 // samples) with method `ours`, exact search, roulette balance and K samples per frame. The cache
 // file is <dir>/<target>-<key>.exr where key hashes everything that determines the image: the
-// target's description (geometry, resolution, luminaire content, scene text), the reference
-// settings and frame count, and a format version. The full description is stored in the EXR and
+// target's description (geometry, resolution, luminaire content, scene text), the estimator code
+// (the OpenCL kernels' source; for scenes also the GL shaders), the reference settings and frame
+// count, and a format version. The full description is stored in the EXR and
 // compared on load, so a hash collision or a stale file is recomputed, never reused.
 //
 // Files: <name>.exr (R,G,B = the mean of all frames, A = 1 on the pixels the metrics use) and
