@@ -20,6 +20,7 @@ import csv
 import json
 import math
 import os
+import re
 import sys
 
 import matplotlib
@@ -579,8 +580,9 @@ def write_report(out, meta, P, R, B, micro):
     L.append(md_table(["target", "spp", "render time", "cached", "noise rel. MSE", "ΔE floor (≈)", "key"], rows))
     L.append("")
     L.append("Metrics: **ΔE** = mean CIE Lab ΔE76 over the scene-surface pixels after tone mapping both images "
-             "with the reference's operator (mean luminance of the reference, exposure 1, gamma 2.2; display "
-             "values decoded as sRGB before Lab); **rel. MSE** = Σ(x − r)² / Σ r² over those pixels and R, G, B "
+             "with the reference's operator (the reference's mean luminance, the target's exposure and gamma: "
+             "1 and 2.2 for the close-ups, the scene file's for the scene; display values decoded as sRGB "
+             "before Lab); **rel. MSE** = Σ(x − r)² / Σ r² over those pixels and R, G, B "
              "(linear HDR); **bias** = Σ Y(x) / Σ Y(r) − 1. **time** = Steps 1-2 (OpenCL device time from "
              "profiling events) + host overhead of the sampler (clears, launches, waits) + readback and "
              "accumulation, per image, without Step 0; **CPU time** = the process's user + system CPU time over the "
@@ -788,7 +790,8 @@ def write_report(out, meta, P, R, B, micro):
             if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
                 continue
             ips = b.get("items_per_second", float("nan"))
-            rows.append([b.get("name", "?"), fmt(b.get("real_time", float("nan"))) + " " + b.get("time_unit", ""),
+            name = re.sub(r"/(min_time:[0-9.]+|manual_time|real_time)", "", b.get("name", "?"))
+            rows.append([name, fmt(b.get("real_time", float("nan"))) + " " + b.get("time_unit", ""),
                          fmt(ips / 1e6) + " M/s", b.get("label", "")])
         L.append(md_table(["benchmark", "time", "items/s", "items"], rows))
         L.append("")
