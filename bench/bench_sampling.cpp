@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
   std::string preset = "car2", scene = "wall", methods = "ours,paper,uniform,global", structures = "per-image,fused";
   std::string searches = "secant", depths = "-1", sampler_name = "halton", balances = "roulette", csv, device;
   int spp = 200, res = 256, frames = 3, ref_frames = 0, lanes = 0;
+  bool interleave = false;
   double scale = 1.0;
   app.add_option("--preset", preset, "luminaire preset");
   app.add_option("--scale", scale, "preset resolution scale");
@@ -109,6 +110,7 @@ int main(int argc, char** argv) {
   app.add_option("--depths", depths, "comma-separated search depths (-1 = unlimited)");
   app.add_option("--balances", balances, "comma-separated balance policies");
   app.add_option("--lanes", lanes, "surfaces per work-item (0 = automatic)");
+  app.add_flag("--interleave-rows", interleave, "reorder the G-buffer rows (0, N/2, 1, N/2+1, ...)");
   app.add_option("--sampler", sampler_name, "halton | halton-scrambled | random");
   app.add_option("--reference-frames", ref_frames, "frames of K=spp random `ours` for the error column (0: none)");
   app.add_option("--csv", csv, "CSV output (default bench/results/sampling_<preset>_<scene>.csv)");
@@ -124,7 +126,16 @@ int main(int argc, char** argv) {
     const double prep_ms = t.ms();
     DeviceLuminaire dl(rt, pc);
     Sampler sampler(rt);
-    const auto surf = make_scene(scene, res);
+    auto surf = make_scene(scene, res);
+    if (interleave) {  // rows in the order 0, N/2, 1, N/2 + 1, ...: lit and dark rows alternate
+      std::vector<NfSurface> moved(surf.size());
+      for (int r = 0; r < res; ++r) {
+        const int src = (r % 2 == 0) ? r / 2 : res / 2 + r / 2;
+        std::copy_n(surf.begin() + static_cast<std::ptrdiff_t>(src) * res, res,
+                    moved.begin() + static_cast<std::ptrdiff_t>(r) * res);
+      }
+      surf = moved;
+    }
     const auto buf = upload_surfaces(rt, surf);
     const int count = static_cast<int>(surf.size());
     LightInstance li;
