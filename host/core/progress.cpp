@@ -43,7 +43,7 @@ void Progress::draw(bool final) {
                  final ? " total\n" : " left ");
   } else {
     const int decile = static_cast<int>(frac * 10.0);
-    if (!final && decile == last_decile_) return;
+    if (decile == last_decile_) return;  // also: finish() after the 100 % line was printed
     last_decile_ = decile;
     std::fprintf(stderr, "%s: %3.0f%% (%.1fs)\n", label_.c_str(), frac * 100.0, now / 1000.0);
   }
