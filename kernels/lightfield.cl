@@ -1061,6 +1061,14 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
 
 /* ---------------------------------------------------------------- kernels ----------------- */
 
+/* Index of the first surface of this work-item: work-groups in the permuted order of
+   NfSampleParams::group_mul, work-items contiguous inside a group. */
+NF_INLINE uint nf_first_surface(const NfSampleParams* P) {
+  const uint groups = get_num_groups(0);
+  const uint w = (uint)(((ulong)get_group_id(0) * (ulong)P->group_mul) % (ulong)groups);
+  return (w * (uint)get_local_size(0) + (uint)get_local_id(0)) * NF_LANES;
+}
+
 #define NF_KERNEL_ARGS                                                                                 \
   const NfSampleParams P, const NfLuminaire L, const NfInstance I, __global const NfSurface *surfaces, \
       __global const long *sat, __global const float *quantum, __global const NfImageInfo *info,       \
@@ -1068,7 +1076,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
 
 /* Step 1, per-image pass (paper §6.1): A(p) += A_m(p) for m = P.image. */
 __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
-  const uint first = get_global_id(0) * NF_LANES;
+  const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   NfCtx c;
   if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
@@ -1081,7 +1089,7 @@ __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
 
 /* Step 2, per-image pass: recomputes A_m(p) and B_m(p), K_m from the A(p) of Step 1, samples, Eq. 14. */
 __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __global float4* rgb, __global uint* kcount) {
-  const uint first = get_global_id(0) * NF_LANES;
+  const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   float a[NF_LANES];
   int lit = 0;
@@ -1118,7 +1126,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
    draws and shades (Step 2). A_m(p) of up to NF_FUSED_CACHE images stays in private memory, so
    B_m(p) is recomputed only for images that get samples. */
 __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* rgb, __global uint* kcount) {
-  const uint first = get_global_id(0) * NF_LANES;
+  const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   NfCtx c;
   if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <numeric>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -63,6 +64,16 @@ int balance_code(Balance b) {
       return NF_BALANCE_ROULETTE;
   }
   return NF_BALANCE_ROULETTE;
+}
+
+// A multiplier coprime with `groups` near groups / golden ratio: work-group w then shades block
+// (w * mul) mod groups, so every contiguous run of work-groups (what a CPU device hands one
+// thread) samples the whole image and expensive regions are shared out.
+nf_uint group_multiplier(std::size_t groups) {
+  if (groups < 3) return 1;
+  std::size_t m = std::max<std::size_t>(1, static_cast<std::size_t>(0.6180339887 * static_cast<double>(groups)));
+  while (std::gcd(m, groups) != 1) ++m;
+  return static_cast<nf_uint>(m % groups);
 }
 
 template <typename F>
@@ -150,6 +161,7 @@ NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire&
   p.band = static_cast<float>(s.band);
   p.vis_words = vis_words;
   p.flux_total = static_cast<float>(lum.flux_total());
+  p.group_mul = 1;
   return p;
 }
 
@@ -236,6 +248,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     NfSampleParams p = params(s, lum, count, vis ? li.vis_words : 0);
     if (s.structure == Structure::fused) {
       ::cl::Kernel& k = kernel("lf_fused", opts);
+      p.group_mul = group_multiplier(global[0] / local_range(k)[0]);
       set_common(k, p, li, surfaces);
       k.setArg(10, a_);
       k.setArg(11, rgb_);
@@ -255,6 +268,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     }
     ::cl::Kernel& k1 = kernel("lf_step1_image", opts);
     ::cl::Kernel& k2 = kernel("lf_step2_image", opts);
+    p.group_mul = group_multiplier(global[0] / local_range(k1)[0]);
     set_common(k1, p, li, surfaces);
     k1.setArg(10, A);
     for (int m = 0; m < lum.num_images(); ++m) {
@@ -262,6 +276,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
       k1.setArg(0, sizeof(NfSampleParams), &p);
       step1.push_back(rt_.launch(k1, global, local_range(k1)));
     }
+    p.group_mul = group_multiplier(global[0] / local_range(k2)[0]);
     set_common(k2, p, li, surfaces);
     k2.setArg(10, A);
     k2.setArg(11, rgb_);

@@ -59,8 +59,10 @@ typedef struct {
   nf_float band;       /* |z| < band * delta uses the U-parametrised estimator (DESIGN.md §3.5) */
   nf_int vis_words;    /* 32-bit visibility words per surface; 0 = no visibility */
   nf_float flux_total; /* method global: sum of the image fluxes (Y m^2) */
-  nf_int pad0;
-} NfSampleParams; /* 48 bytes */
+  nf_uint group_mul;   /* work-group w shades surface block (w * group_mul) mod (number of groups);
+                          coprime with it. Spreads neighbouring blocks over the device's threads,
+                          which take contiguous runs of work-groups (1 = identity). */
+} NfSampleParams;      /* 48 bytes */
 
 /* One sample of the debug kernel lf_debug_samples (tests: distributions and search cost). */
 typedef struct {
