@@ -43,134 +43,17 @@
 #ifndef NF_HAS_VIS
 #define NF_HAS_VIS 0
 #endif
-#ifndef NF_LANES
-#define NF_LANES 1
-#endif
 /* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
 
-#define NF_INLINE static inline __attribute__((always_inline, unused))
-#define NF_PI 3.14159265358979f
-#define NF_ONE_MINUS_ULP 0x1.fffffep-1f
+#include "common/brdf.h"
+#include "common/lanes.h"
+#include "common/random.h"
+
 /* Band boxes narrower than this (pixels) are balanced with the luminance at p (z = 0 limit). */
 #define NF_POINT_BOX 1e-3f
-
-/* ---------------------------------------------------------------- lane types --------------- */
-
-#if NF_LANES == 1
-typedef float vf;
-typedef int vi;
-typedef uint vu;
-typedef long vl;
-#define CVT_F(x) ((float)(x))
-#define CVT_I(x) ((int)(x))
-#define CVT_U(x) ((uint)(x))
-#define CVT_L(x) ((long)(x))
-#define ANY(m) ((m) != 0)
-#define SEL(a, b, m) ((m) ? (b) : (a))
-#define SELL(a, b, m) ((m) ? (b) : (a))
-#define GATHER(p, i) ((p)[(i)])
-#define VSTORE(v, a) ((a)[0] = (v))
-#define VLOAD(a) ((a)[0])
-#define LANE_IDS 0
-#else
-#define NF_CAT2(a, b) a##b
-#define NF_CAT(a, b) NF_CAT2(a, b)
-typedef NF_CAT(float, NF_LANES) vf;
-typedef NF_CAT(int, NF_LANES) vi;
-typedef NF_CAT(uint, NF_LANES) vu;
-typedef NF_CAT(long, NF_LANES) vl;
-#define CVT_F(x) NF_CAT(convert_float, NF_LANES)(x)
-#define CVT_I(x) NF_CAT(convert_int, NF_LANES)(x)
-#define CVT_U(x) NF_CAT(convert_uint, NF_LANES)(x)
-#define CVT_L(x) NF_CAT(convert_long, NF_LANES)(x)
-#define ANY(m) any(m)
-#define SEL(a, b, m) select((a), (b), (m))
-#define SELL(a, b, m) select((a), (b), CVT_L(m))
-#define VSTORE(v, a) NF_CAT(vstore, NF_LANES)((v), 0, (a))
-#define VLOAD(a) NF_CAT(vload, NF_LANES)(0, (a))
-#if NF_LANES == 4
-#define NF_G(p, i, T) (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3])
-#define LANE_IDS (vi)(0, 1, 2, 3)
-#elif NF_LANES == 8
-#define NF_G(p, i, T) \
-  (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7])
-#define LANE_IDS (vi)(0, 1, 2, 3, 4, 5, 6, 7)
-#elif NF_LANES == 16
-#define NF_G(p, i, T)                                                                                         \
-  (T)((p)[(i).s0], (p)[(i).s1], (p)[(i).s2], (p)[(i).s3], (p)[(i).s4], (p)[(i).s5], (p)[(i).s6], (p)[(i).s7], \
-      (p)[(i).s8], (p)[(i).s9], (p)[(i).sa], (p)[(i).sb], (p)[(i).sc], (p)[(i).sd], (p)[(i).se], (p)[(i).sf])
-#define LANE_IDS (vi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)
-#else
-#error "NF_LANES must be 1, 4, 8 or 16"
-#endif
-#define GATHER(p, i) NF_G(p, i, vl)
-#endif
-#define GATHERF(p, i) NF_GF(p, i)
-#if NF_LANES == 1
-#define NF_GF(p, i) ((p)[(i)])
-#else
-#define NF_GF(p, i) NF_G(p, i, vf)
-#endif
-
-/* ---------------------------------------------------------------- random numbers ---------- */
-
-/* 32-bit integer hash (xor-shift-multiply finaliser), scalar and per lane. */
-NF_INLINE uint nf_hash1(uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-
-NF_INLINE vu nf_hashv(vu x) {
-  x ^= x >> 16;
-  x *= (vu)(0x7feb352dU);
-  x ^= x >> 15;
-  x *= (vu)(0x846ca68bU);
-  x ^= x >> 16;
-  return x;
-}
-
-/* Philox-2x32-10 (Salmon et al. 2011): a counter-based generator, 64-bit counter (c0, c1) per
-   lane, 32-bit key; the result replaces the counter. */
-NF_INLINE void nf_philox(vu* c0, vu* c1, uint key) {
-  vu a = *c0, b = *c1;
-  for (int i = 0; i < 10; ++i) {
-    const vu lo = a * (vu)(0xD256D193U);
-    const vu hi = mul_hi(a, (vu)(0xD256D193U));
-    a = hi ^ (vu)(key) ^ b;
-    b = lo;
-    key += 0x9E3779B9U;
-  }
-  *c0 = a;
-  *c1 = b;
-}
-
-NF_INLINE vf nf_unit(vu x) { return CVT_F(x >> 8) * 0x1p-24f; } /* [0, 1) */
-
-/* Radical inverses: base 3 (below) and base 2 (bit reversal). */
-/* Radical inverse in base 3 of i mod 3^20 from the table of 0 .. 3^10 - 1: low digits first. */
-NF_INLINE vf nf_ri3(vu i, __global const float* t3) {
-  i %= (vu)(3486784401U); /* 3^20 */
-  const vu hi = i / (vu)((uint)NF_HALTON3_TABLE);
-  const vu lo = i - hi * (vu)((uint)NF_HALTON3_TABLE);
-  const vf a = GATHERF(t3, CVT_I(lo)), b = GATHERF(t3, CVT_I(hi));
-  return fmin(a + b * (1.0f / (float)NF_HALTON3_TABLE), NF_ONE_MINUS_ULP);
-}
-
-NF_INLINE vf nf_ri2(vu i) {
-  i = (i << 16) | (i >> 16);
-  i = ((i & (vu)(0x00ff00ffU)) << 8) | ((i & (vu)(0xff00ff00U)) >> 8);
-  i = ((i & (vu)(0x0f0f0f0fU)) << 4) | ((i & (vu)(0xf0f0f0f0U)) >> 4);
-  i = ((i & (vu)(0x33333333U)) << 2) | ((i & (vu)(0xccccccccU)) >> 2);
-  i = ((i & (vu)(0x55555555U)) << 1) | ((i & (vu)(0xaaaaaaaaU)) >> 1);
-  return nf_unit(i);
-}
 
 /* Key of the per-pixel streams of one frame. */
 NF_INLINE uint nf_frame_key(const NfSampleParams* P) { return nf_hash1(P->seed ^ nf_hash1(P->frame + 0x68bc21ebU)); }
@@ -230,20 +113,16 @@ NF_INLINE vf nf_roulette_u(const NfSampleParams* P, vu pix, int m) {
 
 typedef struct {
   vf px, py, pz; /* luminaire-local position */
-  vf nx, ny, nz; /* unit normal */
-  vf vx, vy, vz; /* unit direction to the viewer */
-  vi brdf;
-  vf alpha, metallic;
-  vf br, bg, bb;
-  vf Xp, Rp; /* p in continuous pixel coordinates (column, row from the top) */
-  vf f;      /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
-  vf bw, bh; /* unclipped box width and height in pixels (same for every m) */
-  vf dz;     /* delta / z: u = s + (s - p) delta / z */
-  vf gs;     /* S-parametrisation factor: delta^2 / |z|^3 (goesele2003) or |z| (radiance) */
-  vf gu;     /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
-  vi band;   /* mask: |z| < band delta, U-parametrisation (DESIGN.md §3.5) */
-  vi lit;    /* mask: a valid surface with z > -delta */
-  vu pix;    /* surface index: the per-pixel random streams */
+  NfShade sh;    /* normal, viewer direction and material at p (common/brdf.h) */
+  vf Xp, Rp;     /* p in continuous pixel coordinates (column, row from the top) */
+  vf f;          /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
+  vf bw, bh;     /* unclipped box width and height in pixels (same for every m) */
+  vf dz;         /* delta / z: u = s + (s - p) delta / z */
+  vf gs;         /* S-parametrisation factor: delta^2 / |z|^3 (goesele2003) or |z| (radiance) */
+  vf gu;         /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
+  vi band;       /* mask: |z| < band delta, U-parametrisation (DESIGN.md §3.5) */
+  vi lit;        /* mask: a valid surface with z > -delta */
+  vu pix;        /* surface index: the per-pixel random streams */
   /* luminaire constants */
   float pw, ph;   /* pixel size in metres */
   float Xo, Ro;   /* basis grid corner o in pixel coordinates */
@@ -311,18 +190,18 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->px = VLOAD(px);
   c->py = VLOAD(py);
   c->pz = VLOAD(pz);
-  c->nx = VLOAD(nx);
-  c->ny = VLOAD(ny);
-  c->nz = VLOAD(nz);
-  c->vx = VLOAD(vx);
-  c->vy = VLOAD(vy);
-  c->vz = VLOAD(vz);
-  c->alpha = VLOAD(al);
-  c->metallic = VLOAD(me);
-  c->br = VLOAD(br);
-  c->bg = VLOAD(bg);
-  c->bb = VLOAD(bb);
-  c->brdf = VLOAD(brdf);
+  c->sh.nx = VLOAD(nx);
+  c->sh.ny = VLOAD(ny);
+  c->sh.nz = VLOAD(nz);
+  c->sh.vx = VLOAD(vx);
+  c->sh.vy = VLOAD(vy);
+  c->sh.vz = VLOAD(vz);
+  c->sh.alpha = VLOAD(al);
+  c->sh.metallic = VLOAD(me);
+  c->sh.br = VLOAD(br);
+  c->sh.bg = VLOAD(bg);
+  c->sh.bb = VLOAD(bb);
+  c->sh.brdf = VLOAD(brdf);
   c->pix = VLOAD(pix);
   const vi val = VLOAD(valid) != 0;
   const float delta = L->delta;
@@ -376,45 +255,9 @@ NF_INLINE vf nf_phi(int kind, vf t) {
   return SEL((vf)(0.0f), v, y <= 1.0f);
 }
 
-/* rho_k of Eq. 14: f_r(w, w_o) max(0, n.w); IRRADIANCE: f_r = 1 (E(p, n)); SCALAR: 1 (I(p)).
-   GGX follows glTF 2.0 metallic-roughness: f = F D V + (1 - F) (1 - metallic) base / pi with
-   D = GGX, V = height-correlated Smith-GGX, F = Schlick with F0 = mix(0.04, base, metallic). */
+/* rho_k of Eq. 14: f_r(w, w_o) max(0, n.w) of the material at p (common/brdf.h). */
 NF_INLINE void nf_rho(const NfCtx* c, vf wx, vf wy, vf wz, vf* r, vf* g, vf* b) {
-  const vf nl = c->nx * wx + c->ny * wy + c->nz * wz;
-  const vi up = nl > 0.0f;
-  const vi lam = c->brdf == NF_BRDF_LAMBERT, irr = c->brdf == NF_BRDF_IRRADIANCE, sca = c->brdf == NF_BRDF_SCALAR;
-  const vf k = nl * (1.0f / NF_PI);
-  vf fr = SEL(nl, c->br * k, lam), fg = SEL(nl, c->bg * k, lam), fb = SEL(nl, c->bb * k, lam);
-  const vi ggx = !(lam | irr | sca);
-  if (ANY(ggx & up)) {
-    const vf nv = fmax(c->nx * c->vx + c->ny * c->vy + c->nz * c->vz, 1e-4f);
-    vf hx = wx + c->vx, hy = wy + c->vy, hz = wz + c->vz;
-    const vf h2 = hx * hx + hy * hy + hz * hz;
-    const vf hk = SEL((vf)(0.0f), rsqrt(h2), h2 > 1e-30f);
-    hx *= hk;
-    hy *= hk;
-    hz *= hk;
-    const vf nh = fmax(c->nx * hx + c->ny * hy + c->nz * hz, 0.0f);
-    const vf vh = clamp(c->vx * hx + c->vy * hy + c->vz * hz, 0.0f, 1.0f);
-    const vf a2 = c->alpha * c->alpha;
-    const vf dd = nh * nh * (a2 - 1.0f) + 1.0f;
-    const vf D = a2 / fmax(NF_PI * dd * dd, 1e-30f);
-    const vf nlp = fmax(nl, 0.0f);
-    const vf vis_den = nlp * sqrt(nv * nv * (1.0f - a2) + a2) + nv * sqrt(nlp * nlp * (1.0f - a2) + a2);
-    const vf V = 0.5f / fmax(vis_den, 1e-12f);
-    const vf s = 1.0f - vh;
-    const vf s5 = s * s * s * s * s;
-    const vf dv = D * V, kd = (1.0f - c->metallic) * (1.0f / NF_PI);
-    const vf F0r = mix((vf)(0.04f), c->br, c->metallic), F0g = mix((vf)(0.04f), c->bg, c->metallic),
-             F0b = mix((vf)(0.04f), c->bb, c->metallic);
-    const vf Fr = F0r + (1.0f - F0r) * s5, Fg = F0g + (1.0f - F0g) * s5, Fb = F0b + (1.0f - F0b) * s5;
-    fr = SEL(fr, (Fr * dv + (1.0f - Fr) * kd * c->br) * nlp, ggx);
-    fg = SEL(fg, (Fg * dv + (1.0f - Fg) * kd * c->bg) * nlp, ggx);
-    fb = SEL(fb, (Fb * dv + (1.0f - Fb) * kd * c->bb) * nlp, ggx);
-  }
-  *r = SEL(SEL((vf)(0.0f), fr, up), (vf)(1.0f), sca);
-  *g = SEL(SEL((vf)(0.0f), fg, up), (vf)(1.0f), sca);
-  *b = SEL(SEL((vf)(0.0f), fb, up), (vf)(1.0f), sca);
+  nf_brdf_cos(&c->sh, wx, wy, wz, r, g, b);
 }
 
 /* v_m(p) (paper §6.2): lit cells under Phi_m's n x n support / n^2. */
@@ -955,6 +798,67 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, vf Am, vf A, vf*
   return SEL((vi)(0), k, pos);
 }
 
+/* One sample of image m = (i, j) at p from the 2D point (ux, uy) (Eq. 11 with Eq. 5 in the box,
+   Eq. 9 in the band): the lanes in `sband` take the U-parametrised sample of the band, the lanes in
+   `sbox` the S-parametrised sample in B_m(p) (method ours / paper / global: the restricted CDFs of
+   nf_draw; uniform: uniform on the box, times Y_m(s)). Returns the factor g that multiplies
+   rho_k c_m(s_k) in Eq. 14 (0 where the sample carries no light), the direction w towards U, the
+   pixel (col, row) of s with its fraction (fx, fy) and the search's evaluation counts (added).
+   The shading kernels and the debug kernel both draw through this routine (docs/sampling.md). */
+NF_INLINE vf nf_sample(const NfCtx* c, const NfLuminaire* L, __global const long* img, float q, const NfBox* b, int i,
+                       int j, vf ux, vf uy, vi sband, vi sbox, int depth, vf* wx_, vf* wy_, vf* wz_, vi* col_, vi* row_,
+                       vf* fx_, vf* fy_, vi* itx, vi* ity) {
+  const int L1 = L->res_x + 1;
+  vf g = (vf)(0.0f), wx = (vf)(0.0f), wy = (vf)(0.0f), wz = (vf)(0.0f), fxo = (vf)(0.0f), fyo = (vf)(0.0f);
+  vi col = (vi)(0), row = (vi)(0);
+  const vi ab_ = sband, as_ = sbox;
+  if (ANY(ab_)) {
+    /* U-parametrisation (Eq. 9): uniform u on the support */
+    vf gx, gy, gz;
+    vi cu, ru;
+    const vf gu = nf_geom_u(c, L, img, q, i, j, ux, uy, &gx, &gy, &gz, &cu, &ru);
+    g = SEL(g, gu, ab_);
+    wx = SEL(wx, gx, ab_);
+    wy = SEL(wy, gy, ab_);
+    wz = SEL(wz, gz, ab_);
+    col = SEL(col, cu, ab_);
+    row = SEL(row, ru, ab_);
+  }
+  if (ANY(as_)) {
+    vf gx, gy, gz, gs, fx, fy;
+    vi cs, rs;
+#if NF_METHOD == NF_METHOD_UNIFORM
+    const vf X = b->sx.lo + ux * (b->sx.hi - b->sx.lo), R = b->sr.lo + uy * (b->sr.hi - b->sr.lo);
+    cs = clamp(CVT_I(X), b->sx.e0, max(b->sx.e3 - 1, b->sx.e0));
+    rs = clamp(CVT_I(R), b->sr.e0, max(b->sr.e3 - 1, b->sr.e0));
+    fx = clamp(X - CVT_F(cs), 0.0f, NF_ONE_MINUS_ULP);
+    fy = clamp(R - CVT_F(rs), 0.0f, NF_ONE_MINUS_ULP);
+    const vf Y = nf_pixel_luminance(img, L1, cs, rs, q);
+    gs = SEL((vf)(0.0f), Y * nf_geom_s(c, L, i, j, X, R, &gx, &gy, &gz), Y > 0.0f);
+#else
+    const vi ok = nf_draw(img, L1, L->res_y, &b->sx, &b->sr, &b->B, ux, uy, as_, depth, &cs, &fx, &rs, &fy, itx, ity);
+    gs = nf_geom_s(c, L, i, j, CVT_F(cs) + fx, CVT_F(rs) + fy, &gx, &gy, &gz);
+    gs = SEL((vf)(0.0f), gs, ok);
+#endif
+    g = SEL(g, gs, as_);
+    wx = SEL(wx, gx, as_);
+    wy = SEL(wy, gy, as_);
+    wz = SEL(wz, gz, as_);
+    col = SEL(col, cs, as_);
+    row = SEL(row, rs, as_);
+    fxo = SEL(fxo, fx, as_);
+    fyo = SEL(fyo, fy, as_);
+  }
+  *wx_ = wx;
+  *wy_ = wy;
+  *wz_ = wz;
+  *col_ = col;
+  *row_ = row;
+  *fx_ = fxo;
+  *fy_ = fyo;
+  return g;
+}
+
 /* I_m(p) of Eq. 14 for image m with K = K_m(p) samples per lane (0: lane idle), added to (ar, ag, ab):
      (A_m / K_m) sum_k Psi_m(u_k -> s_k) Delta / |s_k - p|^3 rho_k v_m c_m(s_k)
    (uniform: area(B_m) Y_m(s_k) in place of A_m; band: the U-parametrised sum of Eq. 9),
@@ -974,7 +878,6 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   const vf vm = (vf)(1.0f);
 #endif
   __global const long* img = sat + (size_t)m * (size_t)L->sat_stride;
-  const int L1 = L->res_x + 1;
   const float q = quantum[m];
   vf rx = (vf)(0.0f), ry = (vf)(0.0f);
 #if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
@@ -988,51 +891,15 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
 #endif
   vf accr = (vf)(0.0f), accg = (vf)(0.0f), accb = (vf)(0.0f);
   vf blr = (vf)(0.0f), blg = (vf)(0.0f), blb = (vf)(0.0f);
-#if NF_METHOD != NF_METHOD_UNIFORM
   vi itx = (vi)(0), ity = (vi)(0);
-#endif
   for (int k = 0; ANY((vi)(k) < K); ++k) {
     const vi act = (vi)(k) < K;
     vf ux, uy;
     nf_xi(P, c->pix, m, k, K, rx, ry, t3, &ux, &uy);
-    vf g = (vf)(0.0f), wx = (vf)(0.0f), wy = (vf)(0.0f), wz = (vf)(0.0f);
-    vi col = (vi)(0), row = (vi)(0);
-    const vi ab_ = act & sband, as_ = act & sbox;
-    if (ANY(ab_)) {
-      /* U-parametrisation (Eq. 9): uniform u on the support */
-      vf gx, gy, gz;
-      vi cu, ru;
-      const vf gu = nf_geom_u(c, L, img, q, i, j, ux, uy, &gx, &gy, &gz, &cu, &ru);
-      g = SEL(g, gu, ab_);
-      wx = SEL(wx, gx, ab_);
-      wy = SEL(wy, gy, ab_);
-      wz = SEL(wz, gz, ab_);
-      col = SEL(col, cu, ab_);
-      row = SEL(row, ru, ab_);
-    }
-    if (ANY(as_)) {
-      vf gx, gy, gz, gs;
-      vi cs, rs;
-#if NF_METHOD == NF_METHOD_UNIFORM
-      const vf X = b->sx.lo + ux * (b->sx.hi - b->sx.lo), R = b->sr.lo + uy * (b->sr.hi - b->sr.lo);
-      cs = clamp(CVT_I(X), b->sx.e0, max(b->sx.e3 - 1, b->sx.e0));
-      rs = clamp(CVT_I(R), b->sr.e0, max(b->sr.e3 - 1, b->sr.e0));
-      const vf Y = nf_pixel_luminance(img, L1, cs, rs, q);
-      gs = SEL((vf)(0.0f), Y * nf_geom_s(c, L, i, j, X, R, &gx, &gy, &gz), Y > 0.0f);
-#else
-      vf fx, fy;
-      const vi ok = nf_draw(img, L1, L->res_y, &b->sx, &b->sr, &b->B, ux, uy, as_, P->search_depth, &cs, &fx, &rs, &fy,
-                            &itx, &ity);
-      gs = nf_geom_s(c, L, i, j, CVT_F(cs) + fx, CVT_F(rs) + fy, &gx, &gy, &gz);
-      gs = SEL((vf)(0.0f), gs, ok);
-#endif
-      g = SEL(g, gs, as_);
-      wx = SEL(wx, gx, as_);
-      wy = SEL(wy, gy, as_);
-      wz = SEL(wz, gz, as_);
-      col = SEL(col, cs, as_);
-      row = SEL(row, rs, as_);
-    }
+    vf wx, wy, wz, fx, fy;
+    vi col, row;
+    const vf g = nf_sample(c, L, img, q, b, i, j, ux, uy, act & sband, act & sbox, P->search_depth, &wx, &wy, &wz, &col,
+                           &row, &fx, &fy, &itx, &ity);
     const vi use = act & (g > 0.0f);
     if (ANY(use)) {
       vf rr, rg, rb, cr, cg, cb;
@@ -1213,38 +1080,22 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
   nf_xi(&P, 0U, m, k, n, rx, ry, halton3, &ux, &uy);
   const int i = m % L.count_x, j = m / L.count_x;
   __global const long* img = sat + (size_t)m * (size_t)L.sat_stride;
-  const int L1 = L.res_x + 1;
-  float wx = 0.0f, wy = 0.0f, wz = 0.0f, rr, rg, rb;
   d.band = c.band != 0;
-  if (c.band) {
-    const float g = nf_geom_u(&c, &L, img, quantum[m], i, j, ux, uy, &wx, &wy, &wz, &d.col, &d.row);
-    nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
-    d.weight = g > 0.0f ? g * rr : 0.0f;
-    if (!(g > 0.0f)) d.col = d.row = -1;
+  if (!c.band && !(Am > 0.0f)) {
     out[k] = d;
     return;
   }
-  if (!(Am > 0.0f)) {
-    out[k] = d;
-    return;
-  }
+  float wx, wy, wz, rr, rg, rb;
+  const float g = nf_sample(&c, &L, img, quantum[m], &b, i, j, ux, uy, c.band, !c.band, P.search_depth, &wx, &wy, &wz,
+                            &d.col, &d.row, &d.fx, &d.fy, &d.iters_x, &d.iters_y);
+  nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
 #if NF_METHOD == NF_METHOD_UNIFORM
-  const float X = b.sx.lo + ux * (b.sx.hi - b.sx.lo), R = b.sr.lo + uy * (b.sr.hi - b.sr.lo);
-  d.col = clamp((int)X, b.sx.e0, max(b.sx.e3 - 1, b.sx.e0));
-  d.row = clamp((int)R, b.sr.e0, max(b.sr.e3 - 1, b.sr.e0));
-  d.fx = clamp(X - (float)d.col, 0.0f, NF_ONE_MINUS_ULP);
-  d.fy = clamp(R - (float)d.row, 0.0f, NF_ONE_MINUS_ULP);
-  const float Y = nf_pixel_luminance(img, L1, d.col, d.row, quantum[m]);
-  const float g = Y > 0.0f ? Y * nf_geom_s(&c, &L, i, j, X, R, &wx, &wy, &wz) : 0.0f;
-  nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
-  d.weight = g > 0.0f ? g * rr * (b.sx.hi - b.sx.lo) * (b.sr.hi - b.sr.lo) * L.pixel_area : 0.0f;
+  const float Aest = (b.sx.hi - b.sx.lo) * (b.sr.hi - b.sr.lo) * L.pixel_area;
 #else
-  const int ok = nf_draw(img, L1, L.res_y, &b.sx, &b.sr, &b.B, ux, uy, 1, P.search_depth, &d.col, &d.fx, &d.row, &d.fy,
-                         &d.iters_x, &d.iters_y);
-  const float g = ok ? nf_geom_s(&c, &L, i, j, (float)d.col + d.fx, (float)d.row + d.fy, &wx, &wy, &wz) : 0.0f;
-  nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
-  d.weight = g > 0.0f ? g * rr * Am : 0.0f;
+  const float Aest = Am;
 #endif
+  d.weight = g > 0.0f ? g * rr * (c.band ? 1.0f : Aest) : 0.0f;
+  if (c.band && !(g > 0.0f)) d.col = d.row = -1;
   if (!isfinite(d.weight)) d.weight = 0.0f;
   out[k] = d;
 }

@@ -1,7 +1,7 @@
 # Writes OUT: a C++ table {relative path, text} of the files matching GLOBS under ROOT, so the
 # binary needs no kernel or shader files at run time. FUNC names the accessor, HEADER its header.
 if(NOT DEFINED GLOBS)
-  set(GLOBS "*.cl;shared/*.h")
+  set(GLOBS "*.cl;shared/*.h;common/*.h")
   set(FUNC "nf::cl::embedded_kernel_files")
   set(HEADER "cl/embedded_kernels.h")
   set(TYPE "nf::cl::EmbeddedFile")

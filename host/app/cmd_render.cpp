@@ -30,6 +30,7 @@
 #include "render/settings.h"
 #include "render/stats.h"
 #include "scene/scene.h"
+#include "scene/settings.h"
 
 namespace nf::app {
 namespace {
@@ -38,11 +39,9 @@ namespace fs = std::filesystem;
 
 struct RenderCmd {
   std::string scene, out, png, stats;
-  std::string method, sampler, search, balance, structure, visibility;
-  int spp = 0, kmax = 0, search_depth = 0, shadow_map_size = 0, width = 0, height = 0, frames = 1, lanes = 0;
-  std::uint32_t seed = 0;
-  double exposure = 0.0, gamma = 0.0;
-  std::map<std::string, CLI::Option*> given;  // option name -> its CLI11 option
+  int width = 0, height = 0, frames = 1;
+  std::map<std::string, std::string> settings;  // declared setting name -> its --option text (scene/settings.h)
+  std::map<std::string, CLI::Option*> given;    // option name -> its CLI11 option
   bool has(const std::string& name) const {
     auto it = given.find(name);
     return it != given.end() && it->second->count() > 0;
@@ -110,20 +109,8 @@ void check_outputs(const RenderCmd& o, const std::vector<std::pair<std::string, 
 
 // Command-line overrides of the scene's render settings and camera resolution.
 void apply_overrides(const RenderCmd& o, scene::Scene& s) {
-  auto& r = s.render;
-  if (o.has("--method")) r.method = render::to_string(render::parse_method(o.method, "--method"));
-  if (o.has("--sampler")) r.sampler = render::to_string(render::parse_sampler(o.sampler, "--sampler"));
-  if (o.has("--search")) r.search = render::to_string(render::parse_search(o.search, "--search"));
-  if (o.has("--balance")) r.balance = render::to_string(render::parse_balance(o.balance, "--balance"));
-  if (o.has("--structure")) r.structure = render::to_string(render::parse_structure(o.structure, "--structure"));
-  if (o.has("--visibility")) r.visibility = render::to_string(render::parse_visibility(o.visibility, "--visibility"));
-  if (o.has("--spp")) r.spp = o.spp;
-  if (o.has("--kmax")) r.kmax = o.kmax;
-  if (o.has("--search-depth")) r.search_depth = o.search_depth;
-  if (o.has("--shadow-map-size")) r.shadow_map_size = o.shadow_map_size;
-  if (o.has("--seed")) r.seed = o.seed;
-  if (o.has("--exposure")) r.tonemap.exposure = o.exposure;
-  if (o.has("--gamma")) r.tonemap.gamma = o.gamma;
+  for (const auto& decl : scene::settings_table())
+    if (o.has(decl.cli_name())) scene::set_setting_text(s.render, decl, o.settings.at(decl.name), decl.cli_name());
   auto& c = s.camera;
   const double aspect = c.aspect();
   if (o.has("--width") && o.has("--height")) {
@@ -162,11 +149,6 @@ void run_render(const RenderCmd& o) {
   check_outputs(o, outputs);
   apply_overrides(o, scene);
   render::frame_settings(scene.render);  // validate before any heavy work
-  if (o.has("--lanes")) {
-    render::SamplingSettings lanes;
-    lanes.lanes = o.lanes;
-    lanes.validate();
-  }
   // Temporary outputs now: a missing output folder fails before rendering.
   AtomicFile exr_file(o.out);
   std::unique_ptr<AtomicFile> png_file, stats_file;
@@ -180,11 +162,6 @@ void run_render(const RenderCmd& o) {
   ropt.cl_device = global_options().cl_device;
   ropt.on_stage = [&progress] { progress.advance(); };
   render::Renderer renderer(std::move(scene), ropt);
-  if (o.has("--lanes")) {  // not a scene setting: a device tuning knob (SamplingSettings::lanes)
-    render::FrameSettings f = renderer.settings();
-    f.sampling.lanes = o.lanes;
-    renderer.set_settings(f);
-  }
   progress.advance();
   phases.emplace_back("setup", t.ms());
 
@@ -231,12 +208,6 @@ void run_render(const RenderCmd& o) {
   if (log::level() != log::Level::quiet) std::fputs(text.c_str(), stdout);
 }
 
-std::string names(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& n : v) s += (s.empty() ? "" : " | ") + n;
-  return s;
-}
-
 const CommandRegistration reg("render", [](CLI::App& app) {
   static RenderCmd o;
   auto* cmd = app.add_subcommand("render", "Render a scene headless to OpenEXR (+ PNG, stats JSON)");
@@ -249,22 +220,11 @@ const CommandRegistration reg("render", [](CLI::App& app) {
   auto add = [&](const std::string& name, auto& var, const std::string& help) {
     o.given[name] = cmd->add_option(name, var, help);
   };
-  add("--method", o.method, names(render::method_names()));
-  add("--sampler", o.sampler, names(render::sampler_names()));
-  add("--spp", o.spp, "K, samples per pixel per frame");
-  add("--kmax", o.kmax, "K_max, cap per image and pixel (0 = none)");
-  add("--search", o.search, names(render::search_names()));
-  add("--search-depth", o.search_depth, "CDF evaluations per inversion (-1 = exact)");
-  add("--balance", o.balance, names(render::balance_names()));
-  add("--structure", o.structure, names(render::structure_names()));
-  add("--visibility", o.visibility, "none | shadowmaps");
-  add("--shadow-map-size", o.shadow_map_size, "Pixels per side of each shadow map");
-  add("--seed", o.seed, "Sampler seed");
-  add("--exposure", o.exposure, "Tone mapping exposure (> 0)");
-  add("--gamma", o.gamma, "Tone mapping gamma (> 0)");
+  // one override per declared setting (scene/settings.cpp), validated like the scene file
+  for (const auto& decl : scene::settings_table())
+    add(decl.cli_name(), o.settings[decl.name], fmt::format("{} ({})", decl.doc, decl.range_text()));
   add("--width", o.width, "Image width (alone: keeps the scene's aspect ratio)");
   add("--height", o.height, "Image height (alone: keeps the scene's aspect ratio)");
-  add("--lanes", o.lanes, "Surfaces per work-item: 1, 4, 8, 16 (0 = automatic)");
   cmd->callback([] { run_render(o); });
 });
 

@@ -27,7 +27,4 @@ const std::vector<std::string>& setting_names();
 // settings are unchanged then). Numbers must parse completely ("16", "0.5", "-1").
 void apply_setting(ViewSettings& s, const std::string& name, const std::string& value);
 
-// The scene file's `render` section for these settings.
-scene::RenderSettings render_settings(const render::FrameSettings& f);
-
 }  // namespace nf::app

@@ -49,6 +49,7 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   f.sampling.k_max = r.kmax;
   f.sampling.search_depth = r.search_depth;
   f.sampling.seed = r.seed;
+  f.sampling.lanes = r.lanes;
   f.visibility = parse_visibility(r.visibility, "render.visibility");
   f.shadow_map_size = r.shadow_map_size;
   f.tonemap = r.tonemap;
@@ -56,34 +57,33 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   return f;
 }
 
+scene::RenderSettings render_settings(const FrameSettings& f) {
+  scene::RenderSettings r;
+  const SamplingSettings& p = f.sampling;
+  r.method = to_string(p.method);
+  r.sampler = to_string(p.sampler);
+  r.spp = p.spp;
+  r.kmax = p.k_max;
+  r.search_depth = p.search_depth;
+  r.search = to_string(p.search);
+  r.balance = to_string(p.balance);
+  r.structure = to_string(p.structure);
+  r.visibility = to_string(f.visibility);
+  r.shadow_map_size = f.shadow_map_size;
+  r.seed = p.seed;
+  r.lanes = p.lanes;
+  r.tonemap = f.tonemap;
+  return r;
+}
+
 std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s) {
-  const SamplingSettings& p = s.sampling;
-  return {{"nearfield:method", to_string(p.method)},
-          {"nearfield:sampler", to_string(p.sampler)},
-          {"nearfield:spp", std::to_string(p.spp)},
-          {"nearfield:kmax", std::to_string(p.k_max)},
-          {"nearfield:search", to_string(p.search)},
-          {"nearfield:search_depth", std::to_string(p.search_depth)},
-          {"nearfield:balance", to_string(p.balance)},
-          {"nearfield:structure", to_string(p.structure)},
-          {"nearfield:visibility", to_string(s.visibility)},
-          {"nearfield:shadow_map_size", std::to_string(s.shadow_map_size)},
-          {"nearfield:seed", std::to_string(p.seed)},
-          {"nearfield:first_frame", std::to_string(p.frame)},
-          {"nearfield:band", fmt::format("{}", p.band)},
-          {"nearfield:lanes", std::to_string(p.lanes)},
-          {"nearfield:exposure", fmt::format("{}", s.tonemap.exposure)},
-          {"nearfield:gamma", fmt::format("{}", s.tonemap.gamma)}};
+  auto out = scene::settings_attributes(render_settings(s));
+  out.emplace_back("nearfield:first_frame", std::to_string(s.sampling.frame));
+  out.emplace_back("nearfield:band", fmt::format("{}", s.sampling.band));
+  return out;
 }
 
 namespace {
-
-bool same_sampling(const SamplingSettings& a, const SamplingSettings& b) {
-  return a.method == b.method && a.sampler == b.sampler && a.balance == b.balance && a.search == b.search &&
-         a.structure == b.structure && a.spp == b.spp && a.k_max == b.k_max && a.search_depth == b.search_depth &&
-         a.seed == b.seed && a.frame == b.frame && a.band == b.band && a.lanes == b.lanes &&
-         a.describe() == b.describe();
-}
 
 bool same_camera(const scene::Camera& a, const scene::Camera& b) {
   return a.position == b.position && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg &&
@@ -166,9 +166,14 @@ void Renderer::resize(int width, int height) {
 
 void Renderer::set_settings(const FrameSettings& s) {
   s.validate();
-  const bool rebuild = s.visibility != settings_.visibility ||
-                       (s.visibility == Visibility::shadowmaps && s.shadow_map_size != settings_.shadow_map_size);
-  const bool changes_image = rebuild || !same_sampling(s.sampling, settings_.sampling);
+  // What the change invalidates comes from the settings' declarations (scene/settings.cpp); the
+  // shadow-map size matters only with shadow maps. The first frame index and the band are not
+  // user settings but change the image too.
+  const scene::SettingEffect effect = scene::change_effect(render_settings(s), render_settings(settings_));
+  const bool rebuild = effect == scene::SettingEffect::step0 &&
+                       (s.visibility != settings_.visibility || s.visibility == Visibility::shadowmaps);
+  const bool changes_image = rebuild || effect == scene::SettingEffect::restart ||
+                             s.sampling.frame != settings_.sampling.frame || s.sampling.band != settings_.sampling.band;
   if (changes_image) warm_ = false;
   settings_ = s;
   if (rebuild) {

@@ -59,6 +59,8 @@ struct FrameSettings {
 
 // The scene file's render settings, parsed (nf::Error names the bad value).
 FrameSettings frame_settings(const scene::RenderSettings& r);
+// The declared settings (scene/settings.h) of a FrameSettings: the inverse of frame_settings().
+scene::RenderSettings render_settings(const FrameSettings& f);
 // Every setting as ("nearfield:<name>", value) pairs: EXR metadata and stats.
 std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s);
 

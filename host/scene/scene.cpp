@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/json_read.h"
 #include "scene/loaders.h"
 
 namespace nf::scene {
@@ -38,40 +39,14 @@ std::string token(const std::string& key) {
 std::string at(const std::string& ptr, const std::string& key) { return ptr + "/" + token(key); }
 std::string at(const std::string& ptr, std::size_t i) { return ptr + "/" + std::to_string(i); }
 
-const char* type_name(const json& v) {
-  switch (v.type()) {
-    case json::value_t::null:
-      return "null";
-    case json::value_t::boolean:
-      return "a boolean";
-    case json::value_t::string:
-      return "a string";
-    case json::value_t::array:
-      return "an array";
-    case json::value_t::object:
-      return "an object";
-    case json::value_t::number_integer:
-    case json::value_t::number_unsigned:
-    case json::value_t::number_float:
-      return "a number";
-    default:
-      return "an unsupported value";
-  }
-}
-
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
-  return s;
-}
+const char* type_name(const json& v) { return json_type_name(v); }
+std::string join(const std::vector<std::string>& v) { return join_names(v); }
 
 class Parser {
  public:
   Parser(std::string name, fs::path base_dir) : name_(std::move(name)), base_(std::move(base_dir)) {}
 
-  [[noreturn]] void error(const std::string& ptr, const std::string& message) const {
-    fail(fmt::format("{}: {}: {}", name_, ptr.empty() ? "/" : ptr, message));
-  }
+  [[noreturn]] void error(const std::string& ptr, const std::string& message) const { where(ptr).fail(message); }
 
   Scene parse(const json& root) {
     Scene s;
@@ -117,39 +92,17 @@ class Parser {
     if (!obj.contains(key)) error(ptr, fmt::format("missing '{}'", key));
     return obj[key];
   }
+  JsonWhere where(const std::string& ptr) const { return {name_, ptr}; }
   double number(const json& v, const std::string& ptr, double lo = -1e300, double hi = 1e300) const {
-    if (!v.is_number()) error(ptr, fmt::format("expected a number, got {}", type_name(v)));
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) error(ptr, "expected a finite number");
-    if (d < lo || d > hi) error(ptr, fmt::format("{} is out of range [{}, {}]", d, lo, hi));
-    return d;
+    return json_number(v, where(ptr), lo, hi);
   }
   int integer(const json& v, const std::string& ptr, long long lo, long long hi) const {
-    if (!v.is_number_integer()) {
-      if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 1e15) {
-        // 64.0 is accepted as 64
-      } else {
-        error(ptr, fmt::format("expected an integer, got {}",
-                               v.is_number() ? fmt::format("{}", v.get<double>()) : std::string(type_name(v))));
-      }
-    }
-    const long long i = v.is_number_integer() ? v.get<long long>() : static_cast<long long>(v.get<double>());
-    if (i < lo || i > hi) error(ptr, fmt::format("{} is out of range [{}, {}]", i, lo, hi));
-    return static_cast<int>(i);
+    return json_integer(v, where(ptr), lo, hi);
   }
-  bool boolean(const json& v, const std::string& ptr) const {
-    if (!v.is_boolean()) error(ptr, fmt::format("expected true or false, got {}", type_name(v)));
-    return v.get<bool>();
-  }
-  std::string string(const json& v, const std::string& ptr) const {
-    if (!v.is_string()) error(ptr, fmt::format("expected a string, got {}", type_name(v)));
-    return v.get<std::string>();
-  }
+  bool boolean(const json& v, const std::string& ptr) const { return json_boolean(v, where(ptr)); }
+  std::string string(const json& v, const std::string& ptr) const { return json_string(v, where(ptr)); }
   std::string choice(const json& v, const std::string& ptr, const std::vector<std::string>& allowed) const {
-    const std::string s = string(v, ptr);
-    if (std::find(allowed.begin(), allowed.end(), s) == allowed.end())
-      error(ptr, fmt::format("unknown value '{}' (allowed: {})", s, join(allowed)));
-    return s;
+    return json_choice(v, where(ptr), allowed);
   }
   std::vector<double> numbers(const json& v, const std::string& ptr, std::size_t n, double lo = -1e300,
                               double hi = 1e300) const {
@@ -417,41 +370,7 @@ class Parser {
     return e;
   }
 
-  RenderSettings render(const json& v, const std::string& ptr) const {
-    object(v, ptr,
-           {"method", "sampler", "spp", "kmax", "search_depth", "search", "balance", "structure", "visibility",
-            "shadow_map_size", "seed", "tonemap"});
-    RenderSettings r;
-    if (v.contains("method")) r.method = choice(v["method"], at(ptr, "method"), allowed_methods());
-    if (v.contains("sampler")) r.sampler = choice(v["sampler"], at(ptr, "sampler"), allowed_samplers());
-    if (v.contains("spp")) r.spp = integer(v["spp"], at(ptr, "spp"), 1, 1 << 24);
-    if (v.contains("kmax")) r.kmax = integer(v["kmax"], at(ptr, "kmax"), 0, 1 << 24);
-    if (v.contains("search_depth")) {
-      r.search_depth = integer(v["search_depth"], at(ptr, "search_depth"), -1, 1024);
-      if (r.search_depth == 0) error(at(ptr, "search_depth"), "must be -1 (unlimited) or 1..1024");
-    }
-    if (v.contains("search")) r.search = choice(v["search"], at(ptr, "search"), allowed_searches());
-    if (v.contains("balance")) r.balance = choice(v["balance"], at(ptr, "balance"), allowed_balances());
-    if (v.contains("structure")) r.structure = choice(v["structure"], at(ptr, "structure"), allowed_structures());
-    if (v.contains("visibility")) r.visibility = choice(v["visibility"], at(ptr, "visibility"), allowed_visibilities());
-    if (v.contains("shadow_map_size"))
-      r.shadow_map_size = integer(v["shadow_map_size"], at(ptr, "shadow_map_size"), 16, 4096);
-    if (v.contains("seed")) r.seed = static_cast<std::uint32_t>(integer(v["seed"], at(ptr, "seed"), 0, 2147483647));
-    if (v.contains("tonemap")) {
-      const json& t = v["tonemap"];
-      const std::string tptr = at(ptr, "tonemap");
-      object(t, tptr, {"exposure", "gamma"});
-      if (t.contains("exposure")) {
-        r.tonemap.exposure = number(t["exposure"], at(tptr, "exposure"), 0.0, 1e300);
-        if (r.tonemap.exposure <= 0.0) error(at(tptr, "exposure"), "must be > 0");
-      }
-      if (t.contains("gamma")) {
-        r.tonemap.gamma = number(t["gamma"], at(tptr, "gamma"), 0.0, 100.0);
-        if (r.tonemap.gamma <= 0.0) error(at(tptr, "gamma"), "must be > 0");
-      }
-    }
-    return r;
-  }
+  RenderSettings render(const json& v, const std::string& ptr) const { return parse_render_settings(v, where(ptr)); }
 
   std::string name_;
   fs::path base_;

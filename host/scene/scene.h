@@ -11,8 +11,8 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "core/tonemap.h"
 #include "scene/geometry.h"
+#include "scene/settings.h"
 
 namespace nf::scene {
 
@@ -30,50 +30,6 @@ struct Environment {
   double rotation_deg = 0.0;   // about the world +y axis
   double intensity = 1.0;      // >= 0
 };
-
-// Render settings (DESIGN.md §4, §5) as written in the file; the render layer interprets them.
-// Strings are validated against the allowed sets below.
-struct RenderSettings {
-  std::string method = "ours";            // ours | paper | uniform | global
-  std::string sampler = "halton";         // halton | halton-scrambled | random
-  int spp = 200;                          // K, samples per pixel per frame, >= 1
-  int kmax = 0;                           // K_max, cap of samples per image per pixel; 0 = no cap
-  int search_depth = -1;                  // CDF evaluations per 1D inversion, 1..1024; -1 = unlimited (exact)
-  std::string search = "secant";          // secant | binary
-  std::string balance = "roulette";       // paper | min1 | roulette (min1 and roulette are unbiased)
-  std::string structure = "fused";        // per-image | fused (Step 1/2 passes)
-  std::string visibility = "shadowmaps";  // none | shadowmaps
-  int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
-  std::uint32_t seed = 1;                 // sampler seed (random, halton-scrambled)
-  TonemapParams tonemap;                  // exposure, gamma
-};
-// The defaults above match nf::render::SamplingSettings; render converts the strings with its
-// parse_* functions.
-
-inline const std::vector<std::string>& allowed_methods() {
-  static const std::vector<std::string> v{"ours", "paper", "uniform", "global"};
-  return v;
-}
-inline const std::vector<std::string>& allowed_samplers() {
-  static const std::vector<std::string> v{"halton", "halton-scrambled", "random"};
-  return v;
-}
-inline const std::vector<std::string>& allowed_balances() {
-  static const std::vector<std::string> v{"paper", "min1", "roulette"};
-  return v;
-}
-inline const std::vector<std::string>& allowed_searches() {
-  static const std::vector<std::string> v{"secant", "binary"};
-  return v;
-}
-inline const std::vector<std::string>& allowed_structures() {
-  static const std::vector<std::string> v{"per-image", "fused"};
-  return v;
-}
-inline const std::vector<std::string>& allowed_visibilities() {
-  static const std::vector<std::string> v{"none", "shadowmaps"};
-  return v;
-}
 
 struct Scene {
   std::filesystem::path file;  // the scene file as given (empty when parsed from a string)

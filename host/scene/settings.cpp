@@ -1,0 +1,280 @@
+// The declarations of every render setting (docs/settings.md) and the functions that serve
+// scene files, the command line, the viewer and metadata from them.
+#include "scene/settings.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <type_traits>
+
+#include "core/error.h"
+
+namespace nf::scene {
+namespace {
+
+using json = nlohmann::json;
+using Check = std::function<void(double, const JsonWhere&)>;
+
+// Binds a setting to a field through `ref`, a generic lambda returning a reference to the field
+// of a (const or not) RenderSettings.
+template <typename Ref>
+Setting choice(std::string name, std::string path, std::vector<std::string> choices, std::string contribution,
+               SettingEffect effect, std::string doc, Ref ref) {
+  Setting s;
+  s.name = std::move(name);
+  s.json_path = std::move(path);
+  s.type = SettingType::choice;
+  s.choices = std::move(choices);
+  s.contribution = std::move(contribution);
+  s.effect = effect;
+  s.doc = std::move(doc);
+  s.get = [ref](const RenderSettings& r) { return std::string(ref(r)); };
+  s.set = [ref, c = s.choices](RenderSettings& r, const json& v, const JsonWhere& w) { ref(r) = json_choice(v, w, c); };
+  return s;
+}
+
+template <typename Ref>
+Setting integer(std::string name, std::string path, long long lo, long long hi, std::string contribution,
+                SettingEffect effect, std::string doc, Ref ref, Check check = {}) {
+  Setting s;
+  s.name = std::move(name);
+  s.json_path = std::move(path);
+  s.type = SettingType::integer;
+  s.lo = static_cast<double>(lo);
+  s.hi = static_cast<double>(hi);
+  s.contribution = std::move(contribution);
+  s.effect = effect;
+  s.doc = std::move(doc);
+  s.get = [ref](const RenderSettings& r) { return std::to_string(ref(r)); };
+  s.set = [ref, lo, hi, check](RenderSettings& r, const json& v, const JsonWhere& w) {
+    const int i = json_integer(v, w, lo, hi);
+    if (check) check(i, w);
+    using T = std::remove_reference_t<decltype(ref(r))>;
+    ref(r) = static_cast<T>(i);
+  };
+  return s;
+}
+
+// A real in (lo, hi]: lo itself is refused with "must be > lo".
+template <typename Ref>
+Setting positive_real(std::string name, std::string path, double hi, std::string contribution, SettingEffect effect,
+                      std::string doc, Ref ref) {
+  Setting s;
+  s.name = std::move(name);
+  s.json_path = std::move(path);
+  s.type = SettingType::real;
+  s.lo = 0.0;
+  s.hi = hi;
+  s.contribution = std::move(contribution);
+  s.effect = effect;
+  s.doc = std::move(doc);
+  s.get = [ref](const RenderSettings& r) { return fmt::format("{}", ref(r)); };
+  s.set = [ref, hi](RenderSettings& r, const json& v, const JsonWhere& w) {
+    const double d = json_number(v, w, 0.0, hi);
+    if (d <= 0.0) w.fail("must be > 0");
+    ref(r) = d;
+  };
+  return s;
+}
+
+std::vector<Setting> declare() {
+  constexpr auto R = SettingEffect::restart;
+  constexpr auto S0 = SettingEffect::step0;
+  constexpr auto D = SettingEffect::display;
+  constexpr long long kMaxSpp = 1 << 24;
+  return {
+      choice(
+          "method", "method", {"ours", "paper", "uniform", "global"}, "luminaires", R,
+          "how samples are drawn on the light-field images (docs/sampling.md)",
+          [](auto& r) -> auto& { return r.method; }),
+      choice(
+          "sampler", "sampler", {"halton", "halton-scrambled", "random"}, "luminaires", R,
+          "where the 2D sample points come from", [](auto& r) -> auto& { return r.sampler; }),
+      integer(
+          "spp", "spp", 1, kMaxSpp, "luminaires", R, "K: samples per pixel per frame (Eq. 12)",
+          [](auto& r) -> auto& { return r.spp; }),
+      integer(
+          "kmax", "kmax", 0, kMaxSpp, "luminaires", R, "K_max: cap of samples per image and pixel (0 = none)",
+          [](auto& r) -> auto& { return r.kmax; }),
+      integer(
+          "search_depth", "search_depth", -1, 1024, "luminaires", R,
+          "CDF evaluations per 1D inversion (-1 = unlimited, exact)", [](auto& r) -> auto& { return r.search_depth; },
+          [](double v, const JsonWhere& w) {
+            if (v == 0.0) w.fail("must be -1 (unlimited) or 1..1024");
+          }),
+      choice(
+          "search", "search", {"secant", "binary"}, "luminaires", R, "CDF inversion: modified secant or bisection",
+          [](auto& r) -> auto& { return r.search; }),
+      choice(
+          "balance", "balance", {"paper", "min1", "roulette"}, "luminaires", R,
+          "rounding of K_m(p) = K A_m / A (min1 and roulette are unbiased)",
+          [](auto& r) -> auto& { return r.balance; }),
+      choice(
+          "structure", "structure", {"per-image", "fused"}, "luminaires", R,
+          "per-image Step 1/2 passes (paper) or one fused pass", [](auto& r) -> auto& { return r.structure; }),
+      choice(
+          "visibility", "visibility", {"none", "shadowmaps"}, "frame", S0,
+          "luminaire visibility: none or shadow maps at the reference light positions",
+          [](auto& r) -> auto& { return r.visibility; }),
+      integer(
+          "shadow_map_size", "shadow_map_size", 16, 4096, "frame", S0, "pixels per side of each shadow map",
+          [](auto& r) -> auto& { return r.shadow_map_size; }),
+      integer(
+          "seed", "seed", 0, 2147483647, "luminaires", R, "seed of the random and scrambled sequences",
+          [](auto& r) -> auto& { return r.seed; }),
+      integer(
+          "lanes", "lanes", 0, 16, "luminaires", R, "surfaces per OpenCL work-item: 1, 4, 8, 16 (0 = automatic)",
+          [](auto& r) -> auto& { return r.lanes; },
+          [](double v, const JsonWhere& w) {
+            if (v != 0 && v != 1 && v != 4 && v != 8 && v != 16)
+              w.fail(fmt::format("must be 0 (automatic), 1, 4, 8 or 16, got {}", v));
+          }),
+      positive_real(
+          "exposure", "tonemap/exposure", 1e300, "display", D, "tone mapping exposure (> 0)",
+          [](auto& r) -> auto& { return r.tonemap.exposure; }),
+      positive_real(
+          "gamma", "tonemap/gamma", 100.0, "display", D, "tone mapping gamma (> 0)",
+          [](auto& r) -> auto& { return r.tonemap.gamma; }),
+  };
+}
+
+std::string pointer_join(const std::string& base, const std::string& path) { return base + "/" + path; }
+
+json parse_text(const Setting& s, const std::string& text, const JsonWhere& w) {
+  if (s.type == SettingType::choice) {  // typed names may use '_' for '-' ("halton_scrambled")
+    std::string dashed = text;
+    std::replace(dashed.begin(), dashed.end(), '_', '-');
+    const bool known = std::find(s.choices.begin(), s.choices.end(), text) != s.choices.end();
+    return json(!known && std::find(s.choices.begin(), s.choices.end(), dashed) != s.choices.end() ? dashed : text);
+  }
+  errno = 0;
+  char* end = nullptr;
+  if (s.type == SettingType::integer) {
+    const long long i = std::strtoll(text.c_str(), &end, 10);
+    if (!text.empty() && end == text.c_str() + text.size() && errno == 0) return json(i);
+  }
+  errno = 0;
+  const double d = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size()) w.fail(fmt::format("'{}' is not a number", text));
+  if (errno == ERANGE && std::fabs(d) > 1.0) w.fail(fmt::format("'{}' is out of the range of a double", text));
+  return json(d);  // subnormals parse with ERANGE and are kept
+}
+
+}  // namespace
+
+std::string to_string(SettingEffect e) {
+  switch (e) {
+    case SettingEffect::display:
+      return "display";
+    case SettingEffect::restart:
+      return "restart";
+    case SettingEffect::step0:
+      return "step0";
+  }
+  return "?";
+}
+
+std::string Setting::cli_name() const {
+  std::string n = name;
+  std::replace(n.begin(), n.end(), '_', '-');
+  return "--" + n;
+}
+
+std::string Setting::range_text() const {
+  if (type == SettingType::choice) return join_names(choices);
+  if (type == SettingType::integer)
+    return fmt::format("{}..{}", static_cast<long long>(lo), static_cast<long long>(hi));
+  return fmt::format("> {}, <= {}", lo, hi);
+}
+
+const std::vector<Setting>& settings_table() {
+  static const std::vector<Setting> table = declare();
+  return table;
+}
+
+const Setting* find_setting(const std::string& name) {
+  std::string n = name;
+  if (n.rfind("--", 0) == 0) n = n.substr(2);
+  std::replace(n.begin(), n.end(), '-', '_');
+  for (const auto& s : settings_table())
+    if (s.name == n) return &s;
+  return nullptr;
+}
+
+std::string setting_names_text() {
+  std::vector<std::string> names;
+  for (const auto& s : settings_table()) names.push_back(s.name);
+  return join_names(names);
+}
+
+void set_setting_text(RenderSettings& r, const Setting& s, const std::string& text, const std::string& where) {
+  const JsonWhere w{"", where};
+  s.set(r, parse_text(s, text, w), w);
+}
+
+RenderSettings parse_render_settings(const json& v, const JsonWhere& where) {
+  // keys of the "render" object: each setting's first path component
+  std::vector<std::string> keys;
+  for (const auto& s : settings_table()) {
+    const std::string k = s.json_path.substr(0, s.json_path.find('/'));
+    if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+  }
+  auto check_object = [&](const json& o, const std::string& ptr, const std::vector<std::string>& allowed) {
+    if (!o.is_object()) JsonWhere{where.file, ptr}.fail(fmt::format("expected an object, got {}", json_type_name(o)));
+    for (auto it = o.begin(); it != o.end(); ++it)
+      if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end())
+        JsonWhere{where.file, pointer_join(ptr, it.key())}.fail(
+            fmt::format("unknown key '{}' (allowed here: {})", it.key(), join_names(allowed)));
+  };
+  check_object(v, where.ptr, keys);
+  RenderSettings r;
+  for (const auto& s : settings_table()) {
+    const json* node = &v;
+    std::string ptr = where.ptr;
+    std::size_t from = 0;
+    bool present = true;
+    while (present) {
+      const std::size_t slash = s.json_path.find('/', from);
+      const std::string key = s.json_path.substr(from, slash - from);
+      if (!node->contains(key)) {
+        present = false;
+        break;
+      }
+      node = &(*node)[key];
+      ptr = pointer_join(ptr, key);
+      if (slash == std::string::npos) break;
+      // an intermediate object ("tonemap"): its keys are the settings below it
+      std::vector<std::string> below;
+      const std::string prefix = s.json_path.substr(0, slash + 1);
+      for (const auto& t : settings_table())
+        if (t.json_path.rfind(prefix, 0) == 0) below.push_back(t.json_path.substr(prefix.size()));
+      check_object(*node, ptr, below);
+      from = slash + 1;
+    }
+    if (present) s.set(r, *node, JsonWhere{where.file, ptr});
+  }
+  return r;
+}
+
+std::vector<std::pair<std::string, std::string>> settings_attributes(const RenderSettings& r) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& s : settings_table()) out.emplace_back("nearfield:" + s.name, s.get(r));
+  return out;
+}
+
+SettingEffect change_effect(const RenderSettings& a, const RenderSettings& b) {
+  SettingEffect e = SettingEffect::display;
+  for (const auto& s : settings_table())
+    if (s.get(a) != s.get(b)) e = std::max(e, s.effect);
+  return e;
+}
+
+bool same_settings(const RenderSettings& a, const RenderSettings& b) {
+  for (const auto& s : settings_table())
+    if (s.get(a) != s.get(b)) return false;
+  return true;
+}
+
+}  // namespace nf::scene

@@ -1,0 +1,83 @@
+#pragma once
+// The render settings, declared once (docs/settings.md). Each declaration in settings.cpp gives
+// a setting's name, type, range, default, documentation, the contribution it belongs to and
+// what a change of it invalidates; that one declaration serves the scene file's "render" block,
+// the command-line overrides (`--name`), the viewer's panel and `set NAME VALUE` scripts,
+// validation (the same messages everywhere) and the EXR/JSON metadata ("nearfield:name").
+// Adding a setting is one field below and one declaration in settings.cpp.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/tonemap.h"
+#include "scene/json_read.h"
+
+namespace nf::scene {
+
+// Render settings as written in the file (strings for choices); the render layer interprets them.
+struct RenderSettings {
+  std::string method = "ours";            // ours | paper | uniform | global
+  std::string sampler = "halton";         // halton | halton-scrambled | random
+  int spp = 200;                          // K, samples per pixel per frame, >= 1
+  int kmax = 0;                           // K_max, cap of samples per image per pixel; 0 = no cap
+  int search_depth = -1;                  // CDF evaluations per 1D inversion, 1..1024; -1 = unlimited (exact)
+  std::string search = "secant";          // secant | binary
+  std::string balance = "roulette";       // paper | min1 | roulette (min1 and roulette are unbiased)
+  std::string structure = "fused";        // per-image | fused (Step 1/2 passes)
+  std::string visibility = "shadowmaps";  // none | shadowmaps
+  int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
+  std::uint32_t seed = 1;                 // sampler seed (random, halton-scrambled)
+  int lanes = 0;                          // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
+  TonemapParams tonemap;                  // exposure, gamma
+};
+
+// What a change of a setting invalidates, in increasing order: `display` only re-tone-maps the
+// accumulated image, `restart` restarts the accumulation, `step0` also reruns Step 0 (G-buffer,
+// shadow maps).
+enum class SettingEffect { display, restart, step0 };
+std::string to_string(SettingEffect e);
+
+enum class SettingType { choice, integer, real };
+
+struct Setting {
+  std::string name;       // scene key in "render" (path: json_path), CLI `--` + name with '_' -> '-'
+  std::string json_path;  // pointer below /render: "spp", "tonemap/exposure"
+  SettingType type = SettingType::integer;
+  std::vector<std::string> choices;  // type choice
+  double lo = 0.0, hi = 0.0;         // inclusive range (integer, real)
+  std::string doc;                   // one line for --help, the viewer and docs/settings.md
+  std::string contribution;          // "luminaires", "frame", "display"
+  SettingEffect effect = SettingEffect::restart;
+  // Reads the value as text ("ours", "64", "0.35"): metadata, the viewer, describe().
+  std::function<std::string(const RenderSettings&)> get;
+  // Validates and stores a JSON value; errors name `where` (file or option, and pointer).
+  std::function<void(RenderSettings&, const nlohmann::json&, const JsonWhere&)> set;
+
+  std::string cli_name() const;    // "--search-depth"
+  std::string range_text() const;  // "ours | paper | ...", "1..16777216"
+};
+
+// Every setting, in the order of docs/settings.md.
+const std::vector<Setting>& settings_table();
+// The setting called `name` (the name or the CLI spelling with '-'); nullptr if none.
+const Setting* find_setting(const std::string& name);
+// All names, comma-separated (messages).
+std::string setting_names_text();
+
+// Sets one setting from text (command line, viewer, scripts): numbers for numeric settings, the
+// name for choices. Throws nf::Error "where: message" with the same message a scene file gets.
+void set_setting_text(RenderSettings& r, const Setting& s, const std::string& text, const std::string& where);
+// Reads the scene file's "render" object (unknown keys are errors listing the allowed ones).
+RenderSettings parse_render_settings(const nlohmann::json& v, const JsonWhere& where);
+// ("nearfield:<name>", value) for every setting: EXR metadata and stats JSON.
+std::vector<std::pair<std::string, std::string>> settings_attributes(const RenderSettings& r);
+// The strongest effect among the settings that differ between a and b (nullopt-like: display
+// when nothing differs).
+SettingEffect change_effect(const RenderSettings& a, const RenderSettings& b);
+bool same_settings(const RenderSettings& a, const RenderSettings& b);
+
+}  // namespace nf::scene

@@ -1,0 +1,51 @@
+/* Test kernels for the BRDF library (common/brdf.h, docs/materials.md): importance samples with
+   their densities, and BRDF values, so that tests can check the device code against host
+   double-precision formulas and chi-square tests. Scalar (NF_LANES = 1). */
+#include "common/brdf.h"
+#include "common/lanes.h"
+#include "common/random.h"
+
+/* Sample i of `count`: kind 0 = cosine about n, 1 = GGX half vector about n reflected about v.
+   Writes (l, pdf(l)); pdf = 0 marks a half vector facing away from v (no valid reflection). The
+   2D points are Philox streams keyed by `seed`. */
+__kernel void brdf_debug_sample(const int kind, const float alpha, const float4 n4, const float4 v4, const uint seed,
+                                const int count, __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  uint a = (uint)i, b = 0x2545f491U;
+  nf_philox(&a, &b, seed);
+  const float u1 = nf_unit(a), u2 = nf_unit(b);
+  const float3 n = n4.xyz, v = v4.xyz;
+  if (kind == 0) {
+    const float3 l = nf_to_world(nf_sample_cosine(u1, u2), n);
+    out[i] = (float4)(l, nf_pdf_cosine(dot(l, n)));
+    return;
+  }
+  const float3 h = nf_to_world(nf_sample_ggx_h(u1, u2, alpha), n);
+  const float3 l = nf_reflect(v, h);
+  out[i] = (float4)(l, nf_pdf_ggx(dot(n, h), dot(v, h), alpha));
+}
+
+/* f_r(l, v) max(0, n.l) of one material for `count` directions l (rgb, 0). */
+__kernel void brdf_debug_eval(const int brdf, const float alpha, const float metallic, const float4 base,
+                              const float4 n4, const float4 v4, __global const float4* dirs, const int count,
+                              __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  NfShade s;
+  s.nx = n4.x;
+  s.ny = n4.y;
+  s.nz = n4.z;
+  s.vx = v4.x;
+  s.vy = v4.y;
+  s.vz = v4.z;
+  s.brdf = brdf;
+  s.alpha = alpha;
+  s.metallic = metallic;
+  s.br = base.x;
+  s.bg = base.y;
+  s.bb = base.z;
+  float r, g, b;
+  nf_brdf_cos(&s, dirs[i].x, dirs[i].y, dirs[i].z, &r, &g, &b);
+  out[i] = (float4)(r, g, b, 0.0f);
+}
