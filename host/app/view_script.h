@@ -6,7 +6,7 @@
 // Every command is one entry of script_commands() (view_script.cpp): its name, argument kinds,
 // usage and help text, the checks run at parse time and the handler run between frames. The
 // parser and the runner both look commands up there, so a command exists exactly when it has an
-// entry (tests/view_script_test.cpp runs every entry). The commands (docs/viewer.md, Scripts):
+// entry (tests/view_script_commands_test.cpp runs every entry). The commands (docs/viewer.md, Scripts):
 //
 //   frames N                      render N frames (progressive: they accumulate)
 //   orbit YAW PITCH [N]           degrees; with N, spread over N frames (one frame per step)
