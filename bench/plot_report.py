@@ -13,7 +13,11 @@ Reads points.csv, references.csv, breakdown.csv, meta.json and, when present, mi
     studies.png         search depth (Fig. 5), samplers (Fig. 8), K_max (Fig. 9), balance (Eq. 12)
     report.md           machine, configuration, headline ratios, tables, the figures
 
-Every ratio in the report comes from the points of this one run. Only matplotlib and numpy
+Every ratio in the report comes from the points of this one run, and every sentence that compares
+(which method needs fewer samples or less time, equal or not, which sampler's error is larger) is
+built by the functions under "findings" from those numbers: the direction words follow the data,
+"equal" means a ratio within EQUAL_TOL of 1 (bench/test_plot_report.py checks that the sentences
+flip when the data do). Only matplotlib and numpy
 (Debian python3-matplotlib, python3-numpy) are needed.
 """
 import csv
@@ -502,6 +506,95 @@ def with_how(v, how):
 
 
 # ---------------------------------------------------------------------------------------------
+# findings: every sentence that compares is built here from the numbers, never written as text
+
+# Two figures whose ratio is within this of 1 are reported as "equal" (a stated threshold, not a
+# noise estimate: ΔE of a 128×128 close-up at 252 spp moves by a few per cent between seeds).
+EQUAL_TOL = 0.05
+
+
+def verdict(r, above, below, equal="equal", tol=EQUAL_TOL):
+    """`above` when r > 1 + tol, `below` when r < 1 / (1 + tol), else `equal`; None if r is not finite."""
+    if r is None or not math.isfinite(r):
+        return None
+    if r > 1.0 + tol:
+        return above
+    if r < 1.0 / (1.0 + tol):
+        return below
+    return equal
+
+
+def span(vals, suffix="×"):
+    """'lo-hi×' (or 'v×') of the finite values, '–' when none."""
+    v = [x for x in vals if x is not None and math.isfinite(x)]
+    if not v:
+        return "–"
+    lo, hi = min(v), max(v)
+    return f"{fmt(lo)}{suffix}" if fmt(lo) == fmt(hi) else f"{fmt(lo)}-{fmt(hi)}{suffix}"
+
+
+def grouped(items):
+    """{word: [target (value×), ...]} → 'word on a (1.1×), b (1.2×); word2 on c (0.9×)'."""
+    parts = [f"{w} on {', '.join(ts)}" for w, ts in items.items() if ts]
+    return "; ".join(parts)
+
+
+def machine_isa(m):
+    """The CPU's ISA level from meta.json (bench_sweep records /proc/cpuinfo's flags), or what the
+    OpenCL device string says PoCL compiled for when the run predates that field."""
+    if m.get("isa"):
+        flags = m.get("isa_flags") or []
+        return f"{m['isa']} (/proc/cpuinfo flags{': ' + ' '.join(flags) if flags else ''})"
+    cl = m.get("cl_device", {})
+    hit = re.search(r"pthread-[\w.-]*?(skylake-avx512|avx512\w*|avx2|haswell|znver\d|icelake\w*|x86-64\S*)",
+                    cl.get("version", "") + " " + cl.get("name", ""))
+    if hit:
+        return f"not recorded by this run; PoCL's kernel target: {hit.group(1)} (OpenCL device string)"
+    return "not recorded by this run"
+
+
+def time_spread(P):
+    """Median and largest (median repetition / fastest repetition − 1) over repeated points."""
+    s = sorted(r["time_median_ms"] / r["time_ms"] - 1.0 for r in P.rows
+               if r.get("reps", 0) >= 2 and r.get("time_ms", 0) > 0 and math.isfinite(r.get("time_median_ms", float("nan"))))
+    if not s:
+        return None
+    return float(np.median(s)), s[-1], len(s)
+
+
+def curve_rises(ys, tol=EQUAL_TOL):
+    """True when the error grows by more than tol from one spp to the next somewhere on the curve."""
+    return any(b > a * (1.0 + tol) for a, b in zip(ys[:-1], ys[1:]) if math.isfinite(a) and math.isfinite(b))
+
+
+def worst_bias(P, sampler):
+    rows = [r for r in P.rows if r["sampler"] == sampler and r["method"] == "ours" and r["balance"] == "roulette"
+            and r["k_max"] == 0 and r["search_depth"] == -1 and r["spp"] <= 252 and math.isfinite(r["rel_bias"])]
+    return max(rows, key=lambda r: abs(r["rel_bias"])) if rows else None
+
+
+def exact_from_depth(P, t, tol=EQUAL_TOL):
+    """Smallest search depth from which both searches' ΔE stay within tol of their exact ΔE (depth −1)
+    at every measured depth; None when the study is missing or never settles."""
+    depths = None
+    for kind in ("secant", "binary"):
+        rows = P.select(study="search", target=t, search=kind)
+        exact = [r["delta_e"] for r in rows if r["search_depth"] == -1]
+        if not exact:
+            return None
+        off = {int(r["search_depth"]) for r in rows
+               if r["search_depth"] >= 0 and abs(r["delta_e"] / exact[0] - 1.0) > tol}
+        ds = sorted(int(r["search_depth"]) for r in rows if r["search_depth"] >= 0)
+        if not ds:
+            return None
+        first = next((d for d in ds if all(e < d for e in off)), None)
+        if first is None:
+            return None
+        depths = first if depths is None else max(depths, first)
+    return depths
+
+
+# ---------------------------------------------------------------------------------------------
 # report
 
 
@@ -511,6 +604,7 @@ def machine_block(meta):
     lines = [
         f"- **CPU**: {m.get('cpu_model', '?')} — {m.get('cores', '?')} logical cores (nproc), "
         f"{m.get('memory_gib', '?')} GiB RAM; {m.get('kernel', '')}",
+        f"- **ISA**: {machine_isa(m)}",
         f"- **OpenCL device**: {cl.get('name', '?')} ({cl.get('type', '?')}, {cl.get('compute_units', '?')} "
         f"compute units, fp64 {'yes' if cl.get('fp64') else 'no'}) — {cl.get('version', '?')}; "
         f"driver {cl.get('driver_version', '?')}; platform {cl.get('platform', '?')} {cl.get('platform_version', '')}",
@@ -522,6 +616,102 @@ def machine_block(meta):
         f"{meta.get('load_end', '?')} at the end",
     ]
     return "\n".join(lines)
+
+
+def differences(meta, P, H):
+    """The 'Where and why we differ from the paper' bullets: every comparison computed from this run."""
+    bw = [t["box_pixels"] for t in meta.get("targets", []) if "box_pixels" in t]
+    cv = [t["box_cv"] for t in meta.get("targets", []) if "box_cv" in t]
+    box_range = (f"{fmt(min(bw), 2)}-{fmt(max(bw), 2)} pixels wide, luminance CV {fmt(min(cv), 2)}-{fmt(max(cv), 2)} "
+                 "inside them" if bw and cv else "not measured in this run")
+    out = []
+
+    # luminaires: ours vs uniform, random sampler (the clean comparison)
+    hs = [h for h in H.get("random", []) if "uniform_252_de" in h]
+    lum = ("- **Luminaires.** Ours are synthetic (a virtual acquisition of smooth lens/beam emitters, "
+           "docs/luminaire-format.md), not the measured bike/car data (sharp filament and reflector images); "
+           f"their boxes B_m(p) are {box_range} (Setup table).")
+    if hs:
+        by_spp = {"`ours` needs fewer samples": [], "`uniform` needs fewer samples": [],
+                  f"equal within ±{fmt(100 * EQUAL_TOL, 2)} %": []}
+        keys = list(by_spp)
+        for h in hs:
+            r = h.get("uniform_spp_ratio")
+            w = verdict(r, keys[0], keys[1], keys[2])
+            if w:
+                by_spp[w].append(f"{h['target']} ({fmt(r)}×)")
+        n_equal, n_ours, n_uni = len(by_spp[keys[2]]), len(by_spp[keys[0]]), len(by_spp[keys[1]])
+        lum += (" With the random sampler, the spp `uniform` needs to reach `ours`'s ΔE at 252 spp is "
+                f"{span([h.get('uniform_spp_ratio') for h in hs])} of 252 (paper 4×) and the ΔE ratio at 252 spp "
+                f"{span([h.get('uniform_err_ratio') for h in hs])} (paper 2.4×): {grouped(by_spp)}.")
+        if n_equal and not n_ours and not n_uni:
+            lum += (" Importance sampling *inside* a box gains nothing measurable over uniform sampling on these "
+                    "luminaires; showing the paper's gain needs a luminaire with structure inside the boxes.")
+        elif n_ours and not n_equal and not n_uni:
+            lum += " Importance sampling inside the boxes pays off on every target, as in the paper."
+        by_time = {"`uniform` faster": [], "`uniform` slower": [], f"equal within ±{fmt(100 * EQUAL_TOL, 2)} %": []}
+        tk = list(by_time)
+        for h in hs:
+            r = h.get("uniform_time_ratio")
+            w = verdict(r, tk[1], tk[0], tk[2])
+            if w:
+                by_time[w].append(f"{h['target']} ({fmt(r)}×)")
+        if any(by_time.values()):
+            lum += (" In time for equal ΔE (`uniform`'s time / `ours`'s; paper 1.7×): "
+                    f"{grouped(by_time)}.")
+    out.append(lum)
+
+    out.append(
+        "- **`uniform` keeps the balanced K_m** of Eq. 12 (DESIGN.md §4: 'same K_m per image, uniform on B_m(p)'), "
+        "so it isolates the restricted CDFs. The paper's uniform variant draws 'the same number of samples from "
+        "each texture image' (no balancing), which also spends samples on dim images; its ratio includes that.")
+
+    # Halton vs random: monotonicity of the error curves and the bias of the total light
+    targets = P.targets()
+    rises = {}
+    for s in ("halton", "random"):
+        n = 0
+        for t in targets:
+            xs, ys = P.curve(t, "ours", s)
+            n += 1 if len(xs) >= 2 and curve_rises(list(ys)) else 0
+        rises[s] = n
+    wh, wr = worst_bias(P, "halton"), worst_bias(P, "random")
+    hal = ("- **Halton** (one sequence shared by all pixels, paper §6.3) gives image-wide structured error. "
+           f"`ours`'s ΔE grows from one spp to the next by more than {fmt(100 * EQUAL_TOL, 2)} % somewhere on "
+           f"{rises['halton']} of {len(targets)} targets with Halton and on {rises['random']} with the random sampler.")
+    if wh and wr:
+        rb = ratio(abs(wh["rel_bias"]), abs(wr["rel_bias"]))
+        word = verdict(rb, "larger", "smaller", "about the same")
+        hal += (f" The largest error of the total light (`ours`, up to 252 spp) is {100 * wh['rel_bias']:+.1f} % with "
+                f"Halton ({wh['target']}, {int(wh['spp'])} spp) and {100 * wr['rel_bias']:+.1f} % with random "
+                f"({wr['target']}, {int(wr['spp'])} spp): Halton's is {word} ({fmt(rb)}×).")
+    hal += (" The random-sampler rows show the estimators' own variance; `halton-scrambled` rotates the sequence "
+            "per pixel (Fig. 8 panel).")
+    out.append(hal)
+
+    # search depth
+    ds = {t: exact_from_depth(P, t) for t in targets}
+    ds = {t: d for t, d in ds.items() if d is not None}
+    srch = "- **Search depth.**"
+    if ds:
+        groups = {}
+        for t, d in ds.items():
+            groups.setdefault(d, []).append(t)
+        srch += (f" Both searches come within {fmt(100 * EQUAL_TOL, 2)} % of their exact ΔE (K = 200) from depth "
+                 + "; ".join(f"{d} on for {', '.join(ts)}" for d, ts in sorted(groups.items()))
+                 + " (the boxes are small, Setup table).")
+    srch += (" Our depth counts CDF evaluations (a secant step evaluates two knots and counts 2, "
+             "docs/sampling.md), so at depth 3 the secant gets 1-2 steps to the binary search's 3.")
+    out.append(srch)
+
+    m = meta.get("machine", {})
+    cl = m.get("cl_device", {})
+    out.append(
+        f"- **Hardware.** {m.get('cores', '?')} logical cores of {m.get('cpu_model', '?')} (ISA: {machine_isa(m)}) "
+        f"run the OpenCL kernels through {cl.get('platform', '?')} ({cl.get('type', '?')} device "
+        f"{cl.get('name', '?')}) and GL through {m.get('gl_renderer') or 'no GL renderer'}, not a GTX 580: "
+        "absolute times are not comparable with the paper's.")
+    return out
 
 
 def write_report(out, meta, P, R, B, micro):
@@ -542,10 +732,14 @@ def write_report(out, meta, P, R, B, micro):
     cores = meta.get("machine", {}).get("cores", 0) or 1
     if load and fnum(load[0], 0) > 0.5 * cores:
         L.append("")
-        L.append(f"> The machine was shared while this ran (load {load[0]} on {cores} cores at the start): "
-                 "times are the fastest of up to "
+        spread = time_spread(P)
+        noise = (f"over the {spread[2]} repeated points the median repetition took {fmt(100 * spread[0], 2)} % "
+                 f"longer than the fastest (at most {fmt(100 * spread[1], 2)} %), a guide to the noise of "
+                 "single-run times" if spread else "no point was repeated, so this run gives no noise estimate")
+        L.append(f"> The machine was shared while this ran (load {load[0]} on {cores} cores at the start, more "
+                 "than half a core per core): times are the fastest of up to "
                  f"{meta.get('max_reps', '?')} repetitions for points under {fmt(meta.get('rep_budget_ms', 0))} ms, "
-                 "single runs above; expect ±20-50 % noise on single-run times. Errors are not affected.")
+                 f"single runs above; {noise}. Errors do not depend on timing.")
     L.append("")
     L.append("## Setup")
     L.append("")
@@ -649,8 +843,10 @@ def write_report(out, meta, P, R, B, micro):
                 L.append(f"Paper Fig. 11 on {h['target']}: `ours` at 63 spp has ΔE {fmt(o['delta_e'])} in "
                          f"{fmt(o['time_ms'])} ms; `global` at 63 000 spp has ΔE {fmt(g['delta_e'])} in "
                          f"{fmt(g['time_ms'])} ms ({fmt(ratio(g['time_ms'], o['time_ms']))}× the time; "
-                         f"rel. MSE {fmt(o['rel_mse'])} vs {fmt(g['rel_mse'])}). Paper: 63 spp in 62 ms vs "
-                         "63 000 spp in 4821 ms, ours visibly better.")
+                         f"rel. MSE {fmt(o['rel_mse'])} vs {fmt(g['rel_mse'])}): `ours` has the "
+                         f"{'lower' if o['delta_e'] < g['delta_e'] else 'higher' if o['delta_e'] > g['delta_e'] else 'same'} "
+                         f"ΔE in {'less' if o['time_ms'] < g['time_ms'] else 'more' if o['time_ms'] > g['time_ms'] else 'the same'} "
+                         "time. Paper: 63 spp in 62 ms vs 63 000 spp in 4821 ms, `ours` visibly better.")
                 L.append("")
 
     # ---- the other comparisons
@@ -797,42 +993,9 @@ def write_report(out, meta, P, R, B, micro):
         L.append("")
 
     # ---- differences from the paper
-    bw = [t["box_pixels"] for t in meta.get("targets", []) if "box_pixels" in t]
-    cv = [t["box_cv"] for t in meta.get("targets", []) if "box_cv" in t]
-    box_range = (f"{fmt(min(bw), 2)}-{fmt(max(bw), 2)} pixels wide, luminance CV {fmt(min(cv), 2)}-{fmt(max(cv), 2)} "
-                 "inside it" if bw and cv else "a few pixels wide")
-    hb = [r for r in P.rows if r["sampler"] == "halton" and r["method"] == "ours" and r["balance"] == "roulette"
-          and r["k_max"] == 0 and r["search_depth"] == -1 and r["spp"] <= 252]
-    if hb:
-        w = max(hb, key=lambda r: abs(r["rel_bias"]))
-        worst_halton = f"up to {100 * w['rel_bias']:+.1f} % on {w['target']} at {int(w['spp'])} spp"
-    else:
-        worst_halton = "see the bias column"
     L.append("## Where and why we differ from the paper")
     L.append("")
-    L.append(
-        "- **Luminaires.** Ours are synthetic (a virtual acquisition of smooth lens/beam emitters, "
-        "docs/luminaire-format.md), not the measured bike/car data: their images are smooth at the scale of "
-        f"a box B_m(p) ({box_range}: Setup table), so "
-        "importance sampling *inside* a box has little to gain over uniform sampling, and "
-        "`ours`/`uniform` come out equal in error per sample where the paper's measured data (sharp filament "
-        "and reflector images) gave 2.4×/4×. `uniform` is then faster per sample (no CDF search), so it wins "
-        "in time. The comparison needs a luminaire with structure inside the boxes to show the paper's gain.\n"
-        "- **`uniform` keeps the balanced K_m** of Eq. 12 (DESIGN.md §4: 'same K_m per image, uniform on B_m(p)'), "
-        "so it isolates the restricted CDFs. The paper's uniform variant draws 'the same number of samples from "
-        "each texture image' (no balancing), which also wastes samples on dim images; its ratio includes that.\n"
-        "- **Halton** (one sequence shared by all pixels, paper §6.3) gives structured, image-wide error: its "
-        f"curves are not monotone and the total light can be off by several per cent ({worst_halton}), where "
-        "the random sampler stays within its noise. The random-sampler rows show the estimators' own "
-        "variance and are the cleaner comparison; `halton-scrambled` (per-pixel rotation) trades the "
-        "structure for noise (Fig. 8 panel).\n"
-        "- **Search depth.** The boxes are small (Setup table), so both searches are exact from depth ~4 on and "
-        "differ only at depths 1-3. Our depth counts CDF evaluations (a secant step evaluates two knots and "
-        "counts 2, docs/sampling.md), so at depth 3 the secant gets 1-2 steps to the binary search's 3; the "
-        "paper's depth probably counts steps.\n"
-        "- **Hardware.** A 2-core CPU running the OpenCL kernels through PoCL and GL through llvmpipe, not a "
-        "GTX 580: absolute times are not comparable, and the Step 0 / readback costs that a GPU with GL/CL "
-        "sharing avoids show up here.")
+    L.extend(differences(meta, P, H))
     L.append("")
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("\n".join(L) + "\n")

@@ -3,6 +3,7 @@
 #include <sys/utsname.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -54,12 +55,28 @@ MachineInfo collect_machine(const cl::Runtime& rt) {
   {
     std::ifstream in("/proc/cpuinfo");
     std::string line;
-    while (std::getline(in, line))
-      if (line.rfind("model name", 0) == 0) {
-        m.cpu_model = line.substr(line.find(':') + 2);
-        break;
-      }
+    std::string flags;
+    while (std::getline(in, line) && (m.cpu_model.empty() || flags.empty())) {
+      const auto colon = line.find(':');
+      if (colon == std::string::npos) continue;
+      const std::string value = colon + 2 <= line.size() ? line.substr(colon + 2) : "";
+      if (m.cpu_model.empty() && line.rfind("model name", 0) == 0) m.cpu_model = value;
+      if (flags.empty() && line.rfind("flags", 0) == 0) flags = value;
+    }
     if (m.cpu_model.empty()) m.cpu_model = "unknown CPU";
+    // The vector extensions the kernels' compiler can use, and the widest of them.
+    std::istringstream words(flags);
+    std::vector<std::string> have;
+    for (std::string w; words >> w;) have.push_back(w);
+    auto has = [&](const char* f) { return std::find(have.begin(), have.end(), f) != have.end(); };
+    for (const char* f : {"sse4_2", "avx", "avx2", "fma", "avx512f", "avx512bw", "avx512vl", "avx512_vnni"})
+      if (has(f)) m.isa_flags.push_back(f);
+    m.isa = has("avx512f")  ? "AVX-512"
+            : has("avx2")   ? "AVX2"
+            : has("avx")    ? "AVX"
+            : has("sse4_2") ? "SSE4.2"
+            : flags.empty() ? "unknown (no flags in /proc/cpuinfo)"
+                            : "no AVX or SSE4.2";
   }
   const long n = sysconf(_SC_NPROCESSORS_ONLN);
   m.cores = n > 0 ? static_cast<unsigned>(n) : 0;
@@ -96,6 +113,8 @@ MachineInfo collect_machine(const cl::Runtime& rt) {
 nlohmann::json to_json(const MachineInfo& m) {
   nlohmann::json j;
   j["cpu_model"] = m.cpu_model;
+  j["isa"] = m.isa;
+  j["isa_flags"] = m.isa_flags;
   j["cores"] = m.cores;
   j["memory_gib"] = std::round(m.memory_gib * 10.0) / 10.0;
   j["loadavg"] = m.loadavg;

@@ -1,5 +1,5 @@
 #pragma once
-// The machine a benchmark ran on (DESIGN.md §9: every figure names its machine): CPU model, cores,
+// The machine a benchmark ran on (DESIGN.md §9: every figure names its machine): CPU model and ISA, cores,
 // memory, load, the OpenCL device in use and every device found, the GL renderer, the build and
 // the source commit.
 #include <string>
@@ -13,6 +13,8 @@ namespace nf::bench {
 
 struct MachineInfo {
   std::string cpu_model;
+  std::string isa;                      // widest vector ISA in /proc/cpuinfo flags: AVX-512, AVX2, AVX, SSE4.2
+  std::vector<std::string> isa_flags;   // the vector flags present (sse4_2 avx avx2 fma avx512f ...)
   unsigned cores = 0;                   // online logical CPUs (nproc)
   double memory_gib = 0;                // MemTotal
   std::string loadavg;                  // /proc/loadavg at the time of the call (1, 5, 15 min)

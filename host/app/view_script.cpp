@@ -15,38 +15,6 @@
 namespace nf::app {
 namespace {
 
-// What each argument must be.
-enum class Arg { number, count, text, index, on_off };
-
-struct Signature {
-  const char* name;
-  std::vector<Arg> required;
-  std::vector<Arg> optional;
-};
-
-const std::vector<Signature>& signatures() {
-  using A = Arg;
-  static const std::vector<Signature> s{
-      {"frames", {A::count}, {}},
-      {"orbit", {A::number, A::number}, {A::count}},
-      {"pan", {A::number, A::number}, {A::count}},
-      {"zoom", {A::number}, {A::count}},
-      {"look-at", {A::number, A::number, A::number, A::number, A::number, A::number}, {}},
-      {"fov", {A::number}, {}},
-      {"reset-view", {}, {}},
-      {"set", {A::text, A::text}, {}},
-      {"luminaire", {A::index, A::text}, {A::number, A::number, A::number, A::count}},
-      {"display", {A::text}, {}},
-      {"panel", {A::on_off}, {}},
-      {"section", {A::text, A::on_off}, {}},
-      {"save", {A::text}, {}},
-      {"save-scene", {A::text}, {}},
-      {"screenshot", {A::text}, {}},
-      {"quit", {}, {}},
-  };
-  return s;
-}
-
 std::vector<std::string> split(const std::string& line) {
   std::istringstream in(line);
   std::vector<std::string> words;
@@ -68,26 +36,37 @@ bool is_integer(const std::string& v, long long lo) {
   return !v.empty() && end == v.c_str() + v.size() && errno == 0 && x >= lo && x <= (1LL << 30);
 }
 
-void check_arg(const Script& s, const ScriptCommand& c, std::size_t i, Arg kind) {
+void check_arg(const Script& s, const ScriptCommand& c, std::size_t i, ScriptArg kind) {
   const std::string& v = c.args[i];
   auto bad = [&](const char* what) {
     fail(fmt::format("{}: {}: argument {} '{}' {}", s.where(c), c.name, i + 1, v, what));
   };
   switch (kind) {
-    case Arg::number:
+    case ScriptArg::number:
       if (!is_number(v)) bad("is not a number");
       break;
-    case Arg::count:
+    case ScriptArg::count:
       if (!is_integer(v, 1)) bad("is not a frame count >= 1");
       break;
-    case Arg::index:
+    case ScriptArg::index:
       if (!is_integer(v, 0)) bad("is not an index >= 0");
       break;
-    case Arg::on_off:
+    case ScriptArg::on_off:
       if (v != "on" && v != "off") bad("is not on or off");
       break;
-    case Arg::text:
+    case ScriptArg::text:
       break;
+  }
+}
+
+// ---------------------------------------------------------------- parse-time checks ----------
+
+void check_set(const Script& s, const ScriptCommand& c) {
+  ViewSettings dummy;
+  try {
+    apply_setting(dummy, c.args[0], c.args[1]);
+  } catch (const Error& e) {
+    fail(fmt::format("{}: set: {}", s.where(c), e.what()));
   }
 }
 
@@ -103,46 +82,227 @@ void check_luminaire(const Script& s, const ScriptCommand& c) {
     fail(fmt::format("{}: luminaire intensity: must be >= 0", s.where(c)));
 }
 
-void check_semantics(const Script& s, const ScriptCommand& c) {
-  if (c.name == "set") {
-    ViewSettings dummy;
-    try {
-      apply_setting(dummy, c.args[0], c.args[1]);
-    } catch (const Error& e) {
-      fail(fmt::format("{}: set: {}", s.where(c), e.what()));
-    }
-  } else if (c.name == "luminaire") {
-    check_luminaire(s, c);
-  } else if (c.name == "display") {
-    if (c.args[0] != "image" && c.args[0] != "A" && c.args[0] != "K")
-      fail(fmt::format("{}: display: expected image, A or K, got '{}'", s.where(c), c.args[0]));
-  } else if (c.name == "section") {
-    const auto& names = panel_sections();
-    if (std::find(names.begin(), names.end(), c.args[0]) == names.end())
-      fail(fmt::format("{}: section: unknown panel section '{}'", s.where(c), c.args[0]));
-  } else if (c.name == "zoom") {
-    if (!(script_number(s, c, 0) > 0.0)) fail(fmt::format("{}: zoom: the factor must be > 0", s.where(c)));
-  } else if (c.name == "fov") {
-    const double f = script_number(s, c, 0);
-    if (!(f > 0.0 && f <= 179.0)) fail(fmt::format("{}: fov: must be in (0, 179] degrees", s.where(c)));
+void check_display(const Script& s, const ScriptCommand& c) {
+  if (c.args[0] != "image" && c.args[0] != "A" && c.args[0] != "K")
+    fail(fmt::format("{}: display: expected image, A or K, got '{}'", s.where(c), c.args[0]));
+}
+
+void check_section(const Script& s, const ScriptCommand& c) {
+  const auto& names = panel_sections();
+  if (std::find(names.begin(), names.end(), c.args[0]) == names.end())
+    fail(fmt::format("{}: section: unknown panel section '{}'", s.where(c), c.args[0]));
+}
+
+void check_zoom(const Script& s, const ScriptCommand& c) {
+  if (!(script_number(s, c, 0) > 0.0)) fail(fmt::format("{}: zoom: the factor must be > 0", s.where(c)));
+}
+
+void check_fov(const Script& s, const ScriptCommand& c) {
+  const double f = script_number(s, c, 0);
+  if (!(f > 0.0 && f <= 179.0)) fail(fmt::format("{}: fov: must be in (0, 179] degrees", s.where(c)));
+}
+
+// ---------------------------------------------------------------- handlers -------------------
+
+// orbit, pan, zoom: at once, or spread over the optional last argument's frames.
+void camera_motion(ScriptContext& x) {
+  const ScriptCommand& c = x.command;
+  const bool zoom = c.name == "zoom";
+  const int steps = c.args.size() > (zoom ? 1u : 2u) ? x.integer(c.args.size() - 1) : 0;
+  Animation a{c.name, x.number(0), zoom ? 0.0 : x.number(1)};
+  if (steps > 0) {
+    if (zoom)
+      a.a = std::pow(a.a, 1.0 / steps);
+    else
+      a.a /= steps, a.b /= steps;
+    a.steps = steps;
+    x.runner.animate(a);
+  } else if (c.name == "orbit") {
+    x.state.orbit.orbit(a.a, a.b);
+  } else if (c.name == "pan") {
+    x.state.orbit.pan(a.a, a.b);
+  } else {
+    x.state.orbit.zoom(a.a);
   }
 }
+
+void luminaire_command(ScriptContext& x) {
+  const ScriptCommand& c = x.command;
+  auto& lums = x.state.lums;
+  const int i = x.integer(0);
+  if (i >= static_cast<int>(lums.size()))
+    fail(fmt::format("luminaire {} does not exist (the scene has {})", i, lums.size()));
+  LuminaireEdit& e = lums[static_cast<std::size_t>(i)];
+  const std::string& what = c.args[1];
+  if (what == "intensity") {
+    e.intensity = x.number(2);
+    return;
+  }
+  const glm::dvec3 v(x.number(2), x.number(3), x.number(4));
+  const int steps = c.args.size() > 5 ? x.integer(5) : 0;
+  if (steps > 0) {  // interpolated over `steps` frames, one frame each
+    Animation a;
+    a.kind = what;
+    a.luminaire = static_cast<std::size_t>(i);
+    a.from = what == "translate" ? e.translate : e.euler;
+    a.to = v;
+    a.steps = steps;
+    x.runner.animate(a);
+    return;
+  }
+  if (what == "translate") e.translate = v;
+  if (what == "rotate") e.euler = v;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- the table ------------------
+
+const std::vector<ScriptCommandSpec>& script_commands() {
+  using A = ScriptArg;
+  using X = ScriptContext;
+  static const std::vector<ScriptCommandSpec> table{
+      {"frames",
+       {A::count},
+       {},
+       "N",
+       "render N frames (they accumulate unless something changed)",
+       "2",
+       {},
+       [](X& x) { x.runner.render_frames(x.integer(0)); }},
+      {"orbit",
+       {A::number, A::number},
+       {A::count},
+       "YAW PITCH [N]",
+       "orbit by degrees; with N, spread over N frames (one frame per step)",
+       "20 -4",
+       {},
+       camera_motion},
+      {"pan",
+       {A::number, A::number},
+       {A::count},
+       "DX DY [N]",
+       "pan in view half-heights at the target distance",
+       "0.15 0.05",
+       {},
+       camera_motion},
+      {"zoom",
+       {A::number},
+       {A::count},
+       "FACTOR [N]",
+       "eye distance x FACTOR (over N frames: FACTOR^(1/N) per frame)",
+       "0.85",
+       check_zoom,
+       camera_motion},
+      {"look-at",
+       {A::number, A::number, A::number, A::number, A::number, A::number},
+       {},
+       "PX PY PZ TX TY TZ",
+       "absolute camera (keeps up and fov)",
+       "0 1 4 0 0.5 0",
+       {},
+       [](X& x) {
+         x.state.orbit.look_at({x.number(0), x.number(1), x.number(2)}, {x.number(3), x.number(4), x.number(5)});
+       }},
+      {"fov",
+       {A::number},
+       {},
+       "DEGREES",
+       "vertical field of view",
+       "30",
+       check_fov,
+       [](X& x) { x.state.orbit.set_fov(x.number(0)); }},
+      {"reset-view", {}, {}, "", "the scene file's camera", "", {}, [](X& x) { x.state.reset_view(); }},
+      {"set",
+       {A::text, A::text},
+       {},
+       "NAME VALUE",
+       "a setting (view_settings.h names)",
+       "spp 3",
+       check_set,
+       [](X& x) { apply_setting(x.state.settings, x.text(0), x.text(1)); }},
+      {"luminaire",
+       {A::index, A::text},
+       {A::number, A::number, A::number, A::count},
+       "I translate X Y Z [N] | I rotate RX RY RZ [N] | I intensity V",
+       "place, turn (Euler degrees, R = Rz Ry Rx) or scale luminaire I (0-based); with N, over N frames",
+       "1 translate 0.7 0.72 0.05",
+       check_luminaire,
+       luminaire_command},
+      {"display",
+       {A::text},
+       {},
+       "image|A|K",
+       "what the window shows",
+       "K",
+       check_display,
+       [](X& x) {
+         const std::string& v = x.text(0);
+         x.state.display = v == "A" ? DisplayMode::a : v == "K" ? DisplayMode::k : DisplayMode::image;
+         x.state.redisplay = true;
+       }},
+      {"panel", {A::on_off}, {}, "on|off", "the panel", "off", {}, [](X& x) { x.state.panel = x.on(0); }},
+      {"section",
+       {A::text, A::on_off},
+       {},
+       "NAME on|off",
+       "open or close a panel section",
+       "statistics off",
+       check_section,
+       [](X& x) { x.state.open_sections[x.text(0)] = x.on(1); }},
+      {"save",
+       {A::text},
+       {},
+       "PATH.exr",
+       "the accumulated image (EXR + PNG)",
+       "view.exr",
+       {},
+       [](X& x) { x.actions.save_image(x.text(0)); }},
+      {"save-scene",
+       {A::text},
+       {},
+       "PATH.json",
+       "the view as a scene file",
+       "view.json",
+       {},
+       [](X& x) { x.actions.save_scene(x.text(0)); }},
+      {"screenshot",
+       {A::text},
+       {},
+       "PATH.png",
+       "the window, after the next draw",
+       "window.png",
+       {},
+       [](X& x) { x.state.capture = x.text(0); }},
+      {"quit", {}, {}, "", "quit", "", {}, [](X& x) { x.state.quit = true; }},
+  };
+  return table;
+}
+
+const ScriptCommandSpec* find_script_command(const std::string& name) {
+  for (const auto& spec : script_commands())
+    if (spec.name == name) return &spec;
+  return nullptr;
+}
+
+// ---------------------------------------------------------------- parsing --------------------
+
+namespace {
 
 ScriptCommand parse_line(const Script& s, const std::vector<std::string>& words, int line) {
   ScriptCommand c;
   c.line = line;
   c.name = words[0];
   c.args.assign(words.begin() + 1, words.end());
-  const Signature* sig = nullptr;
-  for (const auto& candidate : signatures())
-    if (c.name == candidate.name) sig = &candidate;
-  if (!sig) fail(fmt::format("{}: unknown command '{}' (see docs/viewer.md)", s.where(c), c.name));
-  const std::size_t lo = sig->required.size(), hi = lo + sig->optional.size();
+  const ScriptCommandSpec* spec = find_script_command(c.name);
+  if (!spec) fail(fmt::format("{}: unknown command '{}' (see docs/viewer.md)", s.where(c), c.name));
+  const std::size_t lo = spec->required.size(), hi = lo + spec->optional.size();
   if (c.args.size() < lo || c.args.size() > hi)
     fail(fmt::format("{}: {}: expected {} argument(s), got {}", s.where(c), c.name,
                      lo == hi ? fmt::format("{}", lo) : fmt::format("{} to {}", lo, hi), c.args.size()));
-  for (std::size_t i = 0; i < c.args.size(); ++i) check_arg(s, c, i, i < lo ? sig->required[i] : sig->optional[i - lo]);
-  check_semantics(s, c);
+  for (std::size_t i = 0; i < c.args.size(); ++i)
+    check_arg(s, c, i, i < lo ? spec->required[i] : spec->optional[i - lo]);
+  if (spec->check) spec->check(s, c);
   return c;
 }
 
@@ -194,6 +354,52 @@ bool script_switch(const Script& s, const ScriptCommand& c, std::size_t i) {
   if (i < c.args.size() && (c.args[i] == "on" || c.args[i] == "true" || c.args[i] == "1")) return true;
   if (i < c.args.size() && (c.args[i] == "off" || c.args[i] == "false" || c.args[i] == "0")) return false;
   fail(fmt::format("{}: {}: argument {} is not on or off", s.where(c), c.name, i + 1));
+}
+
+double ScriptContext::number(std::size_t i) const { return script_number(script, command, i); }
+int ScriptContext::integer(std::size_t i) const { return script_integer(script, command, i); }
+bool ScriptContext::on(std::size_t i) const { return script_switch(script, command, i); }
+
+// ---------------------------------------------------------------- running --------------------
+
+bool ScriptRunner::step(ViewerState& state, ScriptActions& actions) {
+  const auto& commands = script_.commands;
+  auto idle = [&] { return budget_ == 0 && state.capture.empty() && !state.quit; };
+  if (budget_ == 0) {
+    while (pc_ < commands.size() && idle()) execute(commands[pc_++], state, actions);
+    if (pc_ >= commands.size() && idle()) {
+      done_ = true;
+      return false;
+    }
+  }
+  if (budget_ == 0) return false;
+  if (animation_) {
+    Animation& a = *animation_;
+    if (a.kind == "orbit") state.orbit.orbit(a.a, a.b);
+    if (a.kind == "pan") state.orbit.pan(a.a, a.b);
+    if (a.kind == "zoom") state.orbit.zoom(a.a);
+    if (a.kind == "translate" || a.kind == "rotate") {
+      ++a.step;
+      const glm::dvec3 v =
+          a.step >= a.steps ? a.to : a.from + (a.to - a.from) * (static_cast<double>(a.step) / a.steps);
+      (a.kind == "translate" ? state.lums[a.luminaire].translate : state.lums[a.luminaire].euler) = v;
+    }
+  }
+  if (--budget_ == 0) animation_.reset();
+  return true;
+}
+
+void ScriptRunner::execute(const ScriptCommand& c, ViewerState& state, ScriptActions& actions) {
+  const ScriptCommandSpec* spec = find_script_command(c.name);
+  try {
+    if (!spec) fail(fmt::format("unknown command '{}' (see docs/viewer.md)", c.name));
+    ScriptContext x{script_, c, state, *this, actions};
+    spec->run(x);
+  } catch (const Error& e) {
+    const std::string prefix = script_.where(c) + ": ";
+    const std::string what = e.what();
+    fail(what.rfind(prefix, 0) == 0 ? what : prefix + c.name + ": " + what);
+  }
 }
 
 }  // namespace nf::app

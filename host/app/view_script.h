@@ -3,6 +3,11 @@
 // order between frames; '#' starts a comment. Parsed and checked completely before the window
 // opens, so a typo fails at once with "FILE:LINE: ..." instead of after minutes of rendering.
 //
+// Every command is one entry of script_commands() (view_script.cpp): its name, argument kinds,
+// usage and help text, the checks run at parse time and the handler run between frames. The
+// parser and the runner both look commands up there, so a command exists exactly when it has an
+// entry (tests/view_script_commands_test.cpp runs every entry). The commands (docs/viewer.md, Scripts):
+//
 //   frames N                      render N frames (progressive: they accumulate)
 //   orbit YAW PITCH [N]           degrees; with N, spread over N frames (one frame per step)
 //   pan DX DY [N]                 view half-heights at the target distance
@@ -10,9 +15,7 @@
 //   look-at PX PY PZ TX TY TZ     absolute camera (keeps up, fov)
 //   fov DEGREES                   vertical field of view
 //   reset-view                    the scene file's camera
-//   set NAME VALUE                method sampler spp kmax balance search search_depth structure
-//                                 visibility shadow_map_size seed lanes exposure gamma scale
-//                                 fast_motion (on|off) pause (on|off) max_frames
+//   set NAME VALUE                a setting (view_settings.h)
 //   luminaire I translate X Y Z [N]  absolute placement of luminaire I (0-based), metres; with
 //                                 N, moved there linearly over N frames
 //   luminaire I rotate RX RY RZ [N]  absolute Euler angles (degrees, R = Rz Ry Rx, as in
@@ -20,15 +23,20 @@
 //   luminaire I intensity V
 //   display image|A|K             what the window shows (K and A in false colour)
 //   panel on|off                  the ImGui panel
-//   section NAME on|off           open or close a panel section (rendering, display, camera,
-//                                 luminaires, statistics, files, shortcuts)
+//   section NAME on|off           open or close a panel section (panel_sections())
 //   save PATH.exr                 the accumulated HDR image, plus PATH.png (tone-mapped)
 //   save-scene PATH.json          the current camera, luminaires and settings as a scene file
 //   screenshot PATH.png           the window as shown (panel included when it is on)
 //   quit
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "app/viewer_state.h"
 
 namespace nf::app {
 
@@ -45,6 +53,61 @@ struct Script {
   std::string where(const ScriptCommand& c) const;
 };
 
+// What a script does that needs the renderer: the frame loop (viewer_loop.h) saves the files.
+// Both bring the renderer up to date with the state first; errors throw nf::Error.
+class ScriptActions {
+ public:
+  virtual ~ScriptActions() = default;
+  virtual void save_image(const std::filesystem::path& exr) = 0;
+  virtual void save_scene(const std::filesystem::path& json) = 0;
+};
+
+// A scripted camera or luminaire motion spread over frames.
+struct Animation {
+  std::string kind;  // "orbit", "pan", "zoom" (a, b per frame), "translate", "rotate" (luminaire)
+  double a = 0, b = 0;
+  std::size_t luminaire = 0;
+  glm::dvec3 from{0.0}, to{0.0};
+  int step = 0, steps = 0;
+};
+
+class ScriptRunner;
+
+// What a command's handler works on.
+struct ScriptContext {
+  const Script& script;
+  const ScriptCommand& command;
+  ViewerState& state;
+  ScriptRunner& runner;
+  ScriptActions& actions;
+  // Typed arguments (checked by parse_script already).
+  double number(std::size_t i) const;
+  int integer(std::size_t i) const;
+  bool on(std::size_t i) const;
+  const std::string& text(std::size_t i) const { return command.args.at(i); }
+};
+
+// What each argument must be.
+enum class ScriptArg { number, count, text, index, on_off };
+
+// One script command: the only place a command is defined.
+struct ScriptCommandSpec {
+  std::string name;
+  std::vector<ScriptArg> required, optional;
+  std::string usage;    // the arguments as docs/viewer.md writes them
+  std::string help;     // what it does
+  std::string example;  // arguments that parse and run on a scene with two luminaires (tests)
+  // Parse-time checks beyond the argument kinds; throw nf::Error "NAME:LINE: ..." (may be empty).
+  std::function<void(const Script&, const ScriptCommand&)> check;
+  // Runs the command between frames.
+  std::function<void(ScriptContext&)> run;
+};
+
+// Every command, in the order docs/viewer.md lists them.
+const std::vector<ScriptCommandSpec>& script_commands();
+// The entry named `name`, or nullptr.
+const ScriptCommandSpec* find_script_command(const std::string& name);
+
 // Throws nf::Error "NAME:LINE: ..." for unknown commands, wrong argument counts, bad numbers,
 // unknown setting names or values.
 Script parse_script(const std::string& text, const std::string& name);
@@ -57,5 +120,36 @@ const std::vector<std::string>& panel_sections();
 double script_number(const Script& s, const ScriptCommand& c, std::size_t i);
 int script_integer(const Script& s, const ScriptCommand& c, std::size_t i);
 bool script_switch(const Script& s, const ScriptCommand& c, std::size_t i);  // on|off|true|false|1|0
+
+// Runs a script between frames: commands until one asks for frames (`frames`, an animation), a
+// window capture or quit.
+class ScriptRunner {
+ public:
+  explicit ScriptRunner(Script script) : script_(std::move(script)) {}
+  const Script& script() const { return script_; }
+  // Every command has run and its frames are rendered.
+  bool done() const { return done_; }
+  // Runs the commands due before the next frame, then advances an animation by one step.
+  // Returns whether this iteration renders a frame.
+  bool step(ViewerState& state, ScriptActions& actions);
+  // Runs one command through its table entry. Errors throw nf::Error "NAME:LINE: COMMAND: ...".
+  void execute(const ScriptCommand& c, ViewerState& state, ScriptActions& actions);
+
+  // For handlers: render `frames` frames before the next command; with an animation, one of
+  // its steps before each of them.
+  void render_frames(int frames) { budget_ = frames; }
+  void animate(const Animation& a) {
+    animation_ = a;
+    budget_ = a.steps;
+  }
+  int frames_due() const { return budget_; }
+
+ private:
+  Script script_;
+  std::size_t pc_ = 0;
+  int budget_ = 0;
+  std::optional<Animation> animation_;
+  bool done_ = false;
+};
 
 }  // namespace nf::app

@@ -1,4 +1,5 @@
-// The viewer's files: image (EXR + PNG), scene, window screenshot, statistics JSON. Every file is
+// The viewer's files (part of the frame loop, viewer_loop.h): image (EXR + PNG), scene, window
+// screenshot, statistics JSON (viewer_stats.h). Every file is
 // written to a temporary name and renamed into place; an image's EXR and PNG are committed
 // together. Inputs of the scene are never overwritten: the scene file being viewed only after
 // the user confirms in the panel (scripts: refused), luminaire files never.
@@ -8,12 +9,11 @@
 #include <cctype>
 #include <cstdint>
 #include <fstream>
-#include <numeric>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "app/viewer_impl.h"
+#include "app/viewer_loop.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_io.h"
@@ -43,53 +43,6 @@ bool same_file(const fs::path& a, const fs::path& b) {
   return fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
 }
 
-struct Summary {
-  std::size_t frames = 0;
-  double loop_mean = 0, loop_median = 0, render_mean = 0, cpu_mean = 0, samples_per_second = 0;
-  double fps() const { return loop_mean > 0 ? 1000.0 / loop_mean : 0.0; }
-};
-
-Summary summarise(const std::vector<FrameRecord>& records, bool moving) {
-  Summary s;
-  std::vector<double> loops;
-  double render = 0, samples = 0, cpu = 0;
-  for (const auto& r : records)
-    if (r.moving == moving) {
-      loops.push_back(r.loop_ms);
-      render += r.render_ms;
-      cpu += r.cpu_ms;
-      samples += static_cast<double>(r.samples);
-    }
-  s.frames = loops.size();
-  if (loops.empty()) return s;
-  const double total = std::accumulate(loops.begin(), loops.end(), 0.0);
-  s.loop_mean = total / static_cast<double>(loops.size());
-  s.render_mean = render / static_cast<double>(loops.size());
-  s.cpu_mean = cpu / static_cast<double>(loops.size());
-  std::sort(loops.begin(), loops.end());
-  s.loop_median = loops[loops.size() / 2];
-  s.samples_per_second = samples / (total / 1000.0);
-  return s;
-}
-
-nlohmann::json summary_json(const Summary& s) {
-  return {{"frames", s.frames},
-          {"fps", s.fps()},
-          {"loop_ms_mean", s.loop_mean},
-          {"loop_ms_median", s.loop_median},
-          {"render_ms_mean", s.render_mean},
-          {"cpu_ms_mean", s.cpu_mean},
-          {"samples_per_second", s.samples_per_second}};
-}
-
-std::string summary_text(const char* what, const Summary& s) {
-  if (s.frames == 0) return fmt::format("{}: no frames", what);
-  return fmt::format(
-      "{}: {:.1f} fps ({:.1f} ms per frame, median {:.1f}; renderer {:.1f} ms; CPU {:.0f} ms; {:.3g} samples/s; {} "
-      "frames)",
-      what, s.fps(), s.loop_mean, s.loop_median, s.render_mean, s.cpu_mean, s.samples_per_second, s.frames);
-}
-
 }  // namespace
 
 std::vector<fs::path> Viewer::luminaire_files() const {
@@ -115,7 +68,7 @@ void Viewer::refuse_inputs(const fs::path& p, bool confirmed) const {
 
 // ---------------------------------------------------------------- saving ---------------------
 
-void Viewer::save_image(const fs::path& path, bool confirmed) {
+void Viewer::write_image(const fs::path& path, bool confirmed) {
   const fs::path exr = with_extension(path, ".exr", "save");
   fs::path png = exr;
   png.replace_extension(".png");
@@ -142,26 +95,26 @@ void Viewer::save_image(const fs::path& path, bool confirmed) {
   status(fmt::format("saved {} and {} ({} frames)", exr.string(), png.string(), renderer_->frames()));
 }
 
-void Viewer::save_scene_file(const fs::path& path, bool confirmed) {
+void Viewer::write_scene(const fs::path& path, bool confirmed) {
   const fs::path json = with_extension(path, ".json", "save-scene");
   refuse_inputs(json, confirmed);
   scene::SceneState st;
-  st.camera = orbit_.camera(render_width(), render_height());
-  for (std::size_t i = 0; i < lums_.size(); ++i) {
+  st.camera = state_.orbit.camera(render_width(), render_height());
+  for (std::size_t i = 0; i < state_.lums.size(); ++i) {
     scene::LuminaireState l;
-    l.to_world = luminaire_matrix(i);
-    l.intensity = lums_[i].intensity;
+    l.to_world = state_.luminaire_matrix(i);
+    l.intensity = state_.lums[i].intensity;
     l.has_euler = true;
-    l.translate = lums_[i].translate;
-    l.euler_deg = lums_[i].euler;
+    l.translate = state_.lums[i].translate;
+    l.euler_deg = state_.lums[i].euler;
     st.luminaires.push_back(l);
   }
-  st.render = render_settings(settings_.frame);
+  st.render = render_settings(state_.settings.frame);
   scene::save_scene(original_, st, json);
   status(fmt::format("saved {}", json.string()));
 }
 
-void Viewer::save_screenshot(const fs::path& path, bool confirmed) {
+void Viewer::write_screenshot(const fs::path& path, bool confirmed) {
   const fs::path png = with_extension(path, ".png", "screenshot");
   refuse_inputs(png, confirmed);
   int w = 0, h = 0;
@@ -193,11 +146,12 @@ void Viewer::request_save(const std::string& kind, const fs::path& path) {
     fs::path other = p;
     other.replace_extension(".png");
     if (same_file(p, original_.file)) {
-      pending_ = PendingSave{kind, p, fmt::format("{} is the scene file being viewed.\nOverwrite it?", p.string())};
+      state_.pending =
+          PendingSave{kind, p, fmt::format("{} is the scene file being viewed.\nOverwrite it?", p.string())};
     } else if (fs::exists(p, ec) || (kind == "image" && fs::exists(other, ec))) {
-      pending_ = PendingSave{kind, p,
-                             fmt::format("{} already exists.\nOverwrite it?",
-                                         kind == "image" && !fs::exists(p, ec) ? other.string() : p.string())};
+      state_.pending = PendingSave{kind, p,
+                                   fmt::format("{} already exists.\nOverwrite it?",
+                                               kind == "image" && !fs::exists(p, ec) ? other.string() : p.string())};
     } else {
       perform_save(kind, p, false);
     }
@@ -208,9 +162,9 @@ void Viewer::request_save(const std::string& kind, const fs::path& path) {
 
 void Viewer::perform_save(const std::string& kind, const fs::path& path, bool confirmed) {
   try {
-    if (kind == "image") save_image(path, confirmed);
-    if (kind == "scene") save_scene_file(path, confirmed);
-    if (kind == "screenshot") capture_ = path;  // taken after this frame is drawn
+    if (kind == "image") write_image(path, confirmed);
+    if (kind == "scene") write_scene(path, confirmed);
+    if (kind == "screenshot") state_.capture = path;  // taken after this frame is drawn
   } catch (const Error& e) {
     status(e.what(), true);
   }
@@ -218,48 +172,15 @@ void Viewer::perform_save(const std::string& kind, const fs::path& path, bool co
 
 // ---------------------------------------------------------------- statistics -----------------
 
-std::string Viewer::fps_summary() const {
-  return fmt::format("view: {} frames at {}x{}; {}; {}", frames_rendered_, renderer_->camera().width,
-                     renderer_->camera().height, summary_text("static camera", summarise(records_, false)),
-                     summary_text("moving", summarise(records_, true)));
-}
-
 void Viewer::write_stats() {
-  int ww = 0, wh = 0;
-  window_->framebuffer_size(ww, wh);
-  nlohmann::json j;
-  j["format"] = "nearfield-view-stats";
-  j["version"] = 1;
-  j["scene"] = opt_.scene.string();
-  j["window"] = {ww, wh};
-  j["resolution"] = {renderer_->camera().width, renderer_->camera().height};
-  j["scale"] = settings_.scale;
-  j["fast_motion"] = settings_.fast_motion;
-  j["frames_rendered"] = frames_rendered_;
-  j["static"] = summary_json(summarise(records_, false));
-  j["moving"] = summary_json(summarise(records_, true));
-  nlohmann::json frames = nlohmann::json::array();
-  for (const auto& r : records_)
-    frames.push_back({{"loop_ms", r.loop_ms},
-                      {"cpu_ms", r.cpu_ms},
-                      {"step0_ms", r.step0_ms},
-                      {"steps12_ms", r.steps12_ms},
-                      {"shadow_ms", r.shadow_ms},
-                      {"render_ms", r.render_ms},
-                      {"moving", r.moving},
-                      {"rebuilt", r.rebuilt},
-                      {"samples", r.samples}});
-  j["frames"] = frames;
-  const nlohmann::json rs = nlohmann::json::parse(render::to_json(renderer_->stats()), nullptr, false);
-  if (!rs.is_discarded()) j["renderer"] = rs;
-  AtomicFile f(opt_.stats);
-  {
-    std::ofstream out(f.temp_path(), std::ios::binary);
-    out << j.dump(2) << "\n";
-    out.close();
-    if (!out) fail(fmt::format("{}: write failed", opt_.stats.string()));
-  }
-  f.commit();
+  ViewerStats::Header h;
+  h.scene = opt_.scene.string();
+  window_->framebuffer_size(h.window_width, h.window_height);
+  h.width = renderer_->camera().width;
+  h.height = renderer_->camera().height;
+  h.scale = state_.settings.scale;
+  h.fast_motion = state_.settings.fast_motion;
+  stats_.write(opt_.stats, h, render::to_json(renderer_->stats()));
 }
 
 }  // namespace nf::app

@@ -1,0 +1,66 @@
+#pragma once
+// The viewer's state as plain data (docs/viewer.md, "Developer notes"): what the user or a script
+// changes (settings, camera, luminaire placements, display mode, panel, file names) and the
+// requests the frame loop carries out (capture the window, quit). Input (viewer_input.h), the
+// panel (viewer_panel.h) and scripts (view_script.h) change it; the frame loop (viewer_loop.h)
+// pushes it into the renderer once per frame.
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "app/orbit_camera.h"
+#include "app/view_settings.h"
+
+namespace nf::app {
+
+enum class DisplayMode { image, a, k };
+
+// One luminaire's placement as the panel edits it (translate + Euler angles, as scene files).
+struct LuminaireEdit {
+  glm::dvec3 translate{0.0}, euler{0.0};
+  double intensity = 1.0;
+  glm::dmat4 matrix() const;
+};
+
+// An action waiting for the user's confirmation (overwriting a file).
+struct PendingSave {
+  std::string kind;  // "image", "scene", "screenshot"
+  std::filesystem::path path;
+  std::string question;
+};
+
+struct ViewerState {
+  ViewSettings settings;
+  OrbitCamera orbit, home;                     // current and the scene file's camera
+  std::vector<LuminaireEdit> lums, lums_home;  // current and the scene file's placements
+  std::vector<glm::dmat4> lums_file;           // the scene file's matrices (kept bit for bit)
+  int selected = 0;                            // luminaire edited by the panel and Ctrl+drag
+  DisplayMode display = DisplayMode::image;
+  bool false_log = true;  // false colour on a log scale
+  bool panel = true;
+  std::map<std::string, bool> open_sections;  // scripted `section` requests, applied on the next draw
+  bool redisplay = true;                      // redraw the window image even without a new frame
+
+  // panel text fields (also the keyboard's save targets) and the confirmation dialog
+  std::string image_path, scene_path, screenshot_path;
+  std::optional<PendingSave> pending;
+  std::string status;  // the panel's status line (last save, last error)
+  bool status_error = false;
+
+  // requests to the frame loop
+  std::filesystem::path capture;  // save the window after this frame is drawn
+  bool quit_after_capture = false;
+  bool quit = false;
+
+  void reset_view() { orbit = home; }
+  void reset_luminaire(std::size_t i);
+  // The scene file's matrix while the placement is unchanged (bit for bit), else the edit's.
+  glm::dmat4 luminaire_matrix(std::size_t i) const;
+};
+
+}  // namespace nf::app
