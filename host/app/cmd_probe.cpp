@@ -5,6 +5,7 @@
 // nothing else (DESIGN.md §7). --reference uses the CPU quadrature (host/reference); the other
 // methods run the OpenCL sampling kernels (host/render/probe.h).
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -52,12 +53,10 @@ std::vector<ref::Probe> read_points(std::istream& in, const std::string& name, b
         bad = true;
         break;
       }
-      std::size_t used = 0;
-      try {
-        v[count] = std::stod(token, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
+      // strtod, not stod: stod throws on underflow, which would reject denormals (finite numbers).
+      char* end = nullptr;
+      v[count] = std::strtod(token.c_str(), &end);
+      const auto used = static_cast<std::size_t>(end - token.c_str());
       if (used != token.size() || !std::isfinite(v[count])) {
         bad = true;
         break;
@@ -125,7 +124,7 @@ const CommandRegistration reg("probe", [](CLI::App& app) {
   cmd->add_option("--points", o.points, "Points file: lines 'x y z nx ny nz' ('#' comments); default stdin");
   auto* method =
       cmd->add_option("--method", o.method, "ours | paper | uniform | global | reference")->capture_default_str();
-  cmd->add_option("--spp", o.spp, "Samples per point (K)")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--spp", o.spp, "Samples per point (K)")->capture_default_str()->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_flag("--reference", o.reference, "CPU reference quadrature (double precision) instead of sampling")
       ->excludes(method);
