@@ -10,7 +10,11 @@ namespace nf::robustness {
 
 namespace fs = std::filesystem;
 
-inline std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+inline std::string q(const fs::path& p) {
+  std::string s(1, '\'');  // built by append: GCC 12 warns (-Wrestrict) on "'" + string
+  s.append(p.string()).push_back('\'');
+  return s;
+}
 
 inline fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
   const fs::path p = dir / name;

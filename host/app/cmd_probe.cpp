@@ -4,6 +4,7 @@
 // skipped) from PTS or stdin and prints one line "E_R E_G E_B" (%.9g) per point on stdout,
 // nothing else (DESIGN.md §7). --reference uses the CPU quadrature (host/reference); the other
 // methods run the OpenCL sampling kernels (host/render/probe.h).
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -68,6 +69,13 @@ std::vector<ref::Probe> read_points(std::istream& in, const std::string& name, b
     ref::Probe p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
     if (need_normal && p.n == glm::dvec3(0.0))
       fail(fmt::format("{}:{}: the normal (nx ny nz) must not be zero", name, number));
+    if (need_normal) {
+      // Unit normal for every method, robust for any finite length (1e-320 ... 1e308): divide by
+      // the largest component first, so the squares in the length neither underflow nor overflow.
+      const double big = std::max({std::fabs(p.n.x), std::fabs(p.n.y), std::fabs(p.n.z)});
+      p.n /= big;
+      p.n /= std::sqrt(p.n.x * p.n.x + p.n.y * p.n.y + p.n.z * p.n.z);
+    }
     out.push_back(p);
   }
   if (in.bad()) fail(fmt::format("{}: read error", name));

@@ -145,21 +145,21 @@ void apply_overrides(const RenderCmd& o, scene::Scene& s) {
 
 // Bytes a render will need, estimated before anything is allocated (docs/robustness.md).
 // Per pixel: the frame's G-buffer, accumulation, tone-mapped and per-pixel sampling buffers,
-// measured as ~270 bytes per pixel at 6000 x 3375 on PoCL (host and device in the same memory),
-// of which ~200 are device buffers. Luminaires: their images and precomputed tables from the
-// manifests (3 channels assumed where the EXR is not opened); presets are small and left out.
-// Meshes: ~100 bytes per triangle (vertices, indices, BVH) on each side.
+// measured as ~270 bytes per pixel in all at 6000 x 3375 on PoCL (host and device buffers in the
+// same memory), of which ~200 are device buffers and ~70 host copies. Luminaires: their images
+// and precomputed tables from the manifests (3 channels assumed, the EXR is not opened here);
+// presets are small and left out. Meshes: ~100 bytes per triangle on each side.
 struct RenderEstimate {
   std::uint64_t host = 0, device = 0;
   std::uint64_t per_pixel = 0, luminaires_host = 0, luminaires_device = 0, geometry = 0;
 };
-constexpr std::uint64_t kHostBytesPerPixel = 270, kDeviceBytesPerPixel = 200, kBytesPerTriangle = 100;
+constexpr std::uint64_t kHostBytesPerPixel = 70, kDeviceBytesPerPixel = 200, kBytesPerTriangle = 100;
 
 RenderEstimate estimate_render(const scene::Scene& s) {
   RenderEstimate e;
   const std::uint64_t pixels =
       static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
-  e.per_pixel = mul_sat(pixels, kHostBytesPerPixel);
+  e.per_pixel = mul_sat(pixels, kHostBytesPerPixel + kDeviceBytesPerPixel);  // both sides, for display
   for (const auto& l : s.luminaires) {
     if (l.manifest.empty()) continue;
     const lum::LuminaireMemory m = lum::estimate_memory(lum::read_manifest(l.manifest), 3);
@@ -167,7 +167,7 @@ RenderEstimate estimate_render(const scene::Scene& s) {
     e.luminaires_device = add_sat(e.luminaires_device, m.device());
   }
   e.geometry = mul_sat(scene::count(s).triangles, kBytesPerTriangle);
-  e.host = add_sat(add_sat(e.per_pixel, e.luminaires_host), e.geometry);
+  e.host = add_sat(add_sat(mul_sat(pixels, kHostBytesPerPixel), e.luminaires_host), e.geometry);
   e.device = add_sat(add_sat(mul_sat(pixels, kDeviceBytesPerPixel), e.luminaires_device), e.geometry);
   return e;
 }
