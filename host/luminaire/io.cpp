@@ -190,10 +190,59 @@ int read_channel_set(const std::string& file, const std::string& part, const Imf
   fail(fmt::format("{}: part {}: channels are {{{}}}, expected R,G,B or Y alone", file, part, list));
 }
 
+// Walks the OpenEXR header attribute lists (magic, version flags, then name, type, size, value
+// per attribute; a multi-part file lists headers until an empty one) and refuses a size larger
+// than the bytes left in the file. OpenEXR 3.1 allocates an attribute's declared size before
+// reading it, so a 100-byte file could otherwise demand gigabytes (found by fuzz_luminaire_exr).
+void check_exr_attribute_sizes(const std::filesystem::path& path, const std::string& file) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  const std::uintmax_t total = std::filesystem::file_size(path, ec);
+  if (!in || ec) return;  // OpenEXR reports it
+  unsigned char head[8];
+  if (!in.read(reinterpret_cast<char*>(head), 8)) return;
+  if (head[0] != 0x76 || head[1] != 0x2f || head[2] != 0x31 || head[3] != 0x01) return;  // not EXR: OpenEXR says so
+  const bool multipart = (head[5] & 0x10) != 0;  // version flag bit 12
+  auto read_string = [&](std::string& out) {
+    out.clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return true;
+      if (out.size() >= 256) return false;
+      out += c;
+    }
+    return false;
+  };
+  std::string name, type;
+  for (int headers = 0; headers <= (1 << 17); ++headers) {
+    bool empty_header = true;
+    while (true) {
+      if (!read_string(name)) return;  // truncated: OpenEXR reports it
+      if (name.empty()) break;
+      empty_header = false;
+      if (!read_string(type)) return;
+      unsigned char sz[4];
+      if (!in.read(reinterpret_cast<char*>(sz), 4)) return;
+      const std::int64_t size = static_cast<std::int32_t>(static_cast<std::uint32_t>(sz[0]) |
+                                                          (static_cast<std::uint32_t>(sz[1]) << 8) |
+                                                          (static_cast<std::uint32_t>(sz[2]) << 16) |
+                                                          (static_cast<std::uint32_t>(sz[3]) << 24));
+      const auto pos = static_cast<std::int64_t>(in.tellg());
+      if (size < 0 || pos < 0 || size > static_cast<std::int64_t>(total) - pos)
+        fail(fmt::format("{}: header attribute '{}' ({}) declares {} bytes, more than the file holds: truncated or "
+                         "corrupt",
+                         file, name, type, size));
+      in.seekg(size, std::ios::cur);
+    }
+    if (!multipart || (empty_header && headers > 0)) return;
+    if (empty_header) return;
+  }
+}
+
 void read_images(const std::filesystem::path& path, Luminaire& l) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) fail(fmt::format("{}: image file not found", file));
+  check_exr_attribute_sizes(path, file);
   try {
     Imf::MultiPartInputFile in(file.c_str());
     const int w = l.basis.count[0], h = l.basis.count[1];
