@@ -4,7 +4,9 @@
 // skipped) from PTS or stdin and prints one line "E_R E_G E_B" (%.9g) per point on stdout,
 // nothing else (DESIGN.md §7). --reference uses the CPU quadrature (host/reference); the other
 // methods run the OpenCL sampling kernels (host/render/probe.h).
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -52,12 +54,10 @@ std::vector<ref::Probe> read_points(std::istream& in, const std::string& name, b
         bad = true;
         break;
       }
-      std::size_t used = 0;
-      try {
-        v[count] = std::stod(token, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
+      // strtod, not stod: stod throws on underflow, which would reject denormals (finite numbers).
+      char* end = nullptr;
+      v[count] = std::strtod(token.c_str(), &end);
+      const auto used = static_cast<std::size_t>(end - token.c_str());
       if (used != token.size() || !std::isfinite(v[count])) {
         bad = true;
         break;
@@ -69,6 +69,13 @@ std::vector<ref::Probe> read_points(std::istream& in, const std::string& name, b
     ref::Probe p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
     if (need_normal && p.n == glm::dvec3(0.0))
       fail(fmt::format("{}:{}: the normal (nx ny nz) must not be zero", name, number));
+    if (need_normal) {
+      // Unit normal for every method, robust for any finite length (1e-320 ... 1e308): divide by
+      // the largest component first, so the squares in the length neither underflow nor overflow.
+      const double big = std::max({std::fabs(p.n.x), std::fabs(p.n.y), std::fabs(p.n.z)});
+      p.n /= big;
+      p.n /= std::sqrt(p.n.x * p.n.x + p.n.y * p.n.y + p.n.z * p.n.z);
+    }
     out.push_back(p);
   }
   if (in.bad()) fail(fmt::format("{}: read error", name));
@@ -125,7 +132,7 @@ const CommandRegistration reg("probe", [](CLI::App& app) {
   cmd->add_option("--points", o.points, "Points file: lines 'x y z nx ny nz' ('#' comments); default stdin");
   auto* method =
       cmd->add_option("--method", o.method, "ours | paper | uniform | global | reference")->capture_default_str();
-  cmd->add_option("--spp", o.spp, "Samples per point (K)")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--spp", o.spp, "Samples per point (K)")->capture_default_str()->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_flag("--reference", o.reference, "CPU reference quadrature (double precision) instead of sampling")
       ->excludes(method);

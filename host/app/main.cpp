@@ -2,6 +2,7 @@
 // command-line mistakes exit with CLI11's code (non-zero) and a usage hint.
 #include <cstdio>
 #include <map>
+#include <new>
 #include <string>
 
 #include "app/command.h"
@@ -49,6 +50,9 @@ int main(int argc, char** argv) {
       return 2;
     }
     return app.exit(e);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "nearfield: error: out of memory (an allocation failed; see `render --dry-run` for estimates)\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nearfield: error: %s\n", e.what());
     return 1;

@@ -74,7 +74,9 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
   png.replace_extension(".png");
   refuse_inputs(exr, confirmed);
   refuse_inputs(png, confirmed);
-  AtomicFile exr_file(exr), png_file(png);
+  OutputTransaction tx;
+  tx.add(exr);
+  tx.add(png);
   const Image hdr = renderer_->accumulated();
   const scene::Camera& c = renderer_->camera();
   ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
@@ -88,10 +90,9 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
                                                          c.position.x, c.position.y, c.position.z, c.target.x,
                                                          c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg)}};
   for (const auto& kv : render::settings_attributes(renderer_->settings())) attrs.push_back(kv);
-  write_exr(exr_file.temp_path(), hdr, attrs);
-  write_png(png_file.temp_path(), renderer_->tonemapped());
-  exr_file.commit();
-  png_file.commit();
+  write_exr(tx, exr, hdr, attrs);
+  write_png(tx, png, renderer_->tonemapped());
+  tx.commit();
   status(fmt::format("saved {} and {} ({} frames)", exr.string(), png.string(), renderer_->frames()));
 }
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
+#include <unistd.h>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
@@ -16,6 +18,51 @@
 
 namespace nf::cl {
 namespace {
+
+// The OpenCL compiler (PoCL's clang) prints its diagnostics straight to stderr ("455 warnings
+// generated."). While a program builds, file descriptor 2 goes to an anonymous temporary file;
+// its text is shown only with -v (log level debug) or when the build fails.
+class StderrCapture {
+ public:
+  StderrCapture() {
+    std::fflush(stderr);
+    file_ = std::tmpfile();
+    if (!file_) return;
+    saved_ = ::dup(2);
+    if (saved_ < 0 || ::dup2(::fileno(file_), 2) < 0) {
+      restore();
+      std::fclose(file_);
+      file_ = nullptr;
+    }
+  }
+  ~StderrCapture() {
+    restore();
+    if (file_) std::fclose(file_);
+  }
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+  // Restores stderr and returns what was written meanwhile.
+  std::string finish() {
+    restore();
+    if (!file_) return {};
+    std::string text;
+    std::rewind(file_);
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, file_)) > 0;) text.append(buf, n);
+    return text;
+  }
+
+ private:
+  void restore() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    ::dup2(saved_, 2);
+    ::close(saved_);
+    saved_ = -1;
+  }
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;
+};
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -188,17 +235,27 @@ Runtime::Runtime(const std::string& device_spec) {
   const std::string source = kernel_source(file);
   ::cl::Program prog(context_, source);
   const std::string opts = "-cl-std=CL1.2 " + options;
+  auto build_log = [&] {
+    try {
+      return trim(prog.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_));
+    } catch (const ::cl::Error&) {
+      return std::string("(no build log available)");
+    }
+  };
+  StderrCapture capture;
   try {
     prog.build({device_}, opts.c_str());
   } catch (const ::cl::Error& e) {
-    std::string build_log;
-    try {
-      build_log = prog.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
-    } catch (const ::cl::Error&) {
-      build_log = "(no build log available)";
-    }
-    fail(fmt::format("OpenCL: building kernels/{} with options '{}' on {} failed: {} ({})\nbuild log:\n{}", file,
-                     opts, info_.name, error_name(e.err()), e.err(), build_log));
+    const std::string printed = trim(capture.finish());
+    fail(fmt::format("OpenCL: building kernels/{} with options '{}' on {} failed: {} ({})\nbuild log:\n{}{}", file,
+                     opts, info_.name, error_name(e.err()), e.err(), build_log(),
+                     printed.empty() ? "" : "\ncompiler output:\n" + printed));
+  }
+  const std::string printed = trim(capture.finish());
+  if (log::level() >= log::Level::debug) {
+    const std::string text = build_log();
+    if (!text.empty()) log::debug("OpenCL build log of kernels/{}:\n{}", file, text);
+    if (!printed.empty()) log::debug("OpenCL compiler output for kernels/{}:\n{}", file, printed);
   }
   return programs_.emplace(key, std::move(prog)).first->second;
 }

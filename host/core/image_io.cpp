@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <fmt/format.h>
 #include <system_error>
@@ -29,36 +30,59 @@ void check_image(const std::filesystem::path& path, const Image& image) {
 
 void write_with_oiio(const std::filesystem::path& tmp, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
                      const void* data, const std::filesystem::path& final_path) {
+  errno = 0;
   auto out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) fail(fmt::format("{}: no image writer for this format: {}", final_path.string(), OIIO::geterror()));
-  if (!out->open(tmp.string(), spec)) fail(fmt::format("{}: cannot open for writing: {}", final_path.string(), out->geterror()));
-  if (!out->write_image(type, data)) fail(fmt::format("{}: write failed: {}", final_path.string(), out->geterror()));
-  if (!out->close()) fail(fmt::format("{}: close failed: {}", final_path.string(), out->geterror()));
+  if (!out) fail_write(final_path, "no image writer for this format", OIIO::geterror(), 0, tmp);
+  if (!out->open(tmp.string(), spec)) fail_write(final_path, "cannot open for writing", out->geterror(), errno, tmp);
+  if (!out->write_image(type, data)) fail_write(final_path, "write failed", out->geterror(), errno, tmp);
+  if (!out->close()) fail_write(final_path, "write failed", out->geterror(), errno, tmp);
 }
 
-}  // namespace
-
-void write_exr(const std::filesystem::path& path, const Image& image, const ImageAttributes& attributes) {
-  check_image(path, image);
-  OIIO::ImageSpec spec = make_spec(image, OIIO::TypeDesc::FLOAT);
-  spec.attribute("compression", "zip");
-  for (const auto& [key, value] : attributes) spec.attribute(key, value);
-  AtomicFile file(path);
-  write_with_oiio(file.temp_path(), spec, OIIO::TypeDesc::FLOAT, image.pixels.data(), path);
-  file.commit();
+std::filesystem::path temp_for(OutputTransaction& tx, const std::filesystem::path& path) {
+  try {
+    return tx.temp_path(path);
+  } catch (const Error&) {
+    return tx.add(path);
+  }
 }
 
-void write_png(const std::filesystem::path& path, const Image& image) {
-  check_image(path, image);
+std::vector<unsigned char> to_bytes(const Image& image) {
   std::vector<unsigned char> bytes(image.pixels.size());
   std::transform(image.pixels.begin(), image.pixels.end(), bytes.begin(), [](float v) {
     const float c = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
     return static_cast<unsigned char>(std::lround(c * 255.0f));
   });
-  OIIO::ImageSpec spec = make_spec(image, OIIO::TypeDesc::UINT8);
-  AtomicFile file(path);
-  write_with_oiio(file.temp_path(), spec, OIIO::TypeDesc::UINT8, bytes.data(), path);
-  file.commit();
+  return bytes;
+}
+
+}  // namespace
+
+void write_exr(OutputTransaction& tx, const std::filesystem::path& path, const Image& image,
+               const ImageAttributes& attributes) {
+  check_image(path, image);
+  OIIO::ImageSpec spec = make_spec(image, OIIO::TypeDesc::FLOAT);
+  spec.attribute("compression", "zip");
+  for (const auto& [key, value] : attributes) spec.attribute(key, value);
+  write_with_oiio(temp_for(tx, path), spec, OIIO::TypeDesc::FLOAT, image.pixels.data(), path);
+}
+
+void write_png(OutputTransaction& tx, const std::filesystem::path& path, const Image& image) {
+  check_image(path, image);
+  const std::vector<unsigned char> bytes = to_bytes(image);
+  write_with_oiio(temp_for(tx, path), make_spec(image, OIIO::TypeDesc::UINT8), OIIO::TypeDesc::UINT8, bytes.data(),
+                  path);
+}
+
+void write_exr(const std::filesystem::path& path, const Image& image, const ImageAttributes& attributes) {
+  OutputTransaction tx;
+  write_exr(tx, path, image, attributes);
+  tx.commit();
+}
+
+void write_png(const std::filesystem::path& path, const Image& image) {
+  OutputTransaction tx;
+  write_png(tx, path, image);
+  tx.commit();
 }
 
 Image read_image(const std::filesystem::path& path, ImageAttributes* attributes) {

@@ -8,10 +8,17 @@
 
 namespace nf {
 
+class OutputTransaction;
+
 // Linear float OpenEXR (channels R,G,B[,A] or Y), with string attributes in the header.
 void write_exr(const std::filesystem::path& path, const Image& image, const ImageAttributes& attributes = {});
 // 8-bit PNG of values already in display space [0, 1] (clamped, rounded).
 void write_png(const std::filesystem::path& path, const Image& image);
+// The same into a transaction (core/atomic_file.h): the file is written to the transaction's
+// temporary for `path` (added when needed) and appears only when the transaction commits.
+void write_exr(OutputTransaction& tx, const std::filesystem::path& path, const Image& image,
+               const ImageAttributes& attributes = {});
+void write_png(OutputTransaction& tx, const std::filesystem::path& path, const Image& image);
 // Any format OpenImageIO reads, as linear float (no colour conversion). Attributes optional.
 Image read_image(const std::filesystem::path& path, ImageAttributes* attributes = nullptr);
 

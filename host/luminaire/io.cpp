@@ -1,5 +1,7 @@
 #include "luminaire/io.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -20,6 +22,9 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json_file.h"
+#include "core/memory.h"
+#include "luminaire/memory_estimate.h"
 
 namespace nf::lum {
 
@@ -74,24 +79,7 @@ struct JsonReader {
 };
 
 json parse_json_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(fmt::format("{}: cannot open luminaire manifest", path.string()));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
-  try {
-    return json::parse(text);
-  } catch (const json::parse_error& e) {
-    // Translate the byte offset into line:column.
-    std::size_t line = 1, col = 1;
-    for (std::size_t k = 0; k + 1 < e.byte && k < text.size(); ++k) {
-      if (text[k] == '\n')
-        ++line, col = 1;
-      else
-        ++col;
-    }
-    fail(fmt::format("{}:{}:{}: malformed JSON: {}", path.string(), line, col, e.what()));
-  }
+  return parse_json_text(read_text_file(path, "luminaire manifest (JSON)"), path.string());
 }
 
 void parse_manifest(const json& j, const std::string& file, Luminaire& l) {
@@ -138,7 +126,7 @@ void parse_manifest(const json& j, const std::string& file, Luminaire& l) {
   if (l.image.file.empty()) fail(fmt::format("{}: 'image.file' is empty", file));
 }
 
-nlohmann::ordered_json make_manifest(const Luminaire& l, const std::string& image_file) {
+nlohmann::ordered_json make_manifest(const Luminaire& l, const std::string& image_file, double scale) {
   nlohmann::ordered_json j = nlohmann::ordered_json::object();
   j["format"] = "nearfield-luminaire";
   j["version"] = 1;
@@ -157,7 +145,7 @@ nlohmann::ordered_json make_manifest(const Luminaire& l, const std::string& imag
   im["origin"] = {l.image.origin.x, l.image.origin.y};
   im["size"] = {l.image.size.x, l.image.size.y};
   im["resolution"] = {l.image.resolution[0], l.image.resolution[1]};
-  im["scale"] = 1.0;
+  im["scale"] = scale;
   return j;
 }
 
@@ -172,10 +160,11 @@ void check_pixels(const std::string& file, const std::string& part, const std::v
   const auto names = channel_names(channels);
   for (std::size_t k = 0; k < px.size(); ++k) {
     const float v = px[k];
-    if (std::isfinite(v) && v >= 0.0f) continue;
+    if (std::isfinite(v) && v >= 0.0f && v <= static_cast<float>(kMaxPixel)) continue;
     const std::size_t pixel = k / channels;
-    fail(fmt::format("{}: part {}: pixel (column {}, row {}) channel {} is {} (values must be finite and >= 0)", file,
-                     part, pixel % nx, pixel / nx, names[k % channels], v));
+    fail(fmt::format("{}: part {}: pixel (column {}, row {}) channel {} is {} (values must be finite, >= 0 and <= "
+                     "{:g})",
+                     file, part, pixel % nx, pixel / nx, names[k % channels], v, kMaxPixel));
   }
 }
 
@@ -201,10 +190,59 @@ int read_channel_set(const std::string& file, const std::string& part, const Imf
   fail(fmt::format("{}: part {}: channels are {{{}}}, expected R,G,B or Y alone", file, part, list));
 }
 
+// Walks the OpenEXR header attribute lists (magic, version flags, then name, type, size, value
+// per attribute; a multi-part file lists headers until an empty one) and refuses a size larger
+// than the bytes left in the file. OpenEXR 3.1 allocates an attribute's declared size before
+// reading it, so a 100-byte file could otherwise demand gigabytes (found by fuzz_luminaire_exr).
+void check_exr_attribute_sizes(const std::filesystem::path& path, const std::string& file) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  const std::uintmax_t total = std::filesystem::file_size(path, ec);
+  if (!in || ec) return;  // OpenEXR reports it
+  unsigned char head[8];
+  if (!in.read(reinterpret_cast<char*>(head), 8)) return;
+  if (head[0] != 0x76 || head[1] != 0x2f || head[2] != 0x31 || head[3] != 0x01) return;  // not EXR: OpenEXR says so
+  const bool multipart = (head[5] & 0x10) != 0;  // version flag bit 12
+  auto read_string = [&](std::string& out) {
+    out.clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return true;
+      if (out.size() >= 256) return false;
+      out += c;
+    }
+    return false;
+  };
+  std::string name, type;
+  for (int headers = 0; headers <= (1 << 17); ++headers) {
+    bool empty_header = true;
+    while (true) {
+      if (!read_string(name)) return;  // truncated: OpenEXR reports it
+      if (name.empty()) break;
+      empty_header = false;
+      if (!read_string(type)) return;
+      unsigned char sz[4];
+      if (!in.read(reinterpret_cast<char*>(sz), 4)) return;
+      const std::int64_t size = static_cast<std::int32_t>(static_cast<std::uint32_t>(sz[0]) |
+                                                          (static_cast<std::uint32_t>(sz[1]) << 8) |
+                                                          (static_cast<std::uint32_t>(sz[2]) << 16) |
+                                                          (static_cast<std::uint32_t>(sz[3]) << 24));
+      const auto pos = static_cast<std::int64_t>(in.tellg());
+      if (size < 0 || pos < 0 || size > static_cast<std::int64_t>(total) - pos)
+        fail(fmt::format("{}: header attribute '{}' ({}) declares {} bytes, more than the file holds: truncated or "
+                         "corrupt",
+                         file, name, type, size));
+      in.seekg(size, std::ios::cur);
+    }
+    if (!multipart || (empty_header && headers > 0)) return;
+    if (empty_header) return;
+  }
+}
+
 void read_images(const std::filesystem::path& path, Luminaire& l) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) fail(fmt::format("{}: image file not found", file));
+  check_exr_attribute_sizes(path, file);
   try {
     Imf::MultiPartInputFile in(file.c_str());
     const int w = l.basis.count[0], h = l.basis.count[1];
@@ -230,21 +268,45 @@ void read_images(const std::filesystem::path& path, Luminaire& l) {
           fail(fmt::format("{}: extra part {} (the manifest declares {} x {} basis functions)", file, name, w, h));
       }
     const int nx = l.image.resolution[0], ny = l.image.resolution[1];
-    l.images.assign(w * h, {});
+    // Every header first: sizes, channels, and the bytes the pixels will take, before allocating.
     l.channels = 0;
+    std::uint64_t stored_bytes = 0;  // uncompressed, in the file's channel types
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const std::string name = part_name(i, j);
-        const int p = parts[name];
-        const Imf::Header& hd = in.header(p);
+        const Imf::Header& hd = in.header(parts[name]);
         const Imath::Box2i dw = hd.dataWindow();
-        const int pw = dw.max.x - dw.min.x + 1, ph = dw.max.y - dw.min.y + 1;
+        const long long pw = static_cast<long long>(dw.max.x) - dw.min.x + 1;
+        const long long ph = static_cast<long long>(dw.max.y) - dw.min.y + 1;
         if (pw != nx || ph != ny)
           fail(fmt::format("{}: part {} is {} x {} pixels, the manifest says {} x {}", file, name, pw, ph, nx, ny));
         const int ch = read_channel_set(file, name, hd);
         if (l.channels == 0) l.channels = ch;
         if (ch != l.channels)
           fail(fmt::format("{}: part {} has {} channel(s), part C_0_0 has {}", file, name, ch, l.channels));
+        for (auto it = hd.channels().begin(); it != hd.channels().end(); ++it)
+          stored_bytes = add_sat(stored_bytes, mul_sat(static_cast<std::uint64_t>(nx) * static_cast<std::uint64_t>(ny),
+                                                       it.channel().type == Imf::HALF ? 2 : 4));
+      }
+    // No OpenEXR compression shrinks pixel data more than deflate's ~1032:1, so a file much
+    // smaller than that is truncated or lies about its size: refuse before allocating.
+    std::error_code size_ec;
+    const std::uintmax_t file_bytes = std::filesystem::file_size(path, size_ec);
+    if (!size_ec && stored_bytes / 2048 > file_bytes)
+      fail(fmt::format("{}: the headers declare {} of pixel data but the file has only {}: truncated or corrupt", file,
+                       format_bytes(stored_bytes), format_bytes(file_bytes)));
+    const LuminaireMemory need = estimate_memory(l, l.channels);
+    check_memory(file,
+                 fmt::format("reading {} images of {} x {} pixels and precomputing their tables", w * h, nx, ny),
+                 need.host(), available_host_memory());
+    l.images.assign(w * h, {});
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const std::string name = part_name(i, j);
+        const int p = parts[name];
+        const Imf::Header& hd = in.header(p);
+        const Imath::Box2i dw = hd.dataWindow();
+        const int ch = l.channels;
         auto& px = l.images[j * w + i];
         px.assign(static_cast<std::size_t>(nx) * ny * ch, 0.0f);
         Imf::FrameBuffer fb;
@@ -268,7 +330,21 @@ void read_images(const std::filesystem::path& path, Luminaire& l) {
   }
 }
 
-void write_images(const std::filesystem::path& path, const Luminaire& l, bool use_half) {
+// Half floats hold at most 65504 (larger values round to Inf). Pixels are stored divided by a
+// power of two `scale` (exact, no rounding) chosen so the largest value becomes <= 2^15, and the
+// manifest's image.scale multiplies them back when read. Float files use scale 1.
+double half_scale(const Luminaire& l) {
+  float peak = 0.0f;
+  for (const auto& px : l.images)
+    for (const float v : px) peak = std::max(peak, v);
+  if (!(peak > 0.0f)) return 1.0;
+  int e = 0;
+  std::frexp(static_cast<double>(peak), &e);  // peak < 2^e
+  return std::ldexp(1.0, e - 15);
+}
+
+void write_images(OutputTransaction& tx, const std::filesystem::path& path, const Luminaire& l, bool use_half,
+                  double scale) {
   const int w = l.basis.count[0], h = l.basis.count[1];
   const int nx = l.image.resolution[0], ny = l.image.resolution[1], ch = l.channels;
   const auto names = channel_names(ch);
@@ -282,16 +358,16 @@ void write_images(const std::filesystem::path& path, const Luminaire& l, bool us
       for (const auto& n : names) hd.channels().insert(n, Imf::Channel(use_half ? Imf::HALF : Imf::FLOAT));
       headers.push_back(hd);
     }
-  AtomicFile out(path);
+  const std::filesystem::path temp = tx.add(path);
   try {
-    Imf::MultiPartOutputFile file(out.temp_path().c_str(), headers.data(), static_cast<int>(headers.size()));
+    Imf::MultiPartOutputFile file(temp.c_str(), headers.data(), static_cast<int>(headers.size()));
     std::vector<half> tmp;
     for (int m = 0; m < w * h; ++m) {
       const std::vector<float>& px = l.images[m];
       Imf::FrameBuffer fb;
       if (use_half) {
         tmp.resize(px.size());
-        for (std::size_t k = 0; k < px.size(); ++k) tmp[k] = half(px[k]);
+        for (std::size_t k = 0; k < px.size(); ++k) tmp[k] = half(static_cast<float>(px[k] / scale));
       }
       for (int c = 0; c < ch; ++c) {
         char* base = use_half ? reinterpret_cast<char*>(tmp.data() + c)
@@ -304,9 +380,8 @@ void write_images(const std::filesystem::path& path, const Luminaire& l, bool us
       part.writePixels(ny);
     }
   } catch (const std::exception& e) {
-    fail(fmt::format("{}: cannot write OpenEXR: {}", path.string(), e.what()));
+    fail_write(path, "cannot write OpenEXR", e.what(), errno, temp);
   }
-  out.commit();
 }
 
 }  // namespace
@@ -315,19 +390,30 @@ const char* to_string(BasisKind k) { return k == BasisKind::bspline2 ? "bspline2
 const char* to_string(Reconstruction r) { return r == Reconstruction::goesele2003 ? "goesele2003" : "radiance"; }
 
 void validate_geometry(const Luminaire& l, const std::string& where) {
-  auto positive2 = [&](glm::dvec2 v, const char* what) {
+  const auto range = fmt::format("[{:g}, {:g}] m", kMinLength, kMaxLength);
+  auto length = [&](double v) { return std::isfinite(v) && v >= kMinLength && v <= kMaxLength; };
+  auto lengths2 = [&](glm::dvec2 v, const char* what) {
     if (!(std::isfinite(v.x) && std::isfinite(v.y) && v.x > 0.0 && v.y > 0.0))
       fail(fmt::format("{}: '{}' must be positive, got [{}, {}]", where, what, v.x, v.y));
+    if (!(length(v.x) && length(v.y)))
+      fail(fmt::format("{}: '{}' is [{}, {}], each must be within the supported range {}", where, what, v.x, v.y,
+                       range));
+  };
+  auto origin2 = [&](glm::dvec2 v, const char* what) {
+    if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::fabs(v.x) <= kMaxLength && std::fabs(v.y) <= kMaxLength))
+      fail(fmt::format("{}: '{}' is [{}, {}], each must be finite and within +-{:g} m", where, what, v.x, v.y,
+                       kMaxLength));
   };
   if (!(std::isfinite(l.delta) && l.delta > 0.0))
     fail(fmt::format("{}: 'delta' must be a finite number > 0, got {}", where, l.delta));
+  if (!length(l.delta))
+    fail(fmt::format("{}: 'delta' is {} m, outside the supported range {}", where, l.delta, range));
   if (l.basis.count[0] <= 0 || l.basis.count[1] <= 0)
     fail(fmt::format("{}: 'basis.count' must be positive, got [{}, {}]", where, l.basis.count[0], l.basis.count[1]));
-  positive2(l.basis.cell, "basis.cell");
-  positive2(l.image.size, "image.size");
-  if (!(std::isfinite(l.basis.origin.x) && std::isfinite(l.basis.origin.y) && std::isfinite(l.image.origin.x) &&
-        std::isfinite(l.image.origin.y)))
-    fail(fmt::format("{}: origins must be finite", where));
+  lengths2(l.basis.cell, "basis.cell");
+  lengths2(l.image.size, "image.size");
+  origin2(l.basis.origin, "basis.origin");
+  origin2(l.image.origin, "image.origin");
   if (l.image.resolution[0] <= 0 || l.image.resolution[1] <= 0)
     fail(fmt::format("{}: 'image.resolution' must be positive, got [{}, {}]", where, l.image.resolution[0],
                      l.image.resolution[1]));
@@ -351,6 +437,15 @@ void validate_structure(const Luminaire& l, const std::string& where) {
       fail(fmt::format("{}: image {} has {} values, expected {}", where, m, l.images[m].size(), n));
 }
 
+Luminaire read_manifest(const std::filesystem::path& manifest) {
+  const std::string file = manifest.string();
+  Luminaire l;
+  parse_manifest(parse_json_file(manifest), file, l);
+  validate_geometry(l, file);
+  l.channels = 0;
+  return l;
+}
+
 Luminaire read_luminaire(const std::filesystem::path& manifest) {
   const std::string file = manifest.string();
   Luminaire l;
@@ -369,14 +464,12 @@ void write_luminaire(const std::filesystem::path& manifest, const Luminaire& l, 
                  l.image.resolution[0], l.channels);
   const std::string image_file = l.image.file.empty() ? manifest.stem().string() + ".exr" : l.image.file;
   const auto image_path = manifest.parent_path() / image_file;
-  write_images(image_path, l, options.half);
-  AtomicFile out(manifest);
-  {
-    std::ofstream f(out.temp_path(), std::ios::binary);
-    f << make_manifest(l, image_file).dump(2) << '\n';
-    if (!f) fail(fmt::format("{}: cannot write manifest", manifest.string()));
-  }
-  out.commit();
+  const double scale = options.half ? half_scale(l) : 1.0;
+  // Both files appear together or not at all (core/atomic_file.h).
+  OutputTransaction tx;
+  write_images(tx, image_path, l, options.half, scale);
+  write_text(tx, manifest, make_manifest(l, image_file, scale).dump(2) + "\n");
+  tx.commit();
 }
 
 }  // namespace nf::lum

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_file.h"
 #include "core/log.h"
 #include "scene/json_read.h"
 #include "scene/loaders.h"
@@ -357,7 +358,8 @@ class Parser {
     }
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "luminaire transforms must be rigid");
-    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, 1e300);
+    if (v.contains("intensity"))
+      l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
     return l;
   }
 
@@ -366,7 +368,8 @@ class Parser {
     Environment e;
     e.file = existing_file(require(v, ptr, "file"), at(ptr, "file"));
     if (v.contains("rotation")) e.rotation_deg = number(v["rotation"], at(ptr, "rotation"));
-    if (v.contains("intensity")) e.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, 1e300);
+    if (v.contains("intensity"))
+      e.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
     return e;
   }
 
@@ -410,35 +413,15 @@ bool is_rigid(const glm::dmat4& m, double tolerance) {
 }
 
 Scene parse_scene(const std::string& json_text, const std::string& name, const std::filesystem::path& base_dir) {
-  json root;
-  try {
-    root = json::parse(json_text);
-  } catch (const json::parse_error& e) {
-    // e.byte is 1-based; turn it into line and column.
-    std::size_t line = 1, col = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < json_text.size(); ++i) {
-      if (json_text[i] == '\n') {
-        ++line;
-        col = 1;
-      } else {
-        ++col;
-      }
-    }
-    std::string what = e.what();
-    if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
-    fail(fmt::format("{}: JSON syntax error at line {}, column {}: {}", name, line, col, what));
-  }
+  const json root = parse_json_text(json_text, name);
   Parser parser(name, base_dir);
   Scene s = parser.parse(root);
   return s;
 }
 
 Scene load_scene(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(fmt::format("{}: cannot open scene file", file.string()));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  Scene s = parse_scene(ss.str(), file.string(), file.has_parent_path() ? file.parent_path() : fs::path("."));
+  const std::string text = read_text_file(file, "scene file (JSON)");
+  Scene s = parse_scene(text, file.string(), file.has_parent_path() ? file.parent_path() : fs::path("."));
   s.file = file;
   return s;
 }

@@ -16,19 +16,25 @@
 
 namespace nf::scene {
 
+// Supported range of luminaire and environment "intensity": [0, kMaxIntensity]. With luminaire
+// pixels limited to lum::kMaxPixel (1e30), intensity x radiance stays below 1e36, a factor 300
+// under the largest float, so single-precision device sums cannot overflow to Inf; larger values
+// are refused when the scene is read (docs/scenes.md, docs/robustness.md).
+constexpr double kMaxIntensity = 1e6;
+
 // One luminaire instance. Exactly one of `manifest` and `preset` is set.
 struct LuminaireRef {
   std::string name;                // "name" or "luminaire<i>"
   std::filesystem::path manifest;  // absolute (resolved against the scene file's folder); must exist
   std::string preset;              // a generator preset (`nearfield luminaire gen --preset`), made on demand
   glm::dmat4 to_world{1.0};        // rigid: luminaire-local frame (S at z = 0, light towards +z) -> world
-  double intensity = 1.0;          // multiplies the luminaire's radiance, >= 0
+  double intensity = 1.0;          // multiplies the luminaire's radiance, in [0, kMaxIntensity]
 };
 
 struct Environment {
   std::filesystem::path file;  // absolute; must exist (not read by the scene loader)
   double rotation_deg = 0.0;   // about the world +y axis
-  double intensity = 1.0;      // >= 0
+  double intensity = 1.0;      // in [0, kMaxIntensity]
 };
 
 struct Scene {

@@ -238,14 +238,9 @@ void save_scene(const Scene& original, const SceneState& state, const fs::path& 
   const fs::path src_dir = original.file.has_parent_path() ? original.file.parent_path() : fs::path(".");
   const fs::path out_dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
   const std::string text = scene_json(read_text(original.file), src_dir, original, state, out_dir);
-  AtomicFile file(out);
-  {
-    std::ofstream o(file.temp_path(), std::ios::binary);
-    o << text;
-    o.close();
-    if (!o) fail(fmt::format("{}: write failed", out.string()));
-  }
-  file.commit();
+  OutputTransaction tx;
+  write_text(tx, out, text);
+  tx.commit();
 }
 
 }  // namespace nf::scene

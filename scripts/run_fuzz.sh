@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses (tests/fuzz) with clang-14 + ASan + UBSan in build-fuzz/ (or
+# $NEARFIELD_FUZZ_BUILD_DIR), writes the seed corpus, and fuzzes each loader for SECONDS
+# (default 20) through ctest's "fuzz" label. Findings (crash-*, leak-*, timeout-*) land in the
+# build directory; the corpus grown so far is kept in build-fuzz/fuzz-corpus/ between runs.
+#   scripts/run_fuzz.sh [SECONDS]       e.g. scripts/run_fuzz.sh 3600 for the long run (docs/robustness.md)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${NEARFIELD_FUZZ_BUILD_DIR:-$here/build-fuzz}"
+seconds="${1:-20}"
+jobs="${NEARFIELD_JOBS:-$(nproc)}"
+command -v clang++-14 >/dev/null || { echo "run_fuzz.sh: clang++-14 is required (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 2; }
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARFIELD_FUZZ=ON \
+  -DNEARFIELD_BUILD_TESTS=OFF -DNEARFIELD_BUILD_BENCH=OFF -DNF_FUZZ_SECONDS="$seconds" \
+  -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 "${launcher[@]}"
+cmake --build "$build" --parallel "$jobs" --target fuzz_manifest fuzz_luminaire_exr fuzz_scene fuzz_gltf fuzz_seeds
+cd "$build"
+exec ctest -L fuzz --output-on-failure --timeout $((seconds + 600))
