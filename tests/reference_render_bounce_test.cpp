@@ -82,7 +82,7 @@ TEST(ReferenceRenderBounce, ParallelPlatesMatchFormFactorIntegral) {
     ++count;
     return true;
   });
-  EXPECT_GT(count, 300);
+  EXPECT_GT(count, 200);
   EXPECT_LT(z.max_abs_z, 6.0) << "max rel " << z.max_rel;
   EXPECT_LT(std::abs(z.total_z), 4.5);
 }
