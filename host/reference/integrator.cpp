@@ -73,8 +73,25 @@ class Tracer {
       : scene_(s), rays_(rays), lights_(lights), env_(env), set_(settings), camera_tables_(lights.size()), bounce_tables_(lights.size()),
         eps_(2e-5 * rays.scale()) {}
 
-  // One camera sample of pixel (x, y); `kind` receives the pixel class.
-  dvec3 sample(int x, int y, Rng& rng, bool reuse_tables, std::uint8_t& kind, Counters& c) {
+  // One camera sample of pixel (x, y); `kind` receives the pixel class. `reuse`: the previous
+  // sample went through the same point (pixel centres): its camera ray, surface point and light
+  // tables are reused (the ray would be the same).
+  dvec3 sample(int x, int y, Rng& rng, bool reuse, std::uint8_t& kind, Counters& c) {
+    if (!reuse) trace_camera(x, y, rng, c);
+    kind = view_.kind;
+    if (view_.kind != 1) return view_.radiance;
+    return shade(view_.sp, view_.v, rng, true, reuse, c);
+  }
+
+ private:
+  struct CameraView {
+    std::uint8_t kind = 0;
+    dvec3 radiance{0.0};  // background or luminaire pixels
+    SurfacePoint sp;
+    dvec3 v{0.0};
+  };
+
+  void trace_camera(int x, int y, Rng& rng, Counters& c) {
     const scene::Camera& cam = scene_.camera;
     const double jx = set_.jitter ? rng.next() : 0.5, jy = set_.jitter ? rng.next() : 0.5;
     const scene::Camera::Ray ray = cam.ray(x + jx, y + jy);
@@ -89,21 +106,20 @@ class Tracer {
       const double t = camera_sees(light, ray.origin, ray.direction, r);
       if (t > 0.0 && t < nearest) nearest = t, lum = r, sees_luminaire = true;
     }
+    view_.radiance = dvec3(0.0);
     if (sees_luminaire) {
-      kind = 2;
-      return (set_.only == Only::all || set_.only == Only::luminaires) ? lum : dvec3(0.0);
+      view_.kind = 2;
+      if (set_.only == Only::all || set_.only == Only::luminaires) view_.radiance = lum;
+    } else if (!hit.hit) {
+      view_.kind = 0;
+      if (env_ && (set_.only == Only::all || set_.only == Only::environment)) view_.radiance = env_->eval(ray.direction);
+    } else {
+      view_.kind = 1;
+      view_.sp = surface_point(scene_.geometry, rays_, hit, ray.direction);
+      view_.v = -ray.direction;
     }
-    if (!hit.hit) {
-      kind = 0;
-      return (env_ && (set_.only == Only::all || set_.only == Only::environment)) ? env_->eval(ray.direction)
-                                                                                   : dvec3(0.0);
-    }
-    kind = 1;
-    const SurfacePoint sp = surface_point(scene_.geometry, rays_, hit, ray.direction);
-    return shade(sp, -ray.direction, rng, true, reuse_tables, c);
   }
 
- private:
   bool visible(const SurfacePoint& sp, dvec3 w, double dist, Counters& c) const {
     if (!(glm::dot(sp.ng, w) > 0.0)) return false;  // below the geometric surface
     ++c.shadow;
@@ -176,6 +192,7 @@ class Tracer {
   const EnvironmentMap* env_;
   const ReferenceSettings& set_;
   std::vector<LightTable> camera_tables_, bounce_tables_;
+  CameraView view_;
   double eps_;
 };
 
@@ -211,7 +228,8 @@ ReferenceResult render_reference(const scene::Scene& scene, const std::vector<Li
       for (int s = 0; s < settings.spp; ++s) {
         Rng rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
         std::uint8_t k = 0;
-        // Without jitter every sample hits the same point: its light tables are built once.
+        // Without jitter every sample sees the same point: its camera ray and light tables are
+        // computed once per pixel.
         dvec3 L = tracer.sample(x, y, rng, !settings.jitter && s > 0, k, c);
         if (s == 0) kind = k;
         if (!std::isfinite(L.x + L.y + L.z)) {
