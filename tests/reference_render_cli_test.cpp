@@ -64,7 +64,8 @@ TEST(ReferenceCli, WritesExrPngAndStats) {
   std::ifstream in(dir / "stats.json");
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j["format"], "nearfield-reference-stats");
-  EXPECT_EQ(j["rays"]["camera"].get<std::uint64_t>(), 32u * 20u * 16u);
+  EXPECT_EQ(j["samples"].get<std::uint64_t>(), 32u * 20u * 16u);
+  EXPECT_EQ(j["rays"]["camera"].get<std::uint64_t>(), 32u * 20u);  // pixel centres: one camera ray per pixel
   EXPECT_GT(j["rays"]["shadow"].get<std::uint64_t>(), 0u);
   EXPECT_GT(j["rays_per_second"].get<double>(), 0.0);
   EXPECT_TRUE(fs::is_regular_file(dir / "out.png"));
