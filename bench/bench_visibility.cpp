@@ -9,15 +9,15 @@
 // References are cached by their key (reference/cache_key.h) under --cache.
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "bench/sweep/machine.h"
 #include "bench/sweep/metrics.h"
@@ -84,7 +84,8 @@ void run_target(const std::string& name, nf::scene::Scene scene, const Options& 
   rs.spp = o.ref_spp;
   rs.only = nf::ref::Only::luminaires;
   rs.seed = 0x5eed;
-  const nf::render::ReferenceRun ref = nf::render::cached_reference(scene, rs, o.cache, "visibility-" + name, o.refresh);
+  const nf::render::ReferenceRun ref =
+      nf::render::cached_reference(scene, rs, o.cache, "visibility-" + name, o.refresh);
   const auto& st = ref.result.stats;
   notes.push_back(fmt::format("{}: reference {}x{} x {} spp, key {}, {}{:.1f} s, {:.2f} Mrays/s", name, o.width,
                               o.height, o.ref_spp, ref.key, ref.from_cache ? "cached, rendered in " : "",
@@ -112,8 +113,8 @@ void run_target(const std::string& name, nf::scene::Scene scene, const Options& 
     renderer.reset();
     nf::Timer t;
     for (int k = 0; k < o.frames; ++k) renderer.render_frame();
-    Row row{name, nf::render::to_string(vis), vis == nf::render::Visibility::none ? 0 : size, cmp.compare(renderer.accumulated()),
-            t.ms()};
+    Row row{name, nf::render::to_string(vis), vis == nf::render::Visibility::none ? 0 : size,
+            cmp.compare(renderer.accumulated()), t.ms()};
     std::printf("%-10s %-10s %5d  dE %.3f  relMSE %.3e  bias %+.4f  (%.0f ms)\n", row.target.c_str(),
                 row.visibility.c_str(), row.size, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.ms);
     std::fflush(stdout);
@@ -160,10 +161,11 @@ int main(int argc, char** argv) {
     std::ofstream md(fs::path(o.out) / "visibility.md");
     md << "# Visibility error against the CPU reference\n\n";
     md << fmt::format("Date {}, {} cores, {}; {}x{}, renderer {} spp x {} frames; total {:.0f} s.\n\n",
-                      nf::bench::utc_now(), std::thread::hardware_concurrency(), o.quick ? "quick mode" : "full", o.width,
-                      o.height, o.spp, o.frames, total.ms() / 1000.0);
+                      nf::bench::utc_now(), std::thread::hardware_concurrency(), o.quick ? "quick mode" : "full",
+                      o.width, o.height, o.spp, o.frames, total.ms() / 1000.0);
     for (const auto& n : notes) md << "- " << n << "\n";
-    md << "\n| target | visibility | map size | mean dE76 | max dE76 | rel. MSE | rel. bias |\n|---|---|---|---|---|---|---|\n";
+    md << "\n| target | visibility | map size | mean dE76 | max dE76 | rel. MSE | rel. bias "
+          "|\n|---|---|---|---|---|---|---|\n";
     for (const auto& r : rows)
       md << fmt::format("| {} | {} | {} | {:.3f} | {:.2f} | {:.3e} | {:+.4f} |\n", r.target, r.visibility,
                         r.size ? std::to_string(r.size) : "-", r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias);

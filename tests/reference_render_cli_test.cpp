@@ -79,9 +79,11 @@ TEST(ReferenceCli, WritesExrPngAndStats) {
 TEST(ReferenceCli, BadInputFailsCleanly) {
   const auto dir = nf::testing::temp_dir("refcli_bad");
   const auto scene = write(dir, "scene.json", kScene);
-  write(dir, "material.json", R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
+  write(dir, "material.json",
+        R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
                                    "objects": [ { "type": "plane", "material": "nope" } ] })");
-  write(dir, "preset.json", R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
+  write(dir, "preset.json",
+        R"({ "camera": { "position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
                                  "luminaires": [ { "preset": "no-such-preset" } ] })");
   const std::vector<std::pair<std::string, std::string>> cases{
       {q(dir / "nope.json") + " -o " + q(dir / "x.exr"), "nope.json"},

@@ -127,7 +127,8 @@ double ggx_albedo(double mu, double alpha) {
                   const dvec3 h = glm::normalize(l + v);
                   const double d = h.z * h.z * (a2 - 1) + 1;
                   const double D = a2 / (kPi * d * d);
-                  const double V = 0.5 / (cl * std::sqrt(mu * mu * (1 - a2) + a2) + mu * std::sqrt(cl * cl * (1 - a2) + a2));
+                  const double V =
+                      0.5 / (cl * std::sqrt(mu * mu * (1 - a2) + a2) + mu * std::sqrt(cl * cl * (1 - a2) + a2));
                   return D * V * cl;
                 },
                 2 * kPi * j / 8, 2 * kPi * (j + 1) / 8, 32);

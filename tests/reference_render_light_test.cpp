@@ -73,9 +73,9 @@ TEST(ReferenceRenderLight, Car1AboveS) {
 TEST(ReferenceRenderLight, LedRgbBetweenPlanesAndInTheBand) {
   auto f = make("led-rgb");
   const double d = f.l.delta;
-  check(f, {0.0, 0.0, -0.5 * d}, {0, 0, -1}, 40000);  // between the planes: light from U
+  check(f, {0.0, 0.0, -0.5 * d}, {0, 0, -1}, 40000);         // between the planes: light from U
   check(f, {0.001, 0.002, 0.003 * d}, {0.2, 0, -1}, 40000);  // U band, above S
-  check(f, {0.001, 0.0, -0.003 * d}, {0, 0.1, -1}, 40000);  // U band, below S
+  check(f, {0.001, 0.0, -0.003 * d}, {0, 0.1, -1}, 40000);   // U band, below S
   check(f, {0.01, 0.0, 0.2}, {0, 0.1, -1}, 40000);
 }
 

@@ -92,7 +92,8 @@ std::string stats_json(const ReferenceCmd& o, const scene::Scene& s, const rende
   j["threads"] = st.threads;
   j["triangles"] = st.triangles;
   j["samples"] = st.samples;
-  j["rays"] = {{"camera", st.camera_rays}, {"shadow", st.shadow_rays}, {"bounce", st.bounce_rays}, {"total", st.rays()}};
+  j["rays"] = {
+      {"camera", st.camera_rays}, {"shadow", st.shadow_rays}, {"bounce", st.bounce_rays}, {"total", st.rays()}};
   j["rays_per_second"] = st.rays_per_second();
   j["dropped_samples"] = st.dropped;
   j["time_ms"] = {{"load", run.load_ms}, {"bvh_build", st.build_ms}, {"render", st.render_ms}, {"total", total_ms}};
@@ -136,7 +137,8 @@ void run_reference_cmd(const ReferenceCmd& o) {
                         {"nearfield:date", utc_now()}};
   for (const auto& kv : set.attributes()) attrs.push_back(kv);
   write_exr(exr_file.temp_path(), run.result.image, attrs);
-  if (png_file) write_png(png_file->temp_path(), tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
+  if (png_file)
+    write_png(png_file->temp_path(), tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
   if (stats_file) {
     std::ofstream out(stats_file->temp_path(), std::ios::binary);
     out << stats_json(o, scene, run, set, total.ms());

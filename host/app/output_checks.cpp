@@ -57,7 +57,8 @@ void check_output_extension(const std::string& path, const std::string& ext, con
     fail(fmt::format("{} {}: the file name must end in {}", option, path, ext));
 }
 
-void check_output_files(const std::string& scene_file, const std::vector<std::pair<std::string, std::string>>& outputs) {
+void check_output_files(const std::string& scene_file,
+                        const std::vector<std::pair<std::string, std::string>>& outputs) {
   std::set<fs::path> inputs;
   inputs_of(scene_file, inputs, 3);
   std::set<fs::path> seen;

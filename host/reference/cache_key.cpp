@@ -62,10 +62,12 @@ std::uint64_t fnv1a(const std::string& s) {
 }  // namespace
 
 std::string cache_description(const scene::Scene& scene, const ReferenceSettings& settings) {
-  std::string d = fmt::format("nearfield reference cache format {}\nsource {}\n", kCacheFormat, reference_source_hash());
+  std::string d =
+      fmt::format("nearfield reference cache format {}\nsource {}\n", kCacheFormat, reference_source_hash());
   const auto& c = scene.camera;
-  d += fmt::format("camera {} {} {} {} {} {} {} {} {} {:.17g} {}x{} {:.17g}\n", c.position.x, c.position.y, c.position.z,
-                   c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg, c.width, c.height, c.near);
+  d +=
+      fmt::format("camera {} {} {} {} {} {} {} {} {} {:.17g} {}x{} {:.17g}\n", c.position.x, c.position.y, c.position.z,
+                  c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg, c.width, c.height, c.near);
   for (const auto& [k, v] : settings.attributes()) d += fmt::format("{} {}\n", k, v);
   if (!scene.file.empty()) {
     d += "scene text " + fmt::format("{:016x}", fnv1a(read_text(scene.file))) + "\n";
@@ -73,7 +75,8 @@ std::string cache_description(const scene::Scene& scene, const ReferenceSettings
     collect(scene.file, files, 3);
     for (const auto& f : files) d += file_stamp(f);
   }
-  for (const auto& l : scene.luminaires) d += fmt::format("luminaire {} {} {}\n", l.name, l.preset, l.manifest.string());
+  for (const auto& l : scene.luminaires)
+    d += fmt::format("luminaire {} {} {}\n", l.name, l.preset, l.manifest.string());
   return d;
 }
 

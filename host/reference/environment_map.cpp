@@ -83,8 +83,12 @@ glm::dvec3 EnvironmentMap::from_uv(glm::dvec2 uv) {
 }
 
 // R_y(a) maps (x, z) to (x cos a + z sin a, -x sin a + z cos a).
-glm::dvec3 EnvironmentMap::to_map(glm::dvec3 w) const { return {w.x * cos_ - w.z * sin_, w.y, w.x * sin_ + w.z * cos_}; }
-glm::dvec3 EnvironmentMap::to_world(glm::dvec3 w) const { return {w.x * cos_ + w.z * sin_, w.y, -w.x * sin_ + w.z * cos_}; }
+glm::dvec3 EnvironmentMap::to_map(glm::dvec3 w) const {
+  return {w.x * cos_ - w.z * sin_, w.y, w.x * sin_ + w.z * cos_};
+}
+glm::dvec3 EnvironmentMap::to_world(glm::dvec3 w) const {
+  return {w.x * cos_ + w.z * sin_, w.y, -w.x * sin_ + w.z * cos_};
+}
 
 int EnvironmentMap::texel(glm::dvec2 uv, int& col, int& row) const {
   col = std::clamp(static_cast<int>(uv.x * w_), 0, w_ - 1);

@@ -43,10 +43,10 @@ class EnvironmentMap {
   Sample sample(double u0, double u1) const;
 
   // The lat-long mapping (exposed for tests and the environment renderer).
-  static glm::dvec2 to_uv(glm::dvec3 w);          // map frame (rotation not applied)
-  static glm::dvec3 from_uv(glm::dvec2 uv);       // map frame
-  glm::dvec3 to_map(glm::dvec3 world) const;      // R_y(-theta) w
-  glm::dvec3 to_world(glm::dvec3 map) const;      // R_y(theta) w
+  static glm::dvec2 to_uv(glm::dvec3 w);      // map frame (rotation not applied)
+  static glm::dvec3 from_uv(glm::dvec2 uv);   // map frame
+  glm::dvec3 to_map(glm::dvec3 world) const;  // R_y(-theta) w
+  glm::dvec3 to_world(glm::dvec3 map) const;  // R_y(theta) w
 
  private:
   int w_ = 0, h_ = 0;

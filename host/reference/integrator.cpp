@@ -23,10 +23,14 @@ namespace nf::ref {
 
 std::string to_string(Only o) {
   switch (o) {
-    case Only::luminaires: return "luminaires";
-    case Only::environment: return "environment";
-    case Only::indirect: return "indirect";
-    default: return "all";
+    case Only::luminaires:
+      return "luminaires";
+    case Only::environment:
+      return "environment";
+    case Only::indirect:
+      return "indirect";
+    default:
+      return "all";
   }
 }
 
@@ -70,7 +74,13 @@ class Tracer {
  public:
   Tracer(const scene::Scene& s, const RayScene& rays, const std::vector<LightFieldLight>& lights,
          const EnvironmentMap* env, const ReferenceSettings& settings)
-      : scene_(s), rays_(rays), lights_(lights), env_(env), set_(settings), camera_tables_(lights.size()), bounce_tables_(lights.size()),
+      : scene_(s),
+        rays_(rays),
+        lights_(lights),
+        env_(env),
+        set_(settings),
+        camera_tables_(lights.size()),
+        bounce_tables_(lights.size()),
         eps_(2e-5 * rays.scale()) {}
 
   // One camera sample of pixel (x, y); `kind` receives the pixel class. `reuse`: the previous
@@ -112,7 +122,8 @@ class Tracer {
       if (set_.only == Only::all || set_.only == Only::luminaires) view_.radiance = lum;
     } else if (!hit.hit) {
       view_.kind = 0;
-      if (env_ && (set_.only == Only::all || set_.only == Only::environment)) view_.radiance = env_->eval(ray.direction);
+      if (env_ && (set_.only == Only::all || set_.only == Only::environment))
+        view_.radiance = env_->eval(ray.direction);
     } else {
       view_.kind = 1;
       view_.sp = surface_point(scene_.geometry, rays_, hit, ray.direction);
@@ -127,7 +138,8 @@ class Tracer {
   }
 
   // `tables`: the camera point's (reused across a pixel's samples when `reuse`) or the bounce's.
-  dvec3 luminaires(const SurfacePoint& sp, dvec3 v, Rng& rng, std::vector<LightTable>& tables, bool reuse, Counters& c) {
+  dvec3 luminaires(const SurfacePoint& sp, dvec3 v, Rng& rng, std::vector<LightTable>& tables, bool reuse,
+                   Counters& c) {
     dvec3 sum(0.0);
     for (std::size_t i = 0; i < lights_.size(); ++i) {
       if (!reuse) build_table(lights_[i], sp.p, tables[i]);
@@ -221,7 +233,8 @@ ReferenceResult render_reference(const scene::Scene& scene, const std::vector<Li
     Counters c;
     const auto n = static_cast<double>(settings.spp);
     for (int x = 0; x < w; ++x) {
-      const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
+      const std::uint64_t pixel =
+          static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
       dvec3 sum(0.0);
       double sum_y = 0.0, sum_y2 = 0.0;
       std::uint8_t kind = 0;
@@ -261,7 +274,8 @@ ReferenceResult render_reference(const scene::Scene& scene, const std::vector<Li
   out.stats.shadow_rays = total.shadow;
   out.stats.bounce_rays = total.bounce;
   out.stats.dropped = total.dropped;
-  out.stats.samples = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * static_cast<std::uint64_t>(settings.spp);
+  out.stats.samples =
+      static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * static_cast<std::uint64_t>(settings.spp);
   return out;
 }
 

@@ -27,13 +27,13 @@ std::string to_string(Only o);
 Only parse_only(const std::string& s, const std::string& what = "--only");
 
 struct ReferenceSettings {
-  int spp = 1024;    // camera samples per pixel, 1 .. 2^24
-  int bounces = 0;   // 0: direct light; 1: plus one bounce of indirect light
+  int spp = 1024;   // camera samples per pixel, 1 .. 2^24
+  int bounces = 0;  // 0: direct light; 1: plus one bounce of indirect light
   Only only = Only::all;
   std::uint64_t seed = 1;
-  bool jitter = false;  // false: every sample through the pixel centre (as render)
-  unsigned threads = 0; // 0 = hardware concurrency
-  bool progress = true; // progress bar on stderr for runs over a second
+  bool jitter = false;   // false: every sample through the pixel centre (as render)
+  unsigned threads = 0;  // 0 = hardware concurrency
+  bool progress = true;  // progress bar on stderr for runs over a second
   // Throws nf::Error naming the bad value (with `has_environment`: whether the scene has one).
   void validate(bool has_environment) const;
   // Every setting as ("nearfield:reference_<name>", value) pairs: EXR metadata, cache keys.

@@ -17,9 +17,9 @@ using glm::dvec2;
 using glm::dvec3;
 
 dvec3 pixel_value(const lum::Luminaire& l, int m, int col, int row) {
-  const std::size_t k =
-      (static_cast<std::size_t>(row) * static_cast<std::size_t>(l.image.resolution[0]) + static_cast<std::size_t>(col)) *
-      static_cast<std::size_t>(l.channels);
+  const std::size_t k = (static_cast<std::size_t>(row) * static_cast<std::size_t>(l.image.resolution[0]) +
+                         static_cast<std::size_t>(col)) *
+                        static_cast<std::size_t>(l.channels);
   const float* c = l.images[static_cast<std::size_t>(m)].data() + k;
   return l.channels == 1 ? dvec3(c[0]) : dvec3(c[0], c[1], c[2]);
 }
@@ -140,8 +140,10 @@ dvec3 light_field_radiance(const lum::Luminaire& l, dvec2 s, dvec2 u) {
   if (!std::isfinite(x) || !std::isfinite(y)) return dvec3(0.0);
   const int n = b.support();
   // Phi_(i,j)(u) > 0 needs i in (x - n, x): at most n x n images.
-  const int i0 = std::max(0, static_cast<int>(std::floor(x)) - n + 1), i1 = std::min(b.count[0] - 1, static_cast<int>(std::floor(x)));
-  const int j0 = std::max(0, static_cast<int>(std::floor(y)) - n + 1), j1 = std::min(b.count[1] - 1, static_cast<int>(std::floor(y)));
+  const int i0 = std::max(0, static_cast<int>(std::floor(x)) - n + 1),
+            i1 = std::min(b.count[0] - 1, static_cast<int>(std::floor(x)));
+  const int j0 = std::max(0, static_cast<int>(std::floor(y)) - n + 1),
+            j1 = std::min(b.count[1] - 1, static_cast<int>(std::floor(y)));
   dvec3 sum(0.0);
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i) sum += image_radiance(l, j * b.count[0] + i, s, u);
@@ -177,7 +179,8 @@ void build_table(const LightFieldLight& light, dvec3 p_world, LightTable& t) {
   std::vector<double> y(static_cast<std::size_t>(count), 0.0);
   double ysum = 0.0;
   if (px.x >= 0 && px.y >= 0)
-    for (int m = 0; m < count; ++m) ysum += (y[static_cast<std::size_t>(m)] = std::max(0.0, pixel_luminance(l, m, px.x, px.y)));
+    for (int m = 0; m < count; ++m)
+      ysum += (y[static_cast<std::size_t>(m)] = std::max(0.0, pixel_luminance(l, m, px.x, px.y)));
   for (int m = 0; m < count; ++m) {
     const double w = 0.5 / count + (ysum > 0.0 ? 0.5 * y[static_cast<std::size_t>(m)] / ysum : 0.5 / count);
     t.total += w;

@@ -48,10 +48,10 @@ struct LightFieldLight {
 // Per shading point: the image-selection table, built once per point and reused by its samples.
 struct LightTable {
   enum class Form { none, s_plane, u_plane } form = Form::none;
-  glm::dvec3 p{0.0};         // luminaire-local point
-  std::vector<double> cdf;   // cumulative selection weights per image (last = total)
-  std::vector<int> images;   // the image of each cdf entry
-  double total = 0.0;        // S: A(p) (Y m^2); U: sum of weights
+  glm::dvec3 p{0.0};        // luminaire-local point
+  std::vector<double> cdf;  // cumulative selection weights per image (last = total)
+  std::vector<int> images;  // the image of each cdf entry
+  double total = 0.0;       // S: A(p) (Y m^2); U: sum of weights
 };
 void build_table(const LightFieldLight& light, glm::dvec3 p_world, LightTable& table);
 

@@ -22,7 +22,8 @@ struct RayScene::Impl {
 
 RayScene::RayScene(const scene::Geometry& geometry) : impl_(std::make_unique<Impl>()), geometry_(&geometry) {
   impl_->device = rtcNewDevice("threads=1");
-  if (!impl_->device) fail(fmt::format("Embree: cannot create a device (error {})", static_cast<int>(rtcGetDeviceError(nullptr))));
+  if (!impl_->device)
+    fail(fmt::format("Embree: cannot create a device (error {})", static_cast<int>(rtcGetDeviceError(nullptr))));
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
@@ -37,8 +38,8 @@ RayScene::RayScene(const scene::Geometry& geometry) : impl_(std::make_unique<Imp
       for (int k = 0; k < 3; ++k) scale_ = std::max(scale_, std::abs(w.back()[k]));
     }
     RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), std::max<std::size_t>(w.size(), 1)));
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), std::max<std::size_t>(w.size(), 1)));
     for (std::size_t v = 0; v < w.size(); ++v)
       for (int k = 0; k < 3; ++k) vb[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(w[v][k]);
     const std::size_t tris = mesh.triangle_count();
@@ -69,7 +70,7 @@ RTCRay make_ray(glm::dvec3 o, glm::dvec3 d, double tmin, double tmax) {
   r.dir_z = static_cast<float>(d.z);
   r.tnear = static_cast<float>(tmin);
   r.tfar = tmax >= static_cast<double>(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity()
-                                                                           : static_cast<float>(tmax);
+                                                                          : static_cast<float>(tmax);
   r.mask = 0xffffffffu;
   r.flags = 0;
   return r;

@@ -17,8 +17,8 @@ namespace nf::ref {
 struct RayHit {
   bool hit = false;
   double t = 0.0;
-  int instance = -1;  // index into Geometry::instances
-  int triangle = -1;  // within the instance's mesh
+  int instance = -1;          // index into Geometry::instances
+  int triangle = -1;          // within the instance's mesh
   double b1 = 0.0, b2 = 0.0;  // barycentrics of vertices 1 and 2
 };
 

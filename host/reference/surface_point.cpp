@@ -22,7 +22,8 @@ glm::dvec4 sample_texture(const scene::Texture& t, glm::dvec2 uv, bool srgb) {
   glm::dvec4 acc(0.0);
   for (int dy = 0; dy < 2; ++dy)
     for (int dx = 0; dx < 2; ++dx) {
-      const std::size_t ix = wrap(static_cast<long long>(fx) + dx, t.width), iy = wrap(static_cast<long long>(fy) + dy, t.height);
+      const std::size_t ix = wrap(static_cast<long long>(fx) + dx, t.width),
+                        iy = wrap(static_cast<long long>(fy) + dy, t.height);
       const std::uint8_t* px = t.rgba8.data() + (iy * static_cast<std::size_t>(t.width) + ix) * 4;
       glm::dvec4 c;
       for (int k = 0; k < 4; ++k) {
@@ -70,7 +71,8 @@ SurfacePoint surface_point(const scene::Geometry& geometry, const RayScene& rays
   if (mat.base_color_texture >= 0)
     base *= glm::dvec3(sample_texture(geometry.textures[static_cast<std::size_t>(mat.base_color_texture)], uv, true));
   if (mat.metallic_roughness_texture >= 0) {
-    const glm::dvec4 mr = sample_texture(geometry.textures[static_cast<std::size_t>(mat.metallic_roughness_texture)], uv, false);
+    const glm::dvec4 mr =
+        sample_texture(geometry.textures[static_cast<std::size_t>(mat.metallic_roughness_texture)], uv, false);
     rough *= mr.y;
     metal *= mr.z;
   }

@@ -51,7 +51,8 @@ namespace {
 constexpr const char* kDescription = "nearfield:reference_description";
 
 // Reads one cached file if its description matches (`channels` channels).
-bool read_matching(const std::filesystem::path& file, const std::string& description, Image& img, ImageAttributes& attrs) {
+bool read_matching(const std::filesystem::path& file, const std::string& description, Image& img,
+                   ImageAttributes& attrs) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) return false;
   img = read_image(file, &attrs);

@@ -14,9 +14,9 @@ namespace nf::render {
 
 struct ReferenceRun {
   ref::ReferenceResult result;
-  std::string key;            // cache key
+  std::string key;  // cache key
   bool from_cache = false;
-  double load_ms = 0.0;       // luminaires and environment
+  double load_ms = 0.0;  // luminaires and environment
 };
 
 // Throws nf::Error (bad luminaire or environment files name the scene and the file).
