@@ -6,7 +6,7 @@ PKGS=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libfmt-dev libglm-dev libopenexr-dev libopenimageio-dev
-  libtinygltf-dev nlohmann-json3-dev libimgui-dev libcli11-dev
+  libtinygltf-dev nlohmann-json3-dev libimgui-dev libcli11-dev libembree-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   xvfb xauth python3-matplotlib python3-numpy
 )

@@ -1,0 +1,183 @@
+// nearfield reference SCENE -o OUT.exr [--spp N] [--bounces 0|1] [--only ...] [--png] [--stats]
+// The CPU reference renderer (docs/reference.md): the same scene, camera and materials as
+// `render`, exact visibility by ray casting (Embree), luminaires, environment and one bounce.
+// Outputs are written to temporary files and moved into place together at the end: a failure
+// leaves no output behind; an output that would replace an input of the scene is refused.
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "app/command.h"
+#include "app/output_checks.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/log.h"
+#include "core/timer.h"
+#include "core/tonemap.h"
+#include "reference/integrator.h"
+#include "render/reference_run.h"
+#include "scene/scene.h"
+
+namespace nf::app {
+namespace {
+
+struct ReferenceCmd {
+  std::string scene, out, png, stats, only = "all";
+  int spp = 1024, bounces = 0, width = 0, height = 0;
+  std::uint64_t seed = 1;
+  unsigned threads = 0;
+  bool jitter = false;
+  double exposure = 0.0, gamma = 0.0;
+  std::map<std::string, CLI::Option*> given;
+  bool has(const std::string& name) const {
+    auto it = given.find(name);
+    return it != given.end() && it->second->count() > 0;
+  }
+};
+
+std::string utc_now() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+void apply_overrides(const ReferenceCmd& o, scene::Scene& s) {
+  auto& c = s.camera;
+  const double aspect = c.aspect();
+  if (o.has("--width") && o.width < 1) fail(fmt::format("--width must be >= 1, got {}", o.width));
+  if (o.has("--height") && o.height < 1) fail(fmt::format("--height must be >= 1, got {}", o.height));
+  if (o.has("--width") && o.has("--height")) {
+    c.width = o.width;
+    c.height = o.height;
+  } else if (o.has("--width")) {
+    c.width = o.width;
+    c.height = std::max(1, static_cast<int>(std::lround(o.width / aspect)));
+  } else if (o.has("--height")) {
+    c.height = o.height;
+    c.width = std::max(1, static_cast<int>(std::lround(o.height * aspect)));
+  }
+  if (o.has("--exposure")) {
+    if (!(o.exposure > 0.0)) fail(fmt::format("--exposure must be > 0, got {}", o.exposure));
+    s.render.tonemap.exposure = o.exposure;
+  }
+  if (o.has("--gamma")) {
+    if (!(o.gamma > 0.0)) fail(fmt::format("--gamma must be > 0, got {}", o.gamma));
+    s.render.tonemap.gamma = o.gamma;
+  }
+}
+
+std::string stats_json(const ReferenceCmd& o, const scene::Scene& s, const render::ReferenceRun& run,
+                       const ref::ReferenceSettings& set, double total_ms) {
+  const auto& st = run.result.stats;
+  nlohmann::json j;
+  j["format"] = "nearfield-reference-stats";
+  j["version"] = 1;
+  j["scene"] = o.scene;
+  j["resolution"] = {s.camera.width, s.camera.height};
+  nlohmann::json settings = nlohmann::json::object();
+  for (const auto& [k, v] : set.attributes()) settings[k] = v;
+  j["settings"] = settings;
+  j["cache_key"] = run.key;
+  j["threads"] = st.threads;
+  j["triangles"] = st.triangles;
+  j["samples"] = st.samples;
+  j["rays"] = {
+      {"camera", st.camera_rays}, {"shadow", st.shadow_rays}, {"bounce", st.bounce_rays}, {"total", st.rays()}};
+  j["rays_per_second"] = st.rays_per_second();
+  j["dropped_samples"] = st.dropped;
+  j["time_ms"] = {{"load", run.load_ms}, {"bvh_build", st.build_ms}, {"render", st.render_ms}, {"total", total_ms}};
+  return j.dump(2) + "\n";
+}
+
+void run_reference_cmd(const ReferenceCmd& o) {
+  Timer total;
+  check_output_extension(o.out, ".exr", "-o");
+  if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
+  std::vector<std::pair<std::string, std::string>> outputs{{"-o", o.out}};
+  if (!o.png.empty()) outputs.emplace_back("--png", o.png);
+  if (!o.stats.empty()) outputs.emplace_back("--stats", o.stats);
+  scene::Scene scene = scene::load_scene(o.scene);
+  check_output_files(o.scene, outputs);
+  apply_overrides(o, scene);
+  ref::ReferenceSettings set;
+  set.spp = o.spp;
+  set.bounces = o.bounces;
+  set.only = ref::parse_only(o.only);
+  set.seed = o.seed;
+  set.jitter = o.jitter;
+  set.threads = o.threads;
+  set.progress = log::level() != log::Level::quiet;
+  set.validate(scene.environment.has_value());  // before any heavy work
+  AtomicFile exr_file(o.out);
+  std::unique_ptr<AtomicFile> png_file, stats_file;
+  if (!o.png.empty()) png_file = std::make_unique<AtomicFile>(o.png);
+  if (!o.stats.empty()) stats_file = std::make_unique<AtomicFile>(o.stats);
+
+  const render::ReferenceRun run = render::run_reference(scene, set);
+  const auto& st = run.result.stats;
+  ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
+                        {"nearfield:scene", o.scene},
+                        {"nearfield:content", "linear radiance, W m^-2 sr^-1 (the luminaires' units): CPU reference"},
+                        {"nearfield:reference_cache_key", run.key},
+                        {"nearfield:samples", std::to_string(st.samples)},
+                        {"nearfield:rays", std::to_string(st.rays())},
+                        {"nearfield:render_ms", fmt::format("{:.3f}", st.render_ms)},
+                        {"nearfield:threads", std::to_string(st.threads)},
+                        {"nearfield:date", utc_now()}};
+  for (const auto& kv : set.attributes()) attrs.push_back(kv);
+  write_exr(exr_file.temp_path(), run.result.image, attrs);
+  if (png_file)
+    write_png(png_file->temp_path(), tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
+  if (stats_file) {
+    std::ofstream out(stats_file->temp_path(), std::ios::binary);
+    out << stats_json(o, scene, run, set, total.ms());
+    out.close();
+    if (!out) fail(fmt::format("{}: write failed", o.stats));
+  }
+  exr_file.commit();
+  if (png_file) png_file->commit();
+  if (stats_file) stats_file->commit();
+  if (log::level() != log::Level::quiet)
+    std::fputs(fmt::format("reference: {}x{}, {} spp, {} rays in {:.1f} s ({:.2f} Mrays/s, {} threads); wrote {}\n",
+                           scene.camera.width, scene.camera.height, set.spp, st.rays(), st.render_ms / 1000.0,
+                           st.rays_per_second() / 1e6, st.threads, o.out)
+                   .c_str(),
+               stdout);
+}
+
+const CommandRegistration reg("reference", [](CLI::App& app) {
+  static ReferenceCmd o;
+  auto* cmd = app.add_subcommand("reference", "CPU reference renderer: exact visibility, environment, one bounce");
+  cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
+  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance)")->required();
+  cmd->add_option("--png", o.png, "Also write a tone-mapped PNG (the scene's tone mapping)");
+  cmd->add_option("--stats", o.stats, "Also write rays, rays/s and times as JSON");
+  cmd->add_option("--spp", o.spp, "Camera samples per pixel")->capture_default_str();
+  cmd->add_option("--bounces", o.bounces, "0: direct light; 1: plus one bounce")->capture_default_str();
+  cmd->add_option("--only", o.only, "all | luminaires | environment | indirect")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_flag("--jitter", o.jitter, "Jitter samples inside each pixel (default: pixel centres, as render)");
+  auto add = [&](const std::string& name, auto& var, const std::string& help) {
+    o.given[name] = cmd->add_option(name, var, help);
+  };
+  add("--width", o.width, "Image width (alone: keeps the scene's aspect ratio)");
+  add("--height", o.height, "Image height (alone: keeps the scene's aspect ratio)");
+  add("--exposure", o.exposure, "Tone mapping exposure for --png (> 0)");
+  add("--gamma", o.gamma, "Tone mapping gamma for --png (> 0)");
+  cmd->callback([] { run_reference_cmd(o); });
+});
+
+}  // namespace
+}  // namespace nf::app

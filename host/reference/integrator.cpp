@@ -1,0 +1,282 @@
+#include "reference/integrator.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "luminaire/parallel.h"
+#include "reference/brdf.h"
+#include "reference/ray_scene.h"
+#include "reference/rng.h"
+#include "reference/surface_point.h"
+
+namespace nf::ref {
+
+std::string to_string(Only o) {
+  switch (o) {
+    case Only::luminaires:
+      return "luminaires";
+    case Only::environment:
+      return "environment";
+    case Only::indirect:
+      return "indirect";
+    default:
+      return "all";
+  }
+}
+
+Only parse_only(const std::string& s, const std::string& what) {
+  for (Only o : {Only::all, Only::luminaires, Only::environment, Only::indirect})
+    if (to_string(o) == s) return o;
+  fail(fmt::format("{}: unknown value '{}' (known: all | luminaires | environment | indirect)", what, s));
+}
+
+void ReferenceSettings::validate(bool has_environment) const {
+  if (spp < 1 || spp > (1 << 24)) fail(fmt::format("--spp must be in 1..{}, got {}", 1 << 24, spp));
+  if (bounces != 0 && bounces != 1) fail(fmt::format("--bounces must be 0 or 1, got {}", bounces));
+  if (only == Only::indirect && bounces != 1) fail("--only indirect needs --bounces 1");
+  if (only == Only::environment && !has_environment) fail("--only environment: the scene has no environment");
+}
+
+std::vector<std::pair<std::string, std::string>> ReferenceSettings::attributes() const {
+  return {{"nearfield:reference_spp", std::to_string(spp)},
+          {"nearfield:reference_bounces", std::to_string(bounces)},
+          {"nearfield:reference_only", to_string(only)},
+          {"nearfield:reference_seed", std::to_string(seed)},
+          {"nearfield:reference_jitter", jitter ? "1" : "0"}};
+}
+
+std::vector<std::uint8_t> ReferenceResult::valid_mask() const {
+  std::vector<std::uint8_t> v(kinds.size());
+  for (std::size_t i = 0; i < kinds.size(); ++i) v[i] = kinds[i] == 1 ? 1 : 0;
+  return v;
+}
+
+namespace {
+
+using glm::dvec3;
+
+struct Counters {
+  std::uint64_t camera = 0, shadow = 0, bounce = 0, dropped = 0;
+};
+
+// One thread's integrator: the scene, the settings and reusable per-point tables.
+class Tracer {
+ public:
+  Tracer(const scene::Scene& s, const RayScene& rays, const std::vector<LightFieldLight>& lights,
+         const EnvironmentMap* env, const ReferenceSettings& settings)
+      : scene_(s),
+        rays_(rays),
+        lights_(lights),
+        env_(env),
+        set_(settings),
+        camera_tables_(lights.size()),
+        bounce_tables_(lights.size()),
+        eps_(2e-5 * rays.scale()) {}
+
+  // One camera sample of pixel (x, y); `kind` receives the pixel class. `reuse`: the previous
+  // sample went through the same point (pixel centres): its camera ray, surface point and light
+  // tables are reused (the ray would be the same).
+  dvec3 sample(int x, int y, Rng& rng, bool reuse, std::uint8_t& kind, Counters& c) {
+    if (!reuse) trace_camera(x, y, rng, c);
+    kind = view_.kind;
+    if (view_.kind != 1) return view_.radiance;
+    return shade(view_.sp, view_.v, rng, true, reuse, c);
+  }
+
+ private:
+  struct CameraView {
+    std::uint8_t kind = 0;
+    dvec3 radiance{0.0};  // background or luminaire pixels
+    SurfacePoint sp;
+    dvec3 v{0.0};
+  };
+
+  void trace_camera(int x, int y, Rng& rng, Counters& c) {
+    const scene::Camera& cam = scene_.camera;
+    const double jx = set_.jitter ? rng.next() : 0.5, jy = set_.jitter ? rng.next() : 0.5;
+    const scene::Camera::Ray ray = cam.ray(x + jx, y + jy);
+    const double tmin = cam.near / std::max(glm::dot(ray.direction, cam.forward()), 1e-6);
+    ++c.camera;
+    const RayHit hit = rays_.intersect(ray.origin, ray.direction, tmin, std::numeric_limits<double>::infinity());
+    double nearest = hit.hit ? hit.t : std::numeric_limits<double>::infinity();
+    bool sees_luminaire = false;
+    dvec3 lum(0.0);
+    for (const auto& light : lights_) {
+      dvec3 r(0.0);
+      const double t = camera_sees(light, ray.origin, ray.direction, r);
+      if (t > 0.0 && t < nearest) nearest = t, lum = r, sees_luminaire = true;
+    }
+    view_.radiance = dvec3(0.0);
+    if (sees_luminaire) {
+      view_.kind = 2;
+      if (set_.only == Only::all || set_.only == Only::luminaires) view_.radiance = lum;
+    } else if (!hit.hit) {
+      view_.kind = 0;
+      if (env_ && (set_.only == Only::all || set_.only == Only::environment))
+        view_.radiance = env_->eval(ray.direction);
+    } else {
+      view_.kind = 1;
+      view_.sp = surface_point(scene_.geometry, rays_, hit, ray.direction);
+      view_.v = -ray.direction;
+    }
+  }
+
+  bool visible(const SurfacePoint& sp, dvec3 w, double dist, Counters& c) const {
+    if (!(glm::dot(sp.ng, w) > 0.0)) return false;  // below the geometric surface
+    ++c.shadow;
+    return !rays_.occluded(sp.p + sp.ng * eps_, w, 0.0, dist - eps_);
+  }
+
+  // `tables`: the camera point's (reused across a pixel's samples when `reuse`) or the bounce's.
+  dvec3 luminaires(const SurfacePoint& sp, dvec3 v, Rng& rng, std::vector<LightTable>& tables, bool reuse,
+                   Counters& c) {
+    dvec3 sum(0.0);
+    for (std::size_t i = 0; i < lights_.size(); ++i) {
+      if (!reuse) build_table(lights_[i], sp.p, tables[i]);
+      const double u0 = rng.next(), u1 = rng.next(), u2 = rng.next();
+      const LightSample ls = sample_light(lights_[i], tables[i], u0, u1, u2);
+      if (!ls.valid) continue;
+      const dvec3 f = brdf_eval(sp.material, sp.ns, v, ls.direction);
+      const double cos = glm::dot(sp.ns, ls.direction);
+      if (!(cos > 0.0) || f == dvec3(0.0)) continue;
+      if (visible(sp, ls.direction, ls.distance, c)) sum += ls.weight * f * cos;
+    }
+    return sum;
+  }
+
+  // Environment by MIS (power heuristic): the map sample here, the BRDF sample in shade().
+  dvec3 environment_sample(const SurfacePoint& sp, dvec3 v, Rng& rng, Counters& c) {
+    const double u0 = rng.next(), u1 = rng.next();
+    const EnvironmentMap::Sample es = env_->sample(u0, u1);
+    if (!(es.pdf > 0.0)) return dvec3(0.0);
+    const double cos = glm::dot(sp.ns, es.direction);
+    if (!(cos > 0.0)) return dvec3(0.0);
+    const dvec3 f = brdf_eval(sp.material, sp.ns, v, es.direction);
+    if (f == dvec3(0.0) || !visible(sp, es.direction, std::numeric_limits<double>::infinity(), c)) return dvec3(0.0);
+    const double pb = brdf_pdf(sp.material, sp.ns, v, es.direction);
+    const double w = es.pdf * es.pdf / (es.pdf * es.pdf + pb * pb);
+    return env_->eval(es.direction) * f * (cos * w / es.pdf);
+  }
+
+  dvec3 shade(const SurfacePoint& sp, dvec3 v, Rng& rng, bool camera_level, bool reuse, Counters& c) {
+    const bool direct_lum = !camera_level || set_.only == Only::all || set_.only == Only::luminaires;
+    const bool direct_env = env_ && (!camera_level || set_.only == Only::all || set_.only == Only::environment);
+    const bool bounce = camera_level && set_.bounces == 1 && (set_.only == Only::all || set_.only == Only::indirect);
+    dvec3 sum(0.0);
+    if (direct_lum)
+      sum += luminaires(sp, v, rng, camera_level ? camera_tables_ : bounce_tables_, reuse && camera_level, c);
+    if (direct_env) sum += environment_sample(sp, v, rng, c);
+    if (!direct_env && !bounce) return sum;
+    const double u0 = rng.next(), u1 = rng.next(), u2 = rng.next();
+    const BrdfSample bs = brdf_sample(sp.material, sp.ns, v, u0, u1, u2);
+    if (!(bs.pdf > 0.0) || !(glm::dot(sp.ng, bs.l) > 0.0)) return sum;
+    const dvec3 f = brdf_eval(sp.material, sp.ns, v, bs.l) * (glm::dot(sp.ns, bs.l) / bs.pdf);
+    if (f == dvec3(0.0)) return sum;
+    ++c.bounce;
+    const RayHit hit = rays_.intersect(sp.p + sp.ng * eps_, bs.l, 0.0, std::numeric_limits<double>::infinity());
+    if (!hit.hit) {
+      if (direct_env) {
+        const double pe = env_->pdf(bs.l);
+        sum += env_->eval(bs.l) * f * (bs.pdf * bs.pdf / (bs.pdf * bs.pdf + pe * pe));
+      }
+      return sum;
+    }
+    if (bounce) {
+      const SurfacePoint y = surface_point(scene_.geometry, rays_, hit, bs.l);
+      sum += f * shade(y, -bs.l, rng, false, false, c);
+    }
+    return sum;
+  }
+
+  const scene::Scene& scene_;
+  const RayScene& rays_;
+  const std::vector<LightFieldLight>& lights_;
+  const EnvironmentMap* env_;
+  const ReferenceSettings& set_;
+  std::vector<LightTable> camera_tables_, bounce_tables_;
+  CameraView view_;
+  double eps_;
+};
+
+}  // namespace
+
+ReferenceResult render_reference(const scene::Scene& scene, const std::vector<LightFieldLight>& lights,
+                                 const EnvironmentMap* environment, const ReferenceSettings& settings) {
+  settings.validate(environment != nullptr);
+  const int w = scene.camera.width, h = scene.camera.height;
+  ReferenceResult out;
+  out.image = Image(w, h, 3);
+  out.variance = Image(w, h, 1);
+  out.kinds.assign(static_cast<std::size_t>(w) * h, 0);
+  Timer build;
+  const RayScene rays(scene.geometry);
+  out.stats.build_ms = build.ms();
+  out.stats.triangles = rays.triangle_count();
+  out.stats.threads = lum::resolve_threads(settings.threads);
+  Timer timer;
+  std::unique_ptr<Progress> progress;
+  if (settings.progress) progress = std::make_unique<Progress>("reference", static_cast<std::size_t>(h));
+  std::mutex mutex;
+  Counters total;
+  lum::parallel_for(h, settings.threads, [&](int y) {
+    Tracer tracer(scene, rays, lights, environment, settings);
+    Counters c;
+    const auto n = static_cast<double>(settings.spp);
+    for (int x = 0; x < w; ++x) {
+      const std::uint64_t pixel =
+          static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
+      dvec3 sum(0.0);
+      double sum_y = 0.0, sum_y2 = 0.0;
+      std::uint8_t kind = 0;
+      for (int s = 0; s < settings.spp; ++s) {
+        Rng rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
+        std::uint8_t k = 0;
+        // Without jitter every sample sees the same point: its camera ray and light tables are
+        // computed once per pixel.
+        dvec3 L = tracer.sample(x, y, rng, !settings.jitter && s > 0, k, c);
+        if (s == 0) kind = k;
+        if (!std::isfinite(L.x + L.y + L.z)) {
+          L = dvec3(0.0);
+          ++c.dropped;
+        }
+        sum += L;
+        const double yl = 0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z;
+        sum_y += yl;
+        sum_y2 += yl * yl;
+      }
+      const dvec3 mean = sum / n;
+      for (int k = 0; k < 3; ++k) out.image.at(x, y, k) = static_cast<float>(mean[k]);
+      const double my = sum_y / n;
+      out.variance.at(x, y, 0) =
+          settings.spp > 1 ? static_cast<float>(std::max(0.0, (sum_y2 / n - my * my) / (n - 1.0))) : 0.0f;
+      out.kinds[pixel] = kind;
+    }
+    std::lock_guard lock(mutex);
+    total.camera += c.camera;
+    total.shadow += c.shadow;
+    total.bounce += c.bounce;
+    total.dropped += c.dropped;
+    if (progress) progress->advance();
+  });
+  if (progress) progress->finish();
+  out.stats.render_ms = timer.ms();
+  out.stats.camera_rays = total.camera;
+  out.stats.shadow_rays = total.shadow;
+  out.stats.bounce_rays = total.bounce;
+  out.stats.dropped = total.dropped;
+  out.stats.samples =
+      static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * static_cast<std::uint64_t>(settings.spp);
+  return out;
+}
+
+}  // namespace nf::ref

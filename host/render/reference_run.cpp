@@ -1,0 +1,126 @@
+#include "render/reference_run.h"
+
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/log.h"
+#include "core/timer.h"
+#include "reference/cache_key.h"
+
+namespace nf::render {
+
+ReferenceRun run_reference(const scene::Scene& scene, const ref::ReferenceSettings& settings,
+                           const LuminaireLoadOptions& load) {
+  settings.validate(scene.environment.has_value());
+  ReferenceRun run;
+  run.key = ref::cache_key(scene, settings);
+  Timer t;
+  const std::string name = scene.file.empty() ? std::string("scene") : scene.file.string();
+  const LuminaireSet set = load_luminaires(scene.luminaires, name, load);
+  std::vector<ref::LightFieldLight> lights;
+  for (std::size_t i = 0; i < scene.luminaires.size(); ++i) {
+    const LuminaireSource& src = set.sources[set.source_of[i]];
+    ref::LightFieldLight l;
+    l.luminaire = &src.luminaire;
+    l.precomputed = &src.precomputed;
+    l.to_world = scene.luminaires[i].to_world;
+    l.intensity = scene.luminaires[i].intensity;
+    l.prepare();
+    lights.push_back(l);
+  }
+  std::unique_ptr<ref::EnvironmentMap> env;
+  if (scene.environment) {
+    try {
+      env = std::make_unique<ref::EnvironmentMap>(ref::EnvironmentMap::load(
+          scene.environment->file, scene.environment->rotation_deg, scene.environment->intensity));
+    } catch (const Error& e) {
+      fail(fmt::format("{}: /environment: {}", name, e.what()));
+    }
+  }
+  run.load_ms = t.ms();
+  run.result = ref::render_reference(scene, lights, env.get(), settings);
+  return run;
+}
+
+namespace {
+
+constexpr const char* kDescription = "nearfield:reference_description";
+
+// Reads one cached file if its description matches (`channels` channels).
+bool read_matching(const std::filesystem::path& file, const std::string& description, Image& img,
+                   ImageAttributes& attrs) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) return false;
+  img = read_image(file, &attrs);
+  for (const auto& [k, v] : attrs)
+    if (k == kDescription) return v == description && img.channels >= 3;
+  return false;
+}
+
+// The image (RGB) and its companion <name>-aux.exr (R = variance of the mean luminance, G = kind).
+bool load_cached(const std::filesystem::path& file, const std::filesystem::path& aux_file,
+                 const std::string& description, ReferenceRun& run) {
+  try {
+    Image img, aux;
+    ImageAttributes attrs, aux_attrs;
+    if (!read_matching(file, description, img, attrs) || !read_matching(aux_file, description, aux, aux_attrs))
+      return false;
+    if (aux.width != img.width || aux.height != img.height) return false;
+    const int w = img.width, h = img.height;
+    run.result.image = Image(w, h, 3);
+    run.result.variance = Image(w, h, 1);
+    run.result.kinds.assign(static_cast<std::size_t>(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        for (int c = 0; c < 3; ++c) run.result.image.at(x, y, c) = img.at(x, y, c);
+        run.result.variance.at(x, y, 0) = aux.at(x, y, 0);
+        run.result.kinds[static_cast<std::size_t>(y) * w + x] = static_cast<std::uint8_t>(aux.at(x, y, 1));
+      }
+    for (const auto& [k, v] : attrs) {
+      if (k == "nearfield:render_ms") run.result.stats.render_ms = std::stod(v);
+      if (k == "nearfield:rays") run.result.stats.camera_rays = std::stoull(v);
+    }
+    run.from_cache = true;
+    return true;
+  } catch (const std::exception&) {
+    return false;  // unreadable: render it again
+  }
+}
+
+}  // namespace
+
+ReferenceRun cached_reference(const scene::Scene& scene, const ref::ReferenceSettings& settings,
+                              const std::filesystem::path& cache_dir, const std::string& prefix, bool refresh,
+                              const LuminaireLoadOptions& load) {
+  const std::string description = ref::cache_description(scene, settings);
+  const std::string key = ref::cache_key(scene, settings);
+  const std::filesystem::path file = cache_dir / fmt::format("{}-{}.exr", prefix, key);
+  const std::filesystem::path aux_file = cache_dir / fmt::format("{}-{}-aux.exr", prefix, key);
+  ReferenceRun run;
+  run.key = key;
+  if (!refresh && load_cached(file, aux_file, description, run)) return run;
+  run = run_reference(scene, settings, load);
+  std::filesystem::create_directories(cache_dir);
+  const auto& r = run.result;
+  Image aux(r.image.width, r.image.height, 3);
+  for (int y = 0; y < aux.height; ++y)
+    for (int x = 0; x < aux.width; ++x) {
+      aux.at(x, y, 0) = r.variance.at(x, y, 0);
+      aux.at(x, y, 1) = r.kinds[static_cast<std::size_t>(y) * aux.width + x];
+    }
+  const ImageAttributes attrs{{kDescription, description},
+                              {"nearfield:render_ms", fmt::format("{:.3f}", r.stats.render_ms)},
+                              {"nearfield:rays", std::to_string(r.stats.rays())}};
+  AtomicFile out(file), out_aux(aux_file);
+  write_exr(out.temp_path(), r.image, attrs);
+  write_exr(out_aux.temp_path(), aux, attrs);
+  out.commit();
+  out_aux.commit();
+  return run;
+}
+
+}  // namespace nf::render
