@@ -1,8 +1,7 @@
 #pragma once
 // Far-field goniometric photometry (docs/photometry.md): an intensity table I(C, gamma) in cd
-// on the C-gamma system (gamma from the luminaire's -z... nadir = 0, C azimuth about the
-// vertical axis), read from IES LM-63 or EULUMDAT files and expanded to the full sphere by the
-// file's symmetry. Lookups are bilinear in C and gamma; lumens integrate that bilinear surface
+// on the type C system (gamma = 0 along the luminaire's axis, C the azimuth about it), read from
+// IES LM-63 or EULUMDAT files and expanded to the full sphere by the file's symmetry. Lookups are bilinear in C and gamma; lumens integrate that bilinear surface
 // exactly (piecewise linear in C; linear in gamma against sin(gamma)).
 #include <filesystem>
 #include <string>
