@@ -1,6 +1,11 @@
-// nearfield luminaire gen|info: synthetic luminaires and a summary of a luminaire file
-// (DESIGN.md §7, docs/luminaire-format.md).
+// nearfield luminaire gen|info|list|import: synthetic luminaires, a summary of a luminaire file,
+// and measured ray sets turned into light fields (docs/luminaire-format.md, docs/measured-data.md).
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -8,9 +13,13 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timer.h"
+#include "luminaire/farfield.h"
 #include "luminaire/generator.h"
+#include "luminaire/goniometric.h"
+#include "luminaire/import_rays.h"
 #include "luminaire/io.h"
 #include "luminaire/precompute.h"
+#include "luminaire/rayset.h"
 
 namespace nf::app {
 namespace {
@@ -57,7 +66,45 @@ double flux_estimate(const lum::Luminaire& l, const lum::Precomputed& pc) {
   return flux;
 }
 
+// IES LM-63 / EULUMDAT: a far-field goniometric light (docs/photometry.md).
+bool run_photometry_info(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext != ".ies" && ext != ".ldt") return false;
+  const lum::Goniometric g = lum::read_goniometric(file);
+  double peak = 0.0;
+  for (double v : g.cd) peak = std::max(peak, v);
+  std::printf("photometry  %s (%s)\n", file.c_str(), g.format.c_str());
+  std::printf("symmetry    %s\n", g.symmetry.c_str());
+  std::printf("table       %zu C planes x %zu gamma angles (after symmetry), gamma %.4g..%.4g deg\n", g.c.size(),
+              g.gamma.size(), g.gamma.front(), g.gamma.back());
+  std::printf("peak        %.6g cd\n", peak);
+  if (g.stated_lumens > 0) std::printf("stated      %.6g lm\n", g.stated_lumens);
+  std::printf("flux        %.6g lm\n", g.lumens());
+  return true;
+}
+
+// The light field's far-field intensity sampled on C = 0..360 step 5, gamma = 0..90 step 1 deg
+// (gamma = 0 is the luminaire's +z, the emission axis), written as LM-63-2002.
+void run_farfield(const std::string& file, const std::string& out) {
+  const lum::Luminaire l = lum::read_luminaire(file);
+  lum::Goniometric g;
+  for (int k = 0; k <= 72; ++k) g.c.push_back(5.0 * k);
+  for (int k = 0; k <= 90; ++k) g.gamma.push_back(k);
+  for (double c : g.c)
+    for (double gm : g.gamma) {
+      const double cr = c * 3.14159265358979323846 / 180, gr = gm * 3.14159265358979323846 / 180;
+      g.cd.push_back(
+          lum::farfield_intensity(l, {std::sin(gr) * std::cos(cr), std::sin(gr) * std::sin(cr), std::cos(gr)}));
+    }
+  lum::write_ies(out, g, "far field of nearfield luminaire " + l.name);
+  std::printf(
+      "wrote %s: %zu x %zu intensities, peak %.6g, flux %.6g (the light field's unit; lm when it is photometric)\n",
+      out.c_str(), g.c.size(), g.gamma.size(), *std::max_element(g.cd.begin(), g.cd.end()), g.lumens());
+}
+
 void run_info(const std::string& file) {
+  if (run_photometry_info(file)) return;
   Timer t;
   const lum::Luminaire l = lum::read_luminaire(file);
   const double read_ms = t.ms();
@@ -83,6 +130,76 @@ void run_info(const std::string& file) {
   std::printf("timing      read %.1f ms, precompute %.1f ms\n", read_ms, pc.precompute_ms);
 }
 
+struct ImportCli {
+  std::string rays, out_dir = ".", grid = "16x16", basis = "bspline2", axis, name;
+  double delta = 0.0, coverage = 0.98;
+  int resolution = 48;
+  bool half = false;
+};
+
+std::array<int, 2> parse_grid(const std::string& g) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(g.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    fail(fmt::format("luminaire import: --grid '{}' is not WxH (e.g. 16x16)", g));
+  return {w, h};
+}
+
+glm::dvec3 parse_axis(const std::string& a) {
+  double v[3];
+  char extra = 0;
+  if (std::sscanf(a.c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &extra) != 3)
+    fail(fmt::format("luminaire import: --axis '{}' is not x,y,z", a));
+  return {v[0], v[1], v[2]};
+}
+
+void run_import(const ImportCli& c) {
+  Timer t;
+  const lum::RaySet rays = lum::read_rayset(c.rays);
+  const double read_ms = t.ms();
+  lum::ImportOptions o;
+  o.delta = c.delta;
+  o.grid = parse_grid(c.grid);
+  if (c.basis == "bspline2")
+    o.basis = lum::BasisKind::bspline2;
+  else if (c.basis == "quadratic2")
+    o.basis = lum::BasisKind::quadratic2;
+  else
+    fail(fmt::format("luminaire import: --basis '{}' is not bspline2 or quadratic2", c.basis));
+  o.resolution = c.resolution;
+  if (!c.axis.empty()) o.axis = parse_axis(c.axis);
+  o.coverage = c.coverage;
+  o.name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  const lum::Imported imp = lum::import_rays(rays, o);
+  const auto& r = imp.report;
+  const auto& l = imp.luminaire;
+  std::filesystem::create_directories(c.out_dir);
+  const auto manifest = std::filesystem::path(c.out_dir) / (o.name + ".json");
+  t.reset();
+  lum::write_luminaire(manifest, l, {c.half});
+  const char* unit = lum::flux_unit(r.kind);
+  std::printf("rays        %zu from %s (%s), total %.6g %s%s\n", r.rays, c.rays.c_str(), rays.format.c_str(),
+              r.total_flux, unit,
+              rays.header_flux >= 0 ? fmt::format(" (header states {:.6g})", rays.header_flux).c_str() : "");
+  for (const auto& n : rays.notes) std::printf("note        %s\n", n.c_str());
+  std::printf("kept        %zu rays, %.6g %s (%.2f %%); backward %.4g %s; outside the planes %.4g %s\n", r.kept_rays,
+              r.kept_flux, unit, 100.0 * r.kept_flux / r.total_flux, r.backward_flux, unit,
+              r.total_flux - r.kept_flux - r.backward_flux, unit);
+  std::printf("axis        (%.4f, %.4f, %.4f), origin (%.6g, %.6g, %.6g) m in the file's frame\n", r.frame.ez.x,
+              r.frame.ez.y, r.frame.ez.z, r.frame.origin.x, r.frame.origin.y, r.frame.origin.z);
+  std::printf("light field %d x %d %s, cells %.4g x %.4g mm, delta %.4g mm, |tan theta| <= %.3g\n", l.basis.count[0],
+              l.basis.count[1], lum::to_string(l.basis.kind), l.basis.cell.x * 1e3, l.basis.cell.y * 1e3, l.delta * 1e3,
+              r.tan_max);
+  std::printf(
+      "images      %d x %d pixels over %.4g x %.4g mm; %zu lit pixel-basis pairs, median noise %.0f %% per pixel\n",
+      l.image.resolution[0], l.image.resolution[1], l.image.size.x * 1e3, l.image.size.y * 1e3, r.lit_pixels,
+      100.0 * r.median_noise);
+  std::printf("pixels      radiance in %s/m^2/sr (%s)\n", unit,
+              r.kind == lum::FluxKind::luminous ? "cd/m^2" : "W/m^2/sr");
+  std::printf("wrote       %s (read %.0f ms, import %.0f ms, write %.0f ms)\n", manifest.string().c_str(), read_ms,
+              r.ms, t.ms());
+}
+
 const CommandRegistration reg("luminaire", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("luminaire", "Light-field luminaires: synthetic presets and file summaries");
   cmd->require_subcommand(1);
@@ -99,8 +216,31 @@ const CommandRegistration reg("luminaire", [](CLI::App& app) {
   gen->callback([] { run_gen(g); });
   static std::string file;
   auto* info = cmd->add_subcommand("info", "Summarise a luminaire file: grid, resolution, basis, memory");
-  info->add_option("file", file, "Luminaire manifest (.json)")->required();
+  info->add_option("file", file, "Luminaire manifest (.json), or IES LM-63 (.ies) / EULUMDAT (.ldt) photometry")
+      ->required();
   info->callback([] { run_info(file); });
+  static ImportCli ic;
+  auto* imp = cmd->add_subcommand("import",
+                                  "Turn a ray file (TM-25 binary, LightTools ASCII) into a light field DIR/NAME.json");
+  imp->add_option("rays", ic.rays, "Ray file (.TM25RAY / .tm25ray, LightTools .ray)")->required();
+  imp->add_option("-o,--out", ic.out_dir, "Output directory")->capture_default_str();
+  imp->add_option("--name", ic.name, "Luminaire name (default: the ray file's stem)");
+  imp->add_option("--delta", ic.delta, "Distance between the planes in metres (0: the image's longer side)")
+      ->capture_default_str();
+  imp->add_option("--grid", ic.grid, "Basis functions WxH")->capture_default_str();
+  imp->add_option("--basis", ic.basis, "bspline2 | quadratic2")->capture_default_str();
+  imp->add_option("--resolution", ic.resolution, "Pixels along the image's longer side")->capture_default_str();
+  imp->add_option("--axis", ic.axis, "Emission axis x,y,z in the file's frame (default: the mean ray direction)");
+  imp->add_option("--coverage", ic.coverage, "Fraction of the forward flux the basis covers in angle")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1.0));
+  imp->add_flag("--half", ic.half, "Store half floats (smaller, lossy)");
+  imp->callback([] { run_import(ic); });
+  static std::string ff_in, ff_out;
+  auto* ff = cmd->add_subcommand("farfield", "Write a light field's far-field intensity as IES LM-63-2002");
+  ff->add_option("file", ff_in, "Luminaire manifest (.json)")->required();
+  ff->add_option("-o,--out", ff_out, "Output .ies file")->required();
+  ff->callback([] { run_farfield(ff_in, ff_out); });
   auto* list = cmd->add_subcommand("list", "List the synthetic presets");
   list->callback([] {
     for (const auto& n : lum::preset_names()) std::printf("%s\n", lum::preset_summary(n).c_str());

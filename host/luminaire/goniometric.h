@@ -1,0 +1,37 @@
+#pragma once
+// Far-field goniometric photometry (docs/photometry.md): an intensity table I(C, gamma) in cd
+// on the type C system (gamma = 0 along the luminaire's axis, C the azimuth about it), read from
+// IES LM-63 or EULUMDAT files and expanded to the full sphere by the file's symmetry. Lookups are bilinear in C and gamma; lumens integrate that bilinear surface
+// exactly (piecewise linear in C; linear in gamma against sin(gamma)).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace nf::lum {
+
+struct Goniometric {
+  std::string source, format;   // file, "IES LM-63-2002" | "EULUMDAT" ...
+  std::string symmetry;         // as stated by the file: "rotational", "bilateral 0-180", ...
+  std::vector<double> c;        // degrees, ascending; full tables span [0, 360] (a single 0 when rotational)
+  std::vector<double> gamma;    // degrees, ascending, within [0, 180]
+  std::vector<double> cd;       // cd[ic * gamma.size() + ig]
+  double stated_lumens = -1.0;  // the flux the file states (< 0: none)
+
+  double intensity(double c_deg, double gamma_deg) const;  // bilinear; 0 outside the gamma range
+  double lumens() const;                                   // integral of the bilinear table over the sphere
+};
+
+// By content: EULUMDAT for .ldt, IES LM-63 otherwise (files start with IESNA / IES:LM-63).
+Goniometric read_goniometric(const std::filesystem::path& file);
+Goniometric read_ies(const std::filesystem::path& file);
+Goniometric read_eulumdat(const std::filesystem::path& file);
+
+// Writes LM-63-2002 (absolute photometry, type C, full 0..360 table) through a temporary file.
+void write_ies(const std::filesystem::path& file, const Goniometric& g, const std::string& description);
+
+// Expands a table given on part of the C range by a symmetry: "none" (0 .. <360 or 0 .. 360),
+// "rotational" (one plane), "bilateral 0-180" (C in [0, 180]), "bilateral 90-270" (C in
+// [90, 270]), "quadrilateral" (C in [0, 90]). Errors name `where`.
+void expand_symmetry(Goniometric& g, const std::string& where);
+
+}  // namespace nf::lum

@@ -1,0 +1,134 @@
+// IES LM-63 (1995, 2002, 2019) reader (docs/photometry.md).
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "luminaire/goniometric.h"
+
+namespace nf::lum {
+
+Goniometric read_ies(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::ifstream in(path);
+  if (!in) fail(fmt::format("{}: cannot open the IES file", file));
+  Goniometric g;
+  g.source = file;
+  std::string line, first;
+  bool tilt_found = false;
+  std::size_t line_no = 0;
+  std::string tilt;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line_no == 1) first = line;
+    if (line.rfind("[_ABSOLUTELUMENS]", 0) == 0) {
+      try {
+        g.stated_lumens = std::stod(line.substr(17));
+      } catch (...) {
+      }
+    }
+    if (line.rfind("TILT=", 0) == 0 || line.rfind("TILT =", 0) == 0) {
+      tilt = line.substr(line.find('=') + 1);
+      tilt_found = true;
+      break;
+    }
+  }
+  if (!tilt_found) fail(fmt::format("{}: no TILT= line (is this an IES LM-63 file?)", file));
+  g.format = first.rfind("IES", 0) == 0 ? first : "IES LM-63-1986";
+  std::vector<double> t;
+  std::string tok;
+  while (in >> tok) {
+    for (char& ch : tok)
+      if (ch == ',') ch = ' ';
+    std::istringstream ts(tok);
+    std::string part;
+    while (ts >> part) {
+      try {
+        std::size_t used = 0;
+        t.push_back(std::stod(part, &used));
+        if (used != part.size()) throw std::invalid_argument(part);
+      } catch (...) {
+        fail(fmt::format("{}: '{}' after the TILT line is not a number", file, part));
+      }
+    }
+  }
+  std::size_t at = 0;
+  auto next = [&](const char* field) {
+    if (at >= t.size()) fail(fmt::format("{}: file ends before the field '{}'", file, field));
+    const double v = t[at++];
+    if (!std::isfinite(v)) fail(fmt::format("{}: field '{}' is not finite", file, field));
+    return v;
+  };
+  auto trimmed = [](std::string s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.erase(s.begin());
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.pop_back();
+    return s;
+  };
+  tilt = trimmed(tilt);
+  if (tilt == "INCLUDE") {
+    next("lamp-to-luminaire geometry");
+    const double n = next("number of tilt angles");
+    if (n < 0 || n > 1e5) fail(fmt::format("{}: field 'number of tilt angles' is {}", file, n));
+    at += 2 * static_cast<std::size_t>(n);  // tilt angles and factors: not applied (lamp tilt)
+  } else if (tilt != "NONE") {
+    // TILT=<file>: an external tilt file; the intensities are used as they are.
+  }
+  const double lamps = next("number of lamps");
+  const double lumens_per_lamp = next("lumens per lamp");
+  const double multiplier = next("candela multiplier");
+  const double nv = next("number of vertical angles"), nh = next("number of horizontal angles");
+  const double type = next("photometric type");
+  next("units type");
+  next("width");
+  next("length");
+  next("height");
+  const double ballast = next("ballast factor");
+  const double ballast_lamp = next("future use / ballast-lamp photometric factor");
+  next("input watts");
+  if (type != 1) fail(fmt::format("{}: field 'photometric type' is {}; only type C (1) is supported", file, type));
+  if (!(nv >= 1 && nv <= 10000 && nv == std::floor(nv)))
+    fail(fmt::format("{}: field 'number of vertical angles' is {}", file, nv));
+  if (!(nh >= 1 && nh <= 10000 && nh == std::floor(nh)))
+    fail(fmt::format("{}: field 'number of horizontal angles' is {}", file, nh));
+  if (!(multiplier > 0)) fail(fmt::format("{}: field 'candela multiplier' is {}", file, multiplier));
+  const std::size_t ng = static_cast<std::size_t>(nv), nc = static_cast<std::size_t>(nh);
+  for (std::size_t k = 0; k < ng; ++k) g.gamma.push_back(next("vertical angles"));
+  for (std::size_t k = 0; k < nc; ++k) g.c.push_back(next("horizontal angles"));
+  const double scale = multiplier * (ballast > 0 ? ballast : 1.0) * (ballast_lamp > 0 ? ballast_lamp : 1.0);
+  for (std::size_t k = 0; k < ng * nc; ++k) {
+    const double v = next("candela values");
+    if (v < 0) fail(fmt::format("{}: candela value {} at index {} is negative", file, v, k));
+    g.cd.push_back(v * scale);
+  }
+  if (at != t.size()) fail(fmt::format("{}: {} numbers after the candela table", file, t.size() - at));
+  for (std::size_t k = 1; k < ng; ++k)
+    if (!(g.gamma[k] > g.gamma[k - 1])) fail(fmt::format("{}: vertical angles are not ascending at index {}", file, k));
+  for (std::size_t k = 1; k < nc; ++k)
+    if (!(g.c[k] > g.c[k - 1])) fail(fmt::format("{}: horizontal angles are not ascending at index {}", file, k));
+  if (g.gamma.front() < 0 || g.gamma.back() > 180) fail(fmt::format("{}: vertical angles outside 0..180", file));
+  const double c0 = g.c.front(), c1 = g.c.back();
+  if (nc == 1)
+    g.symmetry = "rotational";
+  else if (c0 == 0 && c1 == 90)
+    g.symmetry = "quadrilateral";
+  else if (c0 == 0 && c1 == 180)
+    g.symmetry = "bilateral 0-180";
+  else if (c0 == 90 && c1 == 270)
+    g.symmetry = "bilateral 90-270";
+  else if (c0 == 0 && c1 > 180 && c1 <= 360)
+    g.symmetry = "none";
+  else
+    fail(fmt::format("{}: horizontal angles {} .. {} match no LM-63 symmetry", file, c0, c1));
+  if (lumens_per_lamp > 0 && g.stated_lumens < 0)
+    g.stated_lumens = -1;  // relative photometry: lamp lumens are not the luminaire's
+  (void)lamps;
+  expand_symmetry(g, file);
+  return g;
+}
+
+}  // namespace nf::lum

@@ -1,0 +1,125 @@
+#include "luminaire/rayset_lighttools.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace nf::lum {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return {};
+  const auto b = s.find_last_not_of(" \t\r\n");
+  return s.substr(a, b - a + 1);
+}
+
+}  // namespace
+
+RaySet read_lighttools_ascii(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::ifstream in(path);
+  if (!in) fail(fmt::format("{}: cannot open the LightTools ray file", file));
+  RaySet rs;
+  rs.source = file;
+  rs.format = "LightTools ASCII";
+  double unit = -1.0;
+  bool kind_known = false, has_wavelength = false, started = false;
+  glm::dvec3 origin(0.0);
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    if (t == "lt_startofdata") {
+      started = true;
+      break;
+    }
+    const auto colon = t.find(':');
+    if (colon == std::string::npos)
+      fail(fmt::format("{}:{}: expected a 'key: value' header line or lt_startofdata, found '{}'", file, line_no, t));
+    const std::string key = t.substr(0, colon), value = trim(t.substr(colon + 1));
+    auto bad = [&](const std::string& what) -> void {
+      fail(fmt::format("{}:{}: header field '{}' {}", file, line_no, key, what));
+    };
+    if (key == "lt_length_units") {
+      if (value == "millimeters")
+        unit = 1e-3;
+      else if (value == "centimeters")
+        unit = 1e-2;
+      else if (value == "meters")
+        unit = 1.0;
+      else if (value == "inches")
+        unit = 0.0254;
+      else
+        bad(fmt::format("is '{}' (supported: millimeters, centimeters, meters, inches)", value));
+    } else if (key == "lt_datatype") {
+      if (value == "luminous_flux")
+        rs.kind = FluxKind::luminous;
+      else if (value == "radiant_flux" || value == "power")
+        rs.kind = FluxKind::radiant;
+      else
+        bad(fmt::format("is '{}' (supported: luminous_flux, radiant_flux)", value));
+      kind_known = true;
+    } else if (key == "lt_far_field_data") {
+      if (value != "no") bad(fmt::format("is '{}': far-field ray data have no positions to import", value));
+    } else if (key == "lt_color_info") {
+      if (value == "wavelength")
+        has_wavelength = true;
+      else if (value != "none")
+        bad(fmt::format("is '{}' (supported: none, wavelength)", value));
+    } else if (key == "lt_data_origin") {
+      std::istringstream v(value);
+      if (!(v >> origin.x >> origin.y >> origin.z)) bad(fmt::format("'{}' is not three numbers", value));
+    } else if (key == "lt_radiant_flux" || key == "lt_luminous_flux") {
+      std::istringstream v(value);
+      double f = 0.0;
+      if (!(v >> f) || !(f >= 0.0 && std::isfinite(f))) bad(fmt::format("'{}' is not a flux >= 0", value));
+      rs.header_flux = f;
+    } else {
+      rs.notes.push_back(fmt::format("ignored header field {}", key));
+    }
+  }
+  if (!started) fail(fmt::format("{}: no lt_startofdata line (is this a LightTools ASCII ray file?)", file));
+  if (unit < 0.0) fail(fmt::format("{}: header field 'lt_length_units' is missing", file));
+  if (!kind_known) fail(fmt::format("{}: header field 'lt_datatype' is missing", file));
+  if (has_wavelength) rs.notes.push_back("skipped the wavelength column (lt_color_info: wavelength)");
+  const int cols = has_wavelength ? 8 : 7;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    if (t == "lt_endofdata") break;
+    std::istringstream v(t);
+    double x[8];
+    int n = 0;
+    while (n < 8 && v >> x[n]) ++n;
+    std::string rest;
+    if (n != cols || (v >> rest))
+      fail(fmt::format("{}:{}: expected {} numbers (x y z kx ky kz flux{}), found '{}'", file, line_no, cols,
+                       has_wavelength ? " wavelength" : "", t));
+    for (int c = 0; c < cols; ++c)
+      if (!std::isfinite(x[c])) fail(fmt::format("{}:{}: non-finite value in column {}", file, line_no, c + 1));
+    const glm::dvec3 k(x[3], x[4], x[5]);
+    const double len = std::sqrt(k.x * k.x + k.y * k.y + k.z * k.z);
+    if (!(len > 1e-6)) fail(fmt::format("{}:{}: zero direction vector", file, line_no));
+    if (!(x[6] >= 0.0)) fail(fmt::format("{}:{}: flux {} is negative", file, line_no, x[6]));
+    rs.add((glm::dvec3(x[0], x[1], x[2]) + origin) * unit, k / len, x[6]);
+  }
+  if (rs.size() == 0) fail(fmt::format("{}: no rays after lt_startofdata", file));
+  const double total = rs.total_flux();
+  if (rs.header_flux >= 0.0 && std::abs(total - rs.header_flux) > 1e-3 * std::max(total, rs.header_flux))
+    rs.notes.push_back(
+        fmt::format("the header states a total of {:.6g} {} but the rays sum to {:.6g} {}: using the rays",
+                    rs.header_flux, flux_unit(rs.kind), total, flux_unit(rs.kind)));
+  return rs;
+}
+
+}  // namespace nf::lum

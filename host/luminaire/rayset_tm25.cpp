@@ -1,0 +1,243 @@
+#include "luminaire/rayset_tm25.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace nf::lum {
+
+namespace {
+
+constexpr std::size_t kFileBlock = 256, kFlagBlock = 32, kTextBlock = 4000, kTextBlocks = 9;
+constexpr std::size_t kFixedHeader = kFileBlock + kFlagBlock + kTextBlocks * kTextBlock;  // 36 288
+constexpr double kMillimetre = 1e-3;
+
+// Little-endian reads with bounds checks that name the field being read.
+class Reader {
+ public:
+  Reader(const std::vector<unsigned char>& b, std::string file) : b_(b), file_(std::move(file)) {}
+  template <typename T>
+  T get(std::size_t at, const char* field) const {
+    if (at + sizeof(T) > b_.size())
+      fail(fmt::format("{}: TM-25 file ends inside the {} (byte {} of {})", file_, field, at, b_.size()));
+    T v;
+    std::memcpy(&v, b_.data() + at, sizeof(T));  // the format and every supported host are little-endian
+    return v;
+  }
+  std::string ascii(std::size_t at, std::size_t n) const {
+    std::string s;
+    for (std::size_t k = 0; k < n && at + k < b_.size() && b_[at + k] != 0; ++k) s += static_cast<char>(b_[at + k]);
+    return s;
+  }
+  // UTF-32 text block reduced to ASCII (other code points become '?').
+  std::string utf32(std::size_t at, std::size_t bytes) const {
+    std::string s;
+    for (std::size_t k = 0; k + 4 <= bytes; k += 4) {
+      const auto c = get<std::uint32_t>(at + k, "description text block");
+      if (c == 0) break;
+      s += c < 128 ? static_cast<char>(c) : '?';
+    }
+    return s;
+  }
+
+ private:
+  const std::vector<unsigned char>& b_;
+  std::string file_;
+};
+
+}  // namespace
+
+RaySet read_tm25(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::vector<unsigned char> b;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(fmt::format("{}: cannot open the TM-25 ray file", file));
+    b.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const Reader r(b, file);
+  auto bad = [&](const char* field, const char* section, const std::string& what) -> void {
+    fail(fmt::format("{}: TM-25 header field '{}' (section {}) {}", file, field, section, what));
+  };
+  if (b.size() < kFixedHeader)
+    fail(fmt::format("{}: {} bytes is shorter than the {}-byte TM-25 header", file, b.size(), kFixedHeader));
+  if (std::memcmp(b.data(), "TM25", 4) != 0) bad("file type", "4.7.1.1", "is not 'TM25'");
+  const auto version = r.get<std::int32_t>(4, "version");
+  if (version != 2013) bad("version", "4.7.1.2", fmt::format("is {}; this reader supports TM-25-13 (2013)", version));
+  const auto creation = r.get<std::int32_t>(8, "creation method");
+  const auto phi_v = r.get<float>(12, "total luminous flux");
+  const auto phi_e = r.get<float>(16, "total radiant flux");
+  const auto n_rays = r.get<std::uint64_t>(20, "number of rays");
+  const std::string date = r.ascii(28, 28);
+  const auto spectrum_type = r.get<std::int32_t>(60, "spectral data identifier");
+  const auto n_spectra = r.get<std::int32_t>(76, "number of spectral tables");
+  const auto n_additional = r.get<std::int32_t>(80, "number of additional ray data items");
+  const auto text_size = r.get<std::int32_t>(84, "size of the additional text block");
+
+  RaySet rs;
+  rs.source = file;
+  rs.format = "TM-25";
+  if (creation != 0 && creation != 1)
+    rs.notes.push_back(
+        fmt::format("creation method (4.7.1.3) is {}, expected 0 (simulation) or 1 (measurement)", creation));
+  for (auto [v, name] : {std::pair{phi_v, "total luminous flux"}, std::pair{phi_e, "total radiant flux"}})
+    if (!std::isnan(v) && !(v >= 0.0f && std::isfinite(v)))
+      bad(name, name[6] == 'l' ? "4.7.1.4" : "4.7.1.5", fmt::format("is {}, must be >= 0 or NaN (unknown)", v));
+  if (n_rays == 0) bad("number of rays", "4.7.1.6", "is 0");
+  if (spectrum_type < 0 || spectrum_type > 4)
+    bad("spectral data identifier", "4.7.1.9", fmt::format("is {}, must be 0..4", spectrum_type));
+  if (n_spectra < 0) bad("number of spectral tables", "4.7.1.13", fmt::format("is {}", n_spectra));
+  if ((spectrum_type == 3 || spectrum_type == 4) && n_spectra == 0)
+    bad("number of spectral tables", "4.7.1.13",
+        fmt::format("is 0 but the spectral data identifier {} needs tables", spectrum_type));
+  if (n_additional < 0) bad("number of additional ray data items", "4.7.1.14", fmt::format("is {}", n_additional));
+  if (text_size < 0 || text_size % 32 != 0)
+    bad("size of the additional text block", "4.7.1.15",
+        fmt::format("is {}, must be a non-negative multiple of 32", text_size));
+
+  // Known data flags block (4.7.2): position and direction are always present.
+  const char* flag_names[8] = {"position flag",      "direction flag", "radiant flux flag", "wavelength flag",
+                               "luminous flux flag", "Stokes flag",    "tristimulus flag",  "spectrum index flag"};
+  int flags[8];
+  for (int k = 0; k < 8; ++k) {
+    flags[k] = r.get<std::int32_t>(kFileBlock + 4 * static_cast<std::size_t>(k), flag_names[k]);
+    const std::string section = fmt::format("4.7.2.{}", k + 1);
+    if (k < 2 && flags[k] != 1) bad(flag_names[k], section.c_str(), fmt::format("is {}, must be 1", flags[k]));
+    if (flags[k] != 0 && flags[k] != 1)
+      bad(flag_names[k], section.c_str(), fmt::format("is {}, must be 0 or 1", flags[k]));
+  }
+  const bool has_rad = flags[2], has_lambda = flags[3], has_lum = flags[4], has_stokes = flags[5], has_tri = flags[6],
+             has_index = flags[7];
+  if (!has_rad && !has_lum)
+    bad("radiant flux flag", "4.7.2.3", "and the luminous flux flag (4.7.2.5) are both 0: no flux column");
+  if (spectrum_type == 2 && !has_lambda)
+    bad("wavelength flag", "4.7.2.4", "is 0 but the spectral data identifier is 2 (per-ray wavelength)");
+  if (has_index != (spectrum_type == 4))
+    bad("spectrum index flag", "4.7.2.8",
+        fmt::format("is {} but the spectral data identifier is {}", flags[7], spectrum_type));
+
+  const std::string name = r.utf32(kFileBlock + kFlagBlock, kTextBlock);
+  const std::string maker = r.utf32(kFileBlock + kFlagBlock + kTextBlock, kTextBlock);
+  if (!name.empty() || !maker.empty()) rs.notes.push_back(fmt::format("light source '{}' by '{}'", name, maker));
+  if (!date.empty()) rs.notes.push_back(fmt::format("created {}", date));
+
+  // Variable blocks: spectral tables (4.7.4, padded to 32 bytes), additional column names (4.7.5),
+  // additional text (4.7.6).
+  std::size_t at = kFixedHeader, table_bytes = 0;
+  for (int t = 0; t < n_spectra; ++t) {
+    const auto pairs = r.get<std::int32_t>(at + table_bytes, "spectral table size");
+    if (pairs <= 0 || pairs > 1000000)
+      bad("spectral table size", "4.7.4", fmt::format("of table {} is {}, must be 1..1e6", t + 1, pairs));
+    table_bytes += 4 + 8 * static_cast<std::size_t>(pairs);
+  }
+  if (table_bytes % 32) table_bytes += 32 - table_bytes % 32;
+  if (n_spectra > 0)
+    rs.notes.push_back(
+        fmt::format("skipped {} spectral table(s) (spectral data identifier {})", n_spectra, spectrum_type));
+  at += table_bytes + 512 * static_cast<std::size_t>(n_additional) + static_cast<std::size_t>(text_size);
+  if (at > b.size())
+    fail(fmt::format("{}: TM-25 variable header blocks end at byte {} beyond the file ({} bytes)", file, at, b.size()));
+
+  // Columns. Vendors differ on Stokes data (3 Stokes parameters, or 3 plus a polarisation-ellipse
+  // vector): the count is taken from the file size.
+  std::size_t cols_fixed = 6 + has_rad + has_lambda + has_lum + 2 * static_cast<std::size_t>(has_tri) + has_index +
+                           static_cast<std::size_t>(n_additional);
+  const std::size_t data = b.size() - at;
+  std::size_t stokes_cols = 0;
+  if (has_stokes) {
+    for (std::size_t s : {3u, 6u})
+      if (data == n_rays * 4 * (cols_fixed + s)) stokes_cols = s;
+    if (stokes_cols == 0)
+      bad("Stokes flag", "4.7.2.6",
+          fmt::format("is 1 but the ray data ({} bytes) fit neither 3 nor 6 Stokes columns", data));
+    rs.notes.push_back(fmt::format("skipped {} Stokes/polarisation columns", stokes_cols));
+  }
+  const std::size_t cols = cols_fixed + stokes_cols;
+  if (n_rays > data / (4 * cols) || data != n_rays * 4 * cols)
+    bad("number of rays", "4.7.1.6",
+        fmt::format("is {} but the ray data after byte {} hold {} bytes = {:.6g} rays of {} columns", n_rays, at, data,
+                    static_cast<double>(data) / (4.0 * static_cast<double>(cols)), cols));
+  if (has_lambda) rs.notes.push_back("skipped the per-ray wavelength column");
+  if (has_tri) rs.notes.push_back("skipped the tristimulus X and Z columns");
+  if (has_index) rs.notes.push_back("skipped the spectrum index column");
+  if (n_additional > 0) rs.notes.push_back(fmt::format("skipped {} additional column(s)", n_additional));
+  if (has_lum && has_rad) rs.notes.push_back("both radiant and luminous flux present: using luminous flux (lm)");
+  rs.kind = has_lum ? FluxKind::luminous : FluxKind::radiant;
+  const std::size_t flux_col = has_lum ? 6 + has_rad + has_lambda : 6;
+  const float header_total = has_lum ? phi_v : phi_e;
+  if (!std::isnan(header_total)) rs.header_flux = header_total;
+
+  rs.position.reserve(n_rays);
+  rs.direction.reserve(n_rays);
+  rs.flux.reserve(n_rays);
+  std::vector<float> row(cols);
+  for (std::uint64_t i = 0; i < n_rays; ++i) {
+    std::memcpy(row.data(), b.data() + at + i * 4 * cols, 4 * cols);
+    for (std::size_t c = 0; c < 6; ++c)
+      if (!std::isfinite(row[c])) fail(fmt::format("{}: ray {} has a non-finite value in column {}", file, i, c));
+    const glm::dvec3 k(row[3], row[4], row[5]);
+    const double len = std::sqrt(k.x * k.x + k.y * k.y + k.z * k.z);
+    if (!(len > 1e-6)) fail(fmt::format("{}: ray {} has a zero direction vector", file, i));
+    const double f = row[flux_col];
+    if (!(std::isfinite(f) && f >= 0.0))
+      fail(fmt::format("{}: ray {} has flux {} (must be finite and >= 0)", file, i, f));
+    rs.add(glm::dvec3(row[0], row[1], row[2]) * kMillimetre, k / len, f);
+  }
+  const double total = rs.total_flux();
+  if (rs.header_flux >= 0.0 && std::abs(total - rs.header_flux) > 1e-3 * std::max(total, rs.header_flux))
+    rs.notes.push_back(
+        fmt::format("the header states a total of {:.6g} {} but the rays sum to {:.6g} {}: using the rays",
+                    rs.header_flux, flux_unit(rs.kind), total, flux_unit(rs.kind)));
+  return rs;
+}
+
+void write_tm25(const std::filesystem::path& file, const RaySet& rs) {
+  std::vector<unsigned char> b(kFixedHeader, 0);
+  auto put = [&](std::size_t at, auto v) { std::memcpy(b.data() + at, &v, sizeof(v)); };
+  std::memcpy(b.data(), "TM25", 4);
+  put(4, std::int32_t{2013});
+  put(8, std::int32_t{0});
+  const float total = static_cast<float>(rs.total_flux());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  put(12, rs.kind == FluxKind::luminous ? total : nan);
+  put(16, rs.kind == FluxKind::radiant ? total : nan);
+  put(20, static_cast<std::uint64_t>(rs.size()));
+  put(60, std::int32_t{0});
+  put(64, nan);
+  put(68, nan);
+  put(72, nan);
+  put(kFileBlock, std::int32_t{1});
+  put(kFileBlock + 4, std::int32_t{1});
+  put(kFileBlock + 8, std::int32_t{rs.kind == FluxKind::radiant});
+  put(kFileBlock + 16, std::int32_t{rs.kind == FluxKind::luminous});
+  for (std::size_t i = 0; i < rs.size(); ++i) {
+    const float row[7] = {static_cast<float>(rs.position[i].x / kMillimetre),
+                          static_cast<float>(rs.position[i].y / kMillimetre),
+                          static_cast<float>(rs.position[i].z / kMillimetre),
+                          static_cast<float>(rs.direction[i].x),
+                          static_cast<float>(rs.direction[i].y),
+                          static_cast<float>(rs.direction[i].z),
+                          static_cast<float>(rs.flux[i])};
+    const auto* p = reinterpret_cast<const unsigned char*>(row);
+    b.insert(b.end(), p, p + sizeof(row));
+  }
+  AtomicFile out(file);
+  {
+    std::ofstream f(out.temp_path(), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+    if (!f) fail(fmt::format("{}: cannot write the TM-25 file", file.string()));
+  }
+  out.commit();
+}
+
+}  // namespace nf::lum
