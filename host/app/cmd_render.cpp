@@ -20,16 +20,16 @@
 #include <nlohmann/json.hpp>
 
 #include "app/command.h"
+#include "cl/runtime.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
 #include "core/memory.h"
-#include "cl/runtime.h"
-#include "luminaire/io.h"
-#include "luminaire/memory_estimate.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "luminaire/io.h"
+#include "luminaire/memory_estimate.h"
 #include "render/frame.h"
 #include "render/settings.h"
 #include "render/stats.h"
@@ -144,12 +144,17 @@ constexpr std::uint64_t kHostBytesPerPixel = 70, kDeviceBytesPerPixel = 200, kBy
 
 RenderEstimate estimate_render(const scene::Scene& s) {
   RenderEstimate e;
-  const std::uint64_t pixels =
-      static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
+  const std::uint64_t pixels = static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
   e.per_pixel = mul_sat(pixels, kHostBytesPerPixel + kDeviceBytesPerPixel);  // both sides, for display
-  for (const auto& l : s.luminaires) {
+  for (std::size_t i = 0; i < s.luminaires.size(); ++i) {
+    const auto& l = s.luminaires[i];
     if (l.manifest.empty()) continue;
-    const lum::LuminaireMemory m = lum::estimate_memory(lum::read_manifest(l.manifest), 3);
+    lum::LuminaireMemory m;
+    try {  // name the scene and the instance, as loading the luminaire does
+      m = lum::estimate_memory(lum::read_manifest(l.manifest), 3);
+    } catch (const Error& err) {
+      fail(fmt::format("{}: /luminaires/{} ('{}'): {}", s.file.string(), i, l.name, err.what()));
+    }
     e.luminaires_host = add_sat(e.luminaires_host, m.host());
     e.luminaires_device = add_sat(e.luminaires_device, m.device());
   }

@@ -14,74 +14,11 @@
 #include "gl/shadow_maps.h"
 #include "gl/step0.h"
 #include "gl/tonemap.h"
+#include "render/contributions.h"
+#include "render/luminaire_contribution.h"
 #include "render/sampler.h"
 
 namespace nf::render {
-
-// ---------------------------------------------------------------- settings -------------------
-
-std::string to_string(Visibility v) { return v == Visibility::none ? "none" : "shadowmaps"; }
-
-Visibility parse_visibility(const std::string& s, const std::string& what) {
-  if (s == "none") return Visibility::none;
-  if (s == "shadowmaps") return Visibility::shadowmaps;
-  fail(fmt::format("{}: unknown visibility '{}' (none, shadowmaps)", what, s));
-}
-
-void FrameSettings::validate() const {
-  sampling.validate();
-  if (shadow_map_size < 16 || shadow_map_size > 4096)
-    fail(fmt::format("shadow_map_size must be in 16..4096, got {}", shadow_map_size));
-  if (!(tonemap.exposure > 0.0) || !std::isfinite(tonemap.exposure))
-    fail(fmt::format("tone mapping: exposure must be > 0, got {}", tonemap.exposure));
-  if (!(tonemap.gamma > 0.0) || !std::isfinite(tonemap.gamma))
-    fail(fmt::format("tone mapping: gamma must be > 0, got {}", tonemap.gamma));
-}
-
-FrameSettings frame_settings(const scene::RenderSettings& r) {
-  FrameSettings f;
-  f.sampling.method = parse_method(r.method, "render.method");
-  f.sampling.sampler = parse_sampler(r.sampler, "render.sampler");
-  f.sampling.balance = parse_balance(r.balance, "render.balance");
-  f.sampling.search = parse_search(r.search, "render.search");
-  f.sampling.structure = parse_structure(r.structure, "render.structure");
-  f.sampling.spp = r.spp;
-  f.sampling.k_max = r.kmax;
-  f.sampling.search_depth = r.search_depth;
-  f.sampling.seed = r.seed;
-  f.sampling.lanes = r.lanes;
-  f.visibility = parse_visibility(r.visibility, "render.visibility");
-  f.shadow_map_size = r.shadow_map_size;
-  f.tonemap = r.tonemap;
-  f.validate();
-  return f;
-}
-
-scene::RenderSettings render_settings(const FrameSettings& f) {
-  scene::RenderSettings r;
-  const SamplingSettings& p = f.sampling;
-  r.method = to_string(p.method);
-  r.sampler = to_string(p.sampler);
-  r.spp = p.spp;
-  r.kmax = p.k_max;
-  r.search_depth = p.search_depth;
-  r.search = to_string(p.search);
-  r.balance = to_string(p.balance);
-  r.structure = to_string(p.structure);
-  r.visibility = to_string(f.visibility);
-  r.shadow_map_size = f.shadow_map_size;
-  r.seed = p.seed;
-  r.lanes = p.lanes;
-  r.tonemap = f.tonemap;
-  return r;
-}
-
-std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s) {
-  auto out = scene::settings_attributes(render_settings(s));
-  out.emplace_back("nearfield:first_frame", std::to_string(s.sampling.frame));
-  out.emplace_back("nearfield:band", fmt::format("{}", s.sampling.band));
-  return out;
-}
 
 namespace {
 
@@ -135,7 +72,9 @@ Renderer::Renderer(scene::Scene scene, RendererOptions options)
   }
   for (std::size_t i = 0; i < scene_.luminaires.size(); ++i)
     instances_.push_back({scene_.luminaires[i].to_world, scene_.luminaires[i].intensity, set.source_of[i]});
-  sampler_ = std::make_unique<Sampler>(*rt_);
+  contributions_ = make_contributions(ContributionContext{*rt_, scene_, settings_});
+  for (auto& c : contributions_)
+    if (auto* l = dynamic_cast<LuminaireContribution*>(c.get())) luminaires_ = l;
   resize(camera_.width, camera_.height);
 }
 
@@ -350,8 +289,8 @@ std::vector<LightInstance> Renderer::lights() const {
   return out;
 }
 
-// Builds the OpenCL programs for the current settings by running Steps 1-2 on one background
-// surface, so that no frame's times include a compiler run.
+// Builds every contribution's OpenCL programs for the current settings by running it on one
+// background surface, so that no frame's times include a compiler run.
 void Renderer::warm_up() {
   const ::cl::Buffer one = upload_surfaces(*rt_, {NfSurface{}});
   auto ls = lights();
@@ -372,7 +311,8 @@ void Renderer::warm_up() {
       ls[i].vis_words = step0_->words_per_pixel(i);
     }
   }
-  sampler_->run(one, 1, ls, settings_.sampling);
+  const FrameInputs in{*rt_, one, 1, settings_, settings_.sampling.frame, ls};
+  for (auto& c : contributions_) c->prepare(in);
   warm_ = true;
 }
 
@@ -388,22 +328,26 @@ const StepTimes& Renderer::render_frame() {
   if (view_dirty_) update_view(t);
   stage();
 
-  // Steps 1-2
-  SamplingSettings s = settings_.sampling;
-  s.frame = settings_.sampling.frame + static_cast<std::uint32_t>(frames_);
+  // Steps 1-2: every contribution adds its radiance into this frame's
   const int count = static_cast<int>(pixel_count(camera_));
-  const FrameStats fs = sampler_->run(surfaces_buf_, count, lights(), s);
-  t.step1_ms = fs.step1_ms;
-  t.step2_ms = fs.step2_ms;
-  t.sampler_wall_ms = fs.wall_ms;
+  const auto ls = lights();
+  const FrameInputs in{
+      *rt_, surfaces_buf_, count, settings_, settings_.sampling.frame + static_cast<std::uint32_t>(frames_), ls};
+  frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
+  contribution_frames_.clear();
+  for (auto& c : contributions_) {
+    const ContributionFrame f = c->add(in, frame_);
+    t.step1_ms += f.step1_ms;
+    t.step2_ms += f.step2_ms;
+    t.sampler_wall_ms += f.wall_ms;
+    t.readback_ms += f.readback_ms;
+    t.samples += f.samples;
+    contribution_frames_.push_back(f);
+  }
   stage();
 
   // Progressive accumulation: sum of the frames, divided on output.
   Timer timer;
-  frame_ = sampler_->read_radiance();
-  for (const auto k : sampler_->read_k()) t.samples += k;
-  t.readback_ms = timer.ms();
-  timer.reset();
   for (std::size_t p = 0; p < frame_.size(); ++p)
     for (int c = 0; c < 3; ++c) sum_[3 * p + static_cast<std::size_t>(c)] += frame_[p][c];
   ++frames_;
@@ -457,7 +401,7 @@ std::vector<std::uint8_t> Renderer::valid_mask() const {
 Image Renderer::a_image() {
   Image img(camera_.width, camera_.height, 1);
   if (frames_ == 0) return img;
-  const auto a = sampler_->read_a();
+  const auto a = luminaires_ ? luminaires_->read_a() : std::vector<float>(pixel_count(camera_), 0.0f);
   std::copy_n(a.begin(), std::min(a.size(), img.pixels.size()), img.pixels.begin());
   return img;
 }
@@ -465,7 +409,7 @@ Image Renderer::a_image() {
 Image Renderer::k_image() {
   Image img(camera_.width, camera_.height, 1);
   if (frames_ == 0) return img;
-  const auto k = sampler_->read_k();
+  const auto k = luminaires_ ? luminaires_->read_k() : std::vector<std::uint32_t>(pixel_count(camera_), 0u);
   for (std::size_t p = 0; p < std::min(k.size(), img.pixels.size()); ++p) img.pixels[p] = static_cast<float>(k[p]);
   return img;
 }
@@ -519,8 +463,7 @@ std::vector<gl::MemoryItem> Renderer::memory() const {
   m.push_back({"CL surfaces (NfSurface)", n * sizeof(NfSurface)});
   for (std::size_t i = 0; i < vis_sizes_.size(); ++i)
     m.push_back({fmt::format("CL visibility bitmask, luminaire {}", i), vis_sizes_[i]});
-  m.push_back({"CL sampler outputs (radiance float4, A, K, per-instance A)",
-               n * (4 * sizeof(float) + 2 * sizeof(float) + sizeof(std::uint32_t))});
+  for (const auto& c : contributions_) m.push_back({"CL contribution outputs: " + c->name(), c->device_bytes()});
   if (!surfaces_.empty())
     m.push_back({"host surfaces with luminaire pixels masked", surfaces_.size() * sizeof(NfSurface)});
   m.push_back({"host accumulation (double RGB)", sum_.size() * sizeof(double)});
@@ -540,6 +483,20 @@ RenderStats Renderer::stats() {
   s.width = camera_.width;
   s.height = camera_.height;
   s.settings = settings_attributes(settings_);
+  for (std::size_t i = 0; i < contributions_.size(); ++i) {
+    ContributionStats c;
+    c.name = contributions_[i]->name();
+    c.device_bytes = contributions_[i]->device_bytes();
+    if (i < contribution_frames_.size()) {
+      const ContributionFrame& f = contribution_frames_[i];
+      c.step1_ms = f.step1_ms;
+      c.step2_ms = f.step2_ms;
+      c.wall_ms = f.wall_ms;
+      c.readback_ms = f.readback_ms;
+      c.samples = f.samples;
+    }
+    s.contributions.push_back(c);
+  }
   for (std::size_t i = 0; i < sources_.size(); ++i) {
     const auto& src = sources_[i];
     LuminaireStats l;
@@ -561,7 +518,7 @@ RenderStats Renderer::stats() {
     if (k == PixelKind::luminaire) ++s.pixels.luminaire;
   }
   if (frames_ > 0)
-    for (const float a : sampler_->read_a())
+    for (const float a : luminaires_ ? luminaires_->read_a() : std::vector<float>{})
       if (a > 0.0f) ++s.pixels.lit;
   s.first_frame = first_;
   s.last_frame = last_;

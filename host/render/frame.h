@@ -28,7 +28,9 @@
 #include "gl/context.h"
 #include "gl/scene_gpu.h"
 #include "kernels/shared/surface.h"
+#include "render/contribution.h"
 #include "render/device_luminaire.h"
+#include "render/frame_settings.h"
 #include "render/luminaire_cache.h"
 #include "render/luminaire_view.h"
 #include "render/sampler.h"
@@ -43,26 +45,7 @@ class Tonemapper;
 
 namespace nf::render {
 
-enum class Visibility { none, shadowmaps };
-std::string to_string(Visibility v);
-Visibility parse_visibility(const std::string& s, const std::string& what = "visibility");
-
-// Everything about a frame that a user may change between frames.
-struct FrameSettings {
-  SamplingSettings sampling;  // sampling.frame: index of the first frame of an accumulation
-  Visibility visibility = Visibility::shadowmaps;
-  int shadow_map_size = 256;  // 16..4096
-  TonemapParams tonemap;
-
-  void validate() const;  // throws nf::Error naming the bad field
-};
-
-// The scene file's render settings, parsed (nf::Error names the bad value).
-FrameSettings frame_settings(const scene::RenderSettings& r);
-// The declared settings (scene/settings.h) of a FrameSettings: the inverse of frame_settings().
-scene::RenderSettings render_settings(const FrameSettings& f);
-// Every setting as ("nearfield:<name>", value) pairs: EXR metadata and stats.
-std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s);
+class LuminaireContribution;
 
 struct RendererOptions {
   // The GL context to render with (made current before any GL work; it must outlive the
@@ -178,7 +161,9 @@ class Renderer {
   FrameSettings settings_;
   scene::Camera camera_;
   std::unique_ptr<gl::Step0> step0_;
-  std::unique_ptr<Sampler> sampler_;
+  std::vector<std::unique_ptr<Contribution>> contributions_;  // render/contributions.cpp
+  LuminaireContribution* luminaires_ = nullptr;               // the light-field one, if built
+  std::vector<ContributionFrame> contribution_frames_;        // the last frame's, per contribution
   std::unique_ptr<gl::Tonemapper> tonemapper_;
 
   bool camera_dirty_ = true, shadows_dirty_ = true, view_dirty_ = true, warm_ = false;

@@ -115,6 +115,16 @@ std::string to_json(const RenderStats& s, const std::vector<std::pair<std::strin
                     {"precompute_ms", round3(l.precompute_ms)},
                     {"device_bytes", l.device_bytes}});
   j["luminaires"] = lums;
+  json contribs = json::array();
+  for (const auto& c : s.contributions)
+    contribs.push_back({{"name", c.name},
+                        {"step1_ms", c.step1_ms},
+                        {"step2_ms", c.step2_ms},
+                        {"wall_ms", c.wall_ms},
+                        {"readback_ms", c.readback_ms},
+                        {"samples", c.samples},
+                        {"device_bytes", c.device_bytes}});
+  j["contributions"] = contribs;
   j["pixels"] = {{"total", s.pixels.total},
                  {"surface", s.pixels.surface},
                  {"luminaire", s.pixels.luminaire},

@@ -78,11 +78,20 @@ struct PixelCounts {
   std::size_t lit = 0;        // surfaces with A(p) > 0 in the last frame
 };
 
+// One contribution of the frame (render/contribution.h): its last frame and its device memory.
+struct ContributionStats {
+  std::string name;
+  double step1_ms = 0, step2_ms = 0, wall_ms = 0, readback_ms = 0;
+  std::uint64_t samples = 0;
+  std::size_t device_bytes = 0;
+};
+
 struct RenderStats {
   std::string cl_device, cl_device_detail, gl_renderer;  // name; cl::describe() line; GL_RENDERER
   int width = 0, height = 0;
   std::vector<std::pair<std::string, std::string>> settings;  // every render setting, as in the EXR
   std::vector<LuminaireStats> luminaires;                     // one per distinct source
+  std::vector<ContributionStats> contributions;               // in the order they are added
   PixelCounts pixels;
   StepTimes first_frame, last_frame, total;  // total: every frame since the last reset()
   std::vector<gl::MemoryItem> memory;        // bytes per buffer (device and host)

@@ -1,0 +1,61 @@
+#pragma once
+// A light transport of the frame (docs/rendering.md, "Contributions"). The frame composes
+// independent contributions, each built only when the scene has what it needs: the light-field
+// luminaires, the environment, one-bounce indirect light. A contribution is one host module
+// (render/<name>_contribution.*) behind this interface and one OpenCL source
+// (kernels/<name>.cl); it is registered by one line in render/contributions.cpp.
+//
+// Per frame the Renderer runs Step 0 (G-buffer and whatever the contributions asked for), then
+// calls add() of every contribution in registration order and sums their radiance per pixel.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "cl/runtime.h"
+#include "render/frame_settings.h"
+#include "render/sampler.h"
+#include "scene/scene.h"
+
+namespace nf::render {
+
+// What a contribution gets each frame: Step 0's surfaces of the current view (one NfSurface per
+// pixel, rows from the top; pixels that see a luminaire are invalid) on the device, and the frame.
+struct FrameInputs {
+  cl::Runtime& rt;
+  const ::cl::Buffer& surfaces;  // NfSurface[count]
+  int count = 0;                 // width x height
+  const FrameSettings& settings;
+  std::uint32_t frame = 0;  // progressive frame index: sequences advance with it
+  // The scene's luminaire instances on the device, with their Step 0 visibility (the light-field
+  // contribution shades with them; indirect light lights its RSMs with them).
+  std::span<const LightInstance> lights;
+};
+
+// What one frame of a contribution cost and drew (its row in the stats and the viewer).
+struct ContributionFrame {
+  double step1_ms = 0.0;     // kernels: the contribution's first pass (light-field Step 1: A_m(p))
+  double step2_ms = 0.0;     // kernels: sampling and shading
+  double wall_ms = 0.0;      // host wall clock of the kernels' launches and waits
+  double readback_ms = 0.0;  // reading the radiance (and counts) back and adding it into the frame
+  std::uint64_t samples = 0;
+};
+
+class Contribution {
+ public:
+  virtual ~Contribution() = default;
+  virtual std::string name() const = 0;  // "luminaires", "environment", "indirect"
+  // Builds what the current settings need (OpenCL programs, tables) before a frame is timed;
+  // called after any settings change and after Step 0 is rebuilt. Rebuilds only what changed.
+  virtual void prepare(const FrameInputs& in) = 0;
+  // Computes this frame's radiance (W m^-2 sr^-1, float4 per surface) and adds it into `radiance`.
+  virtual ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) = 0;
+  // Device memory the contribution holds (bytes), for the stats.
+  virtual std::size_t device_bytes() const = 0;
+};
+
+}  // namespace nf::render

@@ -1,0 +1,22 @@
+#include "render/contributions.h"
+
+#include "render/luminaire_contribution.h"
+
+namespace nf::render {
+
+const std::vector<ContributionKind>& contribution_kinds() {
+  static const std::vector<ContributionKind> kinds{
+      {"luminaires", [](const ContributionContext& c) { return !c.scene.luminaires.empty(); },
+       [](const ContributionContext& c) { return std::make_unique<LuminaireContribution>(c.rt); }},
+  };
+  return kinds;
+}
+
+std::vector<std::unique_ptr<Contribution>> make_contributions(const ContributionContext& ctx) {
+  std::vector<std::unique_ptr<Contribution>> out;
+  for (const auto& k : contribution_kinds())
+    if (k.wanted(ctx)) out.push_back(k.make(ctx));
+  return out;
+}
+
+}  // namespace nf::render

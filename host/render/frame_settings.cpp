@@ -1,0 +1,74 @@
+#include "render/frame_settings.h"
+
+#include <fmt/format.h>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace nf::render {
+
+std::string to_string(Visibility v) { return v == Visibility::none ? "none" : "shadowmaps"; }
+
+Visibility parse_visibility(const std::string& s, const std::string& what) {
+  if (s == "none") return Visibility::none;
+  if (s == "shadowmaps") return Visibility::shadowmaps;
+  fail(fmt::format("{}: unknown visibility '{}' (none, shadowmaps)", what, s));
+}
+
+void FrameSettings::validate() const {
+  sampling.validate();
+  if (shadow_map_size < 16 || shadow_map_size > 4096)
+    fail(fmt::format("shadow_map_size must be in 16..4096, got {}", shadow_map_size));
+  if (!(tonemap.exposure > 0.0) || !std::isfinite(tonemap.exposure))
+    fail(fmt::format("tone mapping: exposure must be > 0, got {}", tonemap.exposure));
+  if (!(tonemap.gamma > 0.0) || !std::isfinite(tonemap.gamma))
+    fail(fmt::format("tone mapping: gamma must be > 0, got {}", tonemap.gamma));
+}
+
+FrameSettings frame_settings(const scene::RenderSettings& r) {
+  FrameSettings f;
+  f.declared = r;
+  f.sampling.method = parse_method(r.method, "render.method");
+  f.sampling.sampler = parse_sampler(r.sampler, "render.sampler");
+  f.sampling.balance = parse_balance(r.balance, "render.balance");
+  f.sampling.search = parse_search(r.search, "render.search");
+  f.sampling.structure = parse_structure(r.structure, "render.structure");
+  f.sampling.spp = r.spp;
+  f.sampling.k_max = r.kmax;
+  f.sampling.search_depth = r.search_depth;
+  f.sampling.seed = r.seed;
+  f.sampling.lanes = r.lanes;
+  f.visibility = parse_visibility(r.visibility, "render.visibility");
+  f.shadow_map_size = r.shadow_map_size;
+  f.tonemap = r.tonemap;
+  f.validate();
+  return f;
+}
+
+scene::RenderSettings render_settings(const FrameSettings& f) {
+  scene::RenderSettings r = f.declared;
+  const SamplingSettings& p = f.sampling;
+  r.method = to_string(p.method);
+  r.sampler = to_string(p.sampler);
+  r.spp = p.spp;
+  r.kmax = p.k_max;
+  r.search_depth = p.search_depth;
+  r.search = to_string(p.search);
+  r.balance = to_string(p.balance);
+  r.structure = to_string(p.structure);
+  r.visibility = to_string(f.visibility);
+  r.shadow_map_size = f.shadow_map_size;
+  r.seed = p.seed;
+  r.lanes = p.lanes;
+  r.tonemap = f.tonemap;
+  return r;
+}
+
+std::vector<std::pair<std::string, std::string>> settings_attributes(const FrameSettings& s) {
+  auto out = scene::settings_attributes(render_settings(s));
+  out.emplace_back("nearfield:first_frame", std::to_string(s.sampling.frame));
+  out.emplace_back("nearfield:band", fmt::format("{}", s.sampling.band));
+  return out;
+}
+
+}  // namespace nf::render

@@ -1,0 +1,37 @@
+#include "render/luminaire_contribution.h"
+
+#include "core/timer.h"
+
+namespace nf::render {
+
+SamplingSettings LuminaireContribution::frame_sampling(const FrameInputs& in) const {
+  SamplingSettings s = in.settings.sampling;
+  s.frame = in.frame;
+  return s;
+}
+
+void LuminaireContribution::prepare(const FrameInputs& in) {
+  sampler_.run(in.surfaces, in.count, in.lights, frame_sampling(in));
+}
+
+ContributionFrame LuminaireContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
+  const FrameStats fs = sampler_.run(in.surfaces, in.count, in.lights, frame_sampling(in));
+  ContributionFrame f;
+  f.step1_ms = fs.step1_ms;
+  f.step2_ms = fs.step2_ms;
+  f.wall_ms = fs.wall_ms;
+  Timer readback;
+  const std::vector<glm::vec4> rgb = sampler_.read_radiance();
+  radiance.resize(rgb.size(), glm::vec4(0.0f));
+  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  for (const auto k : sampler_.read_k()) f.samples += k;
+  f.readback_ms = readback.ms();
+  return f;
+}
+
+// The sampler's outputs: radiance float4, A, per-instance A and K per surface.
+std::size_t LuminaireContribution::device_bytes() const {
+  return static_cast<std::size_t>(sampler_.count()) * (4 * sizeof(float) + 2 * sizeof(float) + sizeof(std::uint32_t));
+}
+
+}  // namespace nf::render

@@ -1,0 +1,26 @@
+#pragma once
+// The light-field luminaires as a contribution of the frame (Lu et al. 2015 Steps 1-2,
+// docs/sampling.md): A_m(p), K_m(p), restricted-CDF samples and Eq. 14 shading by the OpenCL
+// kernels of kernels/lightfield.cl, through render::Sampler.
+#include "render/contribution.h"
+
+namespace nf::render {
+
+class LuminaireContribution final : public Contribution {
+ public:
+  explicit LuminaireContribution(cl::Runtime& rt) : sampler_(rt) {}
+  std::string name() const override { return "luminaires"; }
+  void prepare(const FrameInputs& in) override;
+  ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
+  std::size_t device_bytes() const override;
+
+  // The last frame's A(p) and K(p) per surface (false-colour views, lit-pixel counts).
+  std::vector<float> read_a() { return sampler_.read_a(); }
+  std::vector<std::uint32_t> read_k() { return sampler_.read_k(); }
+
+ private:
+  SamplingSettings frame_sampling(const FrameInputs& in) const;
+  Sampler sampler_;
+};
+
+}  // namespace nf::render
