@@ -1,4 +1,4 @@
-// Samples per second of the sampling kernels (DESIGN.md §9): a synthetic G-buffer (a wall facing
+// Samples per second of the sampling kernels (bench/README.md): a synthetic G-buffer (a wall facing
 // the luminaire, or a road below it) lit by a preset luminaire, Lambert, no visibility; every
 // method x structure (and optionally search kinds / depths), timed from OpenCL profiling events.
 //

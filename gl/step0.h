@@ -1,5 +1,5 @@
 #pragma once
-// Step 0 of the frame (DESIGN.md §5), all of it: the scene on the GPU, the G-buffer and — only
+// Step 0 of the frame (docs/rendering.md), all of it: the scene on the GPU, the G-buffer and — only
 // when the scene needs them (render.visibility == "shadowmaps" and something can occlude) —
 // one set of shadow maps per luminaire instance, their visibility bitmasks, and the readbacks
 // the OpenCL steps upload. Shadow maps depend only on the geometry and the luminaires, so they

@@ -1,4 +1,4 @@
-/* Light-field luminaire sampling (paper §3-§6, DESIGN.md §3.4-§4): Step 1 (A_m(p), A(p)) and
+/* Light-field luminaire sampling (paper §3-§6, docs/sampling.md): Step 1 (A_m(p), A(p)) and
    Step 2 (K_m(p), samples, Eq. 14 shading), per-image passes or one fused pass, and a debug
    kernel that returns the samples themselves.
 
@@ -16,9 +16,9 @@
 
    Coordinates: the luminaire-local frame (S: z = 0, U: z = -delta). On S the kernels work in
    continuous pixel coordinates: X = (x - sx0) / (Sx / Nx) (column, from the left) and
-   R = (sy0 + Sy - y) / (Sy / Ny) (row, from the TOP), DESIGN.md §3.2.
+   R = (sy0 + Sy - y) / (Sy / Ny) (row, from the TOP), docs/luminaire-format.md.
 
-   Exactness (DESIGN.md §3.4): every mass is a non-negative weighted sum of exact int64 differences
+   Exactness (docs/sampling.md): every mass is a non-negative weighted sum of exact int64 differences
    of SAT entries converted to float; no fp64 is needed. */
 #include "shared/luminaire.h"
 #include "shared/sampling.h"
@@ -62,7 +62,7 @@ NF_INLINE uint nf_frame_key(const NfSampleParams* P) { return nf_hash1(P->seed ^
    stretch of the sequence (and different low digits). */
 #define NF_HALTON_IMAGE_STRIDE 16777619U
 
-/* The 2D point of sample k (of K = K_m(p) this frame) of image m (DESIGN.md §4):
+/* The 2D point of sample k (of K = K_m(p) this frame) of image m (docs/sampling.md):
    halton: Halton (2, 3) at index 1 + m S + frame K + k, one sequence for all pixels; frames
    continue it, so the points an image gets over frames are consecutive (a strided subsequence
    would repeat its low digits); halton-scrambled: the same plus a per-pixel and per-image
@@ -120,7 +120,7 @@ typedef struct {
   vf dz;         /* delta / z: u = s + (s - p) delta / z */
   vf gs;         /* S-parametrisation factor: delta^2 / |z|^3 (goesele2003) or |z| (radiance) */
   vf gu;         /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
-  vi band;       /* mask: |z| < band delta, U-parametrisation (DESIGN.md §3.5) */
+  vi band;       /* mask: |z| < band delta, U-parametrisation (docs/sampling.md) */
   vi lit;        /* mask: a valid surface with z > -delta */
   vu pix;        /* surface index: the per-pixel random streams */
   /* luminaire constants */
@@ -242,7 +242,7 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
 
 /* ---------------------------------------------------------------- basis and BRDF ---------- */
 
-/* phi of DESIGN.md §3.2 in cell units: bspline2 (n = 3) or quadratic2 (n = 2). */
+/* phi of docs/luminaire-format.md in cell units: bspline2 (n = 3) or quadratic2 (n = 2). */
 NF_INLINE vf nf_phi(int kind, vf t) {
   if (kind == NF_BASIS_BSPLINE2) {
     const vf q = 3.0f - t;
@@ -587,7 +587,7 @@ NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const Nf
 /* ---------------------------------------------------------------- samples on B_m(p) ------- */
 
 /* Draws s in B_m(p) with pdf Y_m / A_m (ours, global) or the paper's variant, from (ux, uy):
-   ours (DESIGN.md §3.4): F(x) = int_{x0}^{x} int_{y0}^{y1} Y / A_m, the exact restricted
+   ours (docs/sampling.md): F(x) = int_{x0}^{x} int_{y0}^{y1} Y / A_m, the exact restricted
    marginal from the SAT (3 row bands), then the column's cumulative restricted to [y0, y1].
    paper (Eq. 8): the precomputed full-column marginal restricted to [x0, x1], same conditional.
    global (Eq. 6): the box is the whole image.
@@ -678,7 +678,7 @@ NF_INLINE vf nf_geom_s(const NfCtx* c, const NfLuminaire* L, int i, int j, vf X,
   return SEL((vf)(0.0f), g, ok & (phi > 0.0f));
 }
 
-/* One U-parametrised sample (Eq. 9, DESIGN.md §3.5): u uniform on supp Phi_m (area n^2 hx hy),
+/* One U-parametrised sample (Eq. 9, docs/sampling.md): u uniform on supp Phi_m (area n^2 hx hy),
    s = p + (u - p) f, L dw = C_m(s) Phi_m(u) G du with
      goesele2003: G = delta^2 |u - p| / (delta + z)^3,   radiance: G = (delta + z) / |u - p|^3,
    omega = (u - p) / |u - p|. Returns a_sup Y_m(s) Phi_m(u) G; the pixel of s goes to col, row

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs the Debian packages nearfield needs (DESIGN.md §2). Idempotent.
+# Installs the Debian packages nearfield needs (docs/building.md). Idempotent.
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build pkg-config git

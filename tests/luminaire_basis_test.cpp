@@ -1,4 +1,4 @@
-// Basis functions phi (DESIGN.md §3.2): closed forms checked against independent numerics.
+// Basis functions phi (docs/luminaire-format.md): closed forms checked against independent numerics.
 #include <gtest/gtest.h>
 
 #include <cmath>

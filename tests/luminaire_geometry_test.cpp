@@ -1,4 +1,4 @@
-// Two-plane geometry and the box B_m(p) (DESIGN.md §3.1, Eq. 7), against brute-force ray/plane
+// Two-plane geometry and the box B_m(p) (docs/luminaire-format.md, Eq. 7), against brute-force ray/plane
 // intersections in 3D.
 #include <gtest/gtest.h>
 

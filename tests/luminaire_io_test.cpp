@@ -1,4 +1,4 @@
-// Luminaire file format v1 (DESIGN.md §3.3): bit-exact round trip, atomic writes, and a precise
+// Luminaire file format v1 (docs/luminaire-format.md): bit-exact round trip, atomic writes, and a precise
 // error (file, part, pixel, JSON key or position) for every kind of bad file.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Precomputation (DESIGN.md §3.4, §3.6): fixed-point SAT precision against exact long-double
+// Precomputation (docs/sampling.md, docs/luminaire-format.md): fixed-point SAT precision against exact long-double
 // sums, box integrals with fractional edges against brute-force pixel coverage, reference
 // light positions against hand-computed medians.
 #include <gtest/gtest.h>
@@ -59,7 +59,7 @@ TEST(LuminairePrecompute, ParamsFilled) {
   EXPECT_EQ(pc.bytes(), pc.sat.size() * 8 + 6 * 4 + pc.chroma.size() * 4);
 }
 
-// DESIGN.md §3.4: a single pixel anywhere in a 512^2 image spanning 1e-6..1 within 1e-5.
+// docs/sampling.md: a single pixel anywhere in a 512^2 image spanning 1e-6..1 within 1e-5.
 TEST(LuminairePrecompute, SatSinglePixelPrecisionHdr) {
   const int n = 512;
   auto l = make_lum(n, n, 1, 1, 1);

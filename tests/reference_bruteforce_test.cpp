@@ -2,7 +2,7 @@
 // no knots, no clipping, no parametrisation switch): a midpoint rule over the whole image
 // rectangle with k x k samples per pixel (so no sample straddles a pixel edge) of
 //   sum_m C_m(s) Psi_m(u(s,p) -> s) max(0, n . w) |z| / |s - p|^3,   u from a 3D ray/plane
-// intersection, Psi_m written out from DESIGN.md §3.2. Error of the midpoint rule here ~1e-4.
+// intersection, Psi_m written out from docs/luminaire-format.md. Error of the midpoint rule here ~1e-4.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,7 +18,7 @@ namespace {
 using glm::dvec2;
 using glm::dvec3;
 
-double phi1(nf::lum::BasisKind kind, double x) {  // DESIGN.md §3.2, written out again
+double phi1(nf::lum::BasisKind kind, double x) {  // docs/luminaire-format.md, written out again
   if (kind == nf::lum::BasisKind::bspline2) {
     if (x < 0 || x > 3) return 0;
     if (x < 1) return x * x / 2;

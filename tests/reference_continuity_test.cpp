@@ -1,4 +1,4 @@
-// The CPU reference near and across plane S (DESIGN.md §3.5) and its internal consistency: the
+// The CPU reference near and across plane S (docs/sampling.md) and its internal consistency: the
 // S- and U-parametrisations are two independent changes of variables of the same integral and
 // must agree everywhere (above S, between the planes, close to S); values at z = 0 and z -> 0±
 // agree; nothing reaches z <= -delta; doubling the order and halving the split ratio changes

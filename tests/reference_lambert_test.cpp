@@ -1,4 +1,4 @@
-// The CPU reference against closed forms (DESIGN.md §8): a `radiance` panel with C_m = L0 on a
+// The CPU reference against closed forms (docs/testing.md): a `radiance` panel with C_m = L0 on a
 // rectangle R and sum_m Phi_m = 1 on every line through R is a Lambertian rectangle, so
 // E(p, n) is Lambert's polygon formula (R clipped to the half-space in front of the surface) and
 // I(p) = L0 * solid angle of R. Between the planes the light arrives from the mirrored cone

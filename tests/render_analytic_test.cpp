@@ -1,4 +1,4 @@
-// The whole frame against a closed form (DESIGN.md §8): the `panel` preset (radiance
+// The whole frame against a closed form (docs/testing.md): the `panel` preset (radiance
 // reconstruction, C_m = L0 on R = [-0.1, 0.1]^2, sum_m Phi_m = 1 on every line through R that
 // reaches these points) 0.5 m above a Lambertian plane, no occluders. Every plane point then sees
 // a uniform Lambertian rectangle, so the reflected radiance is

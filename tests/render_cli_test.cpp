@@ -1,4 +1,4 @@
-// `nearfield render`: outputs, metadata, overrides, and clean failures (DESIGN.md §7: errors on
+// `nearfield render`: outputs, metadata, overrides, and clean failures (README.md: errors on
 // stderr, non-zero exit, no output file left behind).
 #include <gtest/gtest.h>
 

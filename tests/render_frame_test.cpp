@@ -1,4 +1,4 @@
-// The assembled frame (render::Renderer): what gets built (DESIGN.md §5), the default scene end to
+// The assembled frame (render::Renderer): what gets built (docs/rendering.md), the default scene end to
 // end at low resolution, progressive accumulation and the change API the viewer uses, the
 // luminaire seen by the camera, and shadows end to end against the unshadowed render.
 #include <gtest/gtest.h>
@@ -322,7 +322,7 @@ TEST(RenderFrame, CameraSeesTheLuminaire) {
   EXPECT_NEAR(r->accumulated().at(32, 32, 0), 2.0 * spec.l0, 2e-4 * spec.l0);
 }
 
-// L(u -> s) against a brute-force sum over every image (DESIGN.md §3.2), for both reconstructions.
+// L(u -> s) against a brute-force sum over every image (docs/luminaire-format.md), for both reconstructions.
 TEST(RenderFrame, LightFieldRadianceMatchesBruteForce) {
   for (const char* preset : {"car1", "led-rgb"}) {
     lum::GenOptions g;

@@ -1,4 +1,4 @@
-// DESIGN.md §8 extremes, on purpose: z -> 0 from both sides and z = 0 (the band and its edges),
+// docs/testing.md extremes, on purpose: z -> 0 from both sides and z = 0 (the band and its edges),
 // z -> -delta, far points (tiny boxes), boxes partly or wholly outside the image, all-zero and
 // single-pixel images, 1:1e6 HDR, K = 1, K_max = 1, huge K, grazing normals, degenerate transforms
 // and bad surfaces; the SAT precision requirement (one pixel of a 512^2 image with values
@@ -338,7 +338,7 @@ TEST(SamplingExtremes, DegenerateTransformsAndBadSurfacesStayFinite) {
       }
 }
 
-// SAT precision (DESIGN.md §3.4): A_m of a single pixel anywhere in a 512^2 image whose values span
+// SAT precision (docs/sampling.md): A_m of a single pixel anywhere in a 512^2 image whose values span
 // 1e-6 .. 1 is within 1e-5 of the exact value. The geometry makes B_m(p) exactly one pixel: one
 // quadratic2 basis function of cell = pixel size (support 2 px), z = delta (factor 1/2), and p
 // placed so that the projected box lands on pixel edges (all coordinates exact in float).

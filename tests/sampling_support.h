@@ -3,7 +3,7 @@
 // a double-precision quadrature of I(p) / E(p, n) / Eq. 14 written independently of the kernels,
 // and statistics (z-tests, chi-square with pooling).
 //
-// The quadrature integrates the light field exactly as DESIGN.md §3 defines it: over S (pixel
+// The quadrature integrates the light field exactly as docs/luminaire-format.md defines it: over S (pixel
 // edges and the projected basis knots as break lines, so every piece is smooth) or, near S, over
 // U (basis knots and the pixel edges projected back), with adaptive 2x2 Gauss-Legendre refinement.
 #include <fmt/format.h>
@@ -85,7 +85,7 @@ inline double pixel_luminance(const lum::Luminaire& l, int m, std::size_t k) {
 
 // ---------------------------------------------------------------- BRDF (double) -------------
 
-// rho of Eq. 14 for the surface, in double: the same definitions as DESIGN.md / glTF.
+// rho of Eq. 14 for the surface, in double: the same definitions as kernels/common/brdf.h and glTF 2.0.
 inline glm::dvec3 rho(const NfSurface& s, glm::dvec3 w) {
   if (s.brdf == NF_BRDF_SCALAR) return glm::dvec3(1.0);
   const glm::dvec3 n = glm::normalize(glm::dvec3(s.nx, s.ny, s.nz));

@@ -187,7 +187,7 @@ TEST_F(SceneParse, DefaultsWhenOptionalSectionsAreMissing) {
   EXPECT_EQ(s.render.search_depth, -1);
   EXPECT_EQ(s.render.structure, defaults.structure);
   EXPECT_EQ(s.render.balance, defaults.balance);
-  EXPECT_NE(s.render.balance, "paper");  // the default must be unbiased (DESIGN §3.4)
+  EXPECT_NE(s.render.balance, "paper");  // the default must be unbiased (docs/sampling.md)
   EXPECT_EQ(s.render.visibility, "shadowmaps");
   EXPECT_FALSE(s.needs_shadow_maps());  // nothing to occlude
   expect_near(s.camera.up, {0, 1, 0});

@@ -1,4 +1,5 @@
 #include "bench/sweep/machine.h"
+#include "core/clock.h"
 
 #include <sys/utsname.h>
 #include <unistd.h>
@@ -39,15 +40,6 @@ std::string read_loadavg() {
   std::string a, b, c;
   in >> a >> b >> c;
   return in ? fmt::format("{} {} {}", a, b, c) : "unknown";
-}
-
-std::string utc_now() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
 }
 
 MachineInfo collect_machine(const cl::Runtime& rt) {

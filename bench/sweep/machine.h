@@ -1,5 +1,6 @@
 #pragma once
-// The machine a benchmark ran on (DESIGN.md §9: every figure names its machine): CPU model and ISA, cores,
+#include "core/clock.h"
+// The machine a benchmark ran on (bench/README.md: every figure names its machine): CPU model and ISA, cores,
 // memory, load, the OpenCL device in use and every device found, the GL renderer, the build and
 // the source commit.
 #include <string>
@@ -29,7 +30,7 @@ struct MachineInfo {
 
 MachineInfo collect_machine(const cl::Runtime& rt);
 std::string read_loadavg();
-std::string utc_now();
+using nf::utc_now;  // core/clock.h
 nlohmann::json to_json(const MachineInfo& m);
 
 }  // namespace nf::bench

@@ -1,4 +1,4 @@
-// bench_sweep: the speed/accuracy sweep of DESIGN.md §9 and Lu et al. 2015 §7. Usually run through
+// bench_sweep: the speed/accuracy sweep of bench/README.md and Lu et al. 2015 §7. Usually run through
 // bench/run_sweep.sh, which also makes the plots and the report (bench/README.md).
 //
 //   bench_sweep [--quick] [--out DIR] [--cache DIR] [--luminaires bike,car1] [--studies spp,kmax]
@@ -28,7 +28,7 @@ std::vector<std::string> split(const std::string& s) {
 
 int main(int argc, char** argv) {
   using namespace nf;
-  CLI::App app{"nearfield speed/accuracy sweep (DESIGN.md §9): CSV tables for bench/plot_report.py"};
+  CLI::App app{"nearfield speed/accuracy sweep (bench/README.md): CSV tables for bench/plot_report.py"};
   bool quick = false, no_scene = false, refresh = false, quiet = false, verbose = false;
   std::string out = std::string(NEARFIELD_BENCH_DIR) + "/results", cache, luminaires, studies, device;
   std::string scene = std::string(NEARFIELD_SOURCE_DIR) + "/scenes/default.json", scene_size;

@@ -1,5 +1,5 @@
 #pragma once
-// Error of an image against a reference (DESIGN.md §9; definitions in bench/README.md):
+// Error of an image against a reference (definitions in bench/README.md):
 //
 //   delta_e   mean CIE Lab ΔE76 over the valid pixels, after tone-mapping BOTH images with the
 //             reference's operator (core/tonemap: tonemap_with_mean with the reference's mean

@@ -6,6 +6,7 @@
 
 #include "bench/sweep/hash.h"
 #include "cl/runtime.h"
+#include "core/clock.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
@@ -25,15 +26,6 @@ std::string attr(const ImageAttributes& a, const std::string& key) {
   for (const auto& [k, v] : a)
     if (k == key) return v;
   return {};
-}
-
-std::string utc_now() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
 }
 
 double noise_rel_mse(const Reference& r) {

@@ -1,5 +1,5 @@
 #pragma once
-// High-spp references, cached on disk (DESIGN.md §9). A reference is `frames` progressive frames
+// High-spp references, cached on disk (bench/README.md). A reference is `frames` progressive frames
 // of the `random` sampler (Philox per pixel, a seed of its own so that no sweep point shares its
 // samples) with method `ours`, exact search, roulette balance and K samples per frame. The cache
 // file is <dir>/<target>-<key>.exr where key hashes everything that determines the image: the

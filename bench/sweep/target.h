@@ -1,5 +1,5 @@
 #pragma once
-// A sweep target: something that renders an image for given sampling settings (DESIGN.md §9).
+// A sweep target: something that renders an image for given sampling settings (bench/README.md).
 // Two kinds: a close-up of one luminaire (a grid of NfSurface fed straight to render::Sampler, no
 // GL; closeup.h) and a full scene through render::Renderer (headless EGL; scene_target.h).
 #include <cstdint>

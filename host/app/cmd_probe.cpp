@@ -2,7 +2,7 @@
 //                      [--quantity irradiance|scalar]
 // Reads lines "x y z nx ny nz" (luminaire frame, metres; '#' starts a comment; blank lines are
 // skipped) from PTS or stdin and prints one line "E_R E_G E_B" (%.9g) per point on stdout,
-// nothing else (DESIGN.md §7). --reference uses the CPU quadrature (host/reference); the other
+// nothing else (README.md). --reference uses the CPU quadrature (host/reference); the other
 // methods run the OpenCL sampling kernels (host/render/probe.h).
 #include <algorithm>
 #include <cmath>

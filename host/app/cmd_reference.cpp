@@ -17,6 +17,7 @@
 #include "app/command.h"
 #include "app/output_checks.h"
 #include "core/atomic_file.h"
+#include "core/clock.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
@@ -42,15 +43,6 @@ struct ReferenceCmd {
     return it != given.end() && it->second->count() > 0;
   }
 };
-
-std::string utc_now() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 void apply_overrides(const ReferenceCmd& o, scene::Scene& s) {
   auto& c = s.camera;

@@ -1,5 +1,5 @@
 // nearfield render SCENE -o OUT.exr [--png OUT.png] [--stats STATS.json] [overrides]
-// Renders a scene headless (DESIGN.md §5, §7): linear radiance to OpenEXR with every setting in
+// Renders a scene headless (docs/rendering.md, README.md): linear radiance to OpenEXR with every setting in
 // its metadata, optionally a tone-mapped PNG and a stats JSON (docs/rendering.md). Outputs are
 // written to temporary files and moved into place together at the end, so a failure leaves no
 // output behind and never a partial file; an output that would replace the scene or one of its
@@ -20,8 +20,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/command.h"
+#include "app/output_checks.h"
 #include "cl/runtime.h"
 #include "core/atomic_file.h"
+#include "core/clock.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
@@ -52,65 +54,6 @@ struct RenderCmd {
     return it != given.end() && it->second->count() > 0;
   }
 };
-
-std::string lower(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-void check_extension(const std::string& path, const std::string& ext, const std::string& option) {
-  if (lower(fs::path(path).extension().string()) != ext)
-    fail(fmt::format("{} {}: the file name must end in {}", option, path, ext));
-}
-
-fs::path canonical_or_self(const fs::path& p) {
-  std::error_code ec;
-  const fs::path c = fs::weakly_canonical(p, ec);
-  return ec ? fs::absolute(p).lexically_normal() : c;
-}
-
-// Files a JSON document names: every string value that names an existing regular file, resolved
-// against `base`; .json and .gltf files found that way are followed (depth-limited), so a scene's
-// luminaire manifests bring their EXR files and glTF files their buffers and images.
-void collect_inputs(const fs::path& file, std::set<fs::path>& out, int depth) {
-  out.insert(canonical_or_self(file));
-  const std::string ext = lower(file.extension().string());
-  if (depth <= 0 || (ext != ".json" && ext != ".gltf")) return;
-  std::ifstream in(file);
-  if (!in) return;
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded()) return;
-  const fs::path base = file.parent_path();
-  std::vector<const nlohmann::json*> stack{&j};
-  while (!stack.empty()) {
-    const nlohmann::json* v = stack.back();
-    stack.pop_back();
-    if (v->is_string()) {
-      const std::string s = v->get<std::string>();
-      if (s.empty() || s.size() > 4096 || s.rfind("data:", 0) == 0) continue;
-      std::error_code ec;
-      const fs::path p = fs::path(s).is_absolute() ? fs::path(s) : base / s;
-      if (fs::is_regular_file(p, ec) && !out.count(canonical_or_self(p))) collect_inputs(p, out, depth - 1);
-    } else if (v->is_structured()) {
-      for (const auto& child : *v) stack.push_back(&child);
-    }
-  }
-}
-
-// Refuses outputs that coincide with each other or with an input.
-void check_outputs(const RenderCmd& o, const std::vector<std::pair<std::string, std::string>>& outputs) {
-  std::set<fs::path> inputs;
-  collect_inputs(o.scene, inputs, 3);
-  std::set<fs::path> seen;
-  for (const auto& [option, path] : outputs) {
-    const fs::path c = canonical_or_self(path);
-    if (!seen.insert(c).second) fail(fmt::format("{} {}: the same file is given for two outputs", option, path));
-    std::error_code ec;
-    bool clash = inputs.count(c) > 0;
-    for (const auto& in : inputs) clash = clash || (fs::exists(c, ec) && fs::equivalent(c, in, ec));
-    if (clash) fail(fmt::format("{} {}: refusing to overwrite an input of the scene {}", option, path, o.scene));
-  }
-}
 
 // Command-line overrides of the scene's render settings and camera resolution.
 void apply_overrides(const RenderCmd& o, scene::Scene& s) {
@@ -176,20 +119,11 @@ void check_render_memory(const std::string& where, const RenderEstimate& e, cons
                  static_cast<std::uint64_t>(device.global_mem_bytes), "device memory on " + device.name);
 }
 
-std::string utc_now() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 void run_render(const RenderCmd& o) {
   Timer total;
   if (o.out.empty() && !o.dry_run) fail("render: -o OUT.exr is required (or --dry-run)");
-  if (!o.out.empty()) check_extension(o.out, ".exr", "-o");
-  if (!o.png.empty()) check_extension(o.png, ".png", "--png");
+  if (!o.out.empty()) check_output_extension(o.out, ".exr", "-o");
+  if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
   if (o.frames < 1) fail(fmt::format("--frames must be >= 1, got {}", o.frames));
   std::vector<std::pair<std::string, std::string>> outputs;
   if (!o.out.empty()) outputs.emplace_back("-o", o.out);
@@ -199,7 +133,7 @@ void run_render(const RenderCmd& o) {
 
   Timer t;
   scene::Scene scene = scene::load_scene(o.scene);
-  check_outputs(o, outputs);
+  check_output_files(o.scene, outputs);
   apply_overrides(o, scene);
   render::frame_settings(scene.render);  // validate before any heavy work
   cl::Runtime runtime(global_options().cl_device);

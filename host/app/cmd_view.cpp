@@ -1,6 +1,6 @@
 // nearfield view SCENE [--scale S] [--window WxH] [--frames N] [--script FILE] [--screenshot OUT.png]
 //                      [--stats STATS.json] [--set NAME=VALUE ...] [--no-panel] [--fast-motion]
-// The interactive viewer (DESIGN.md §7, docs/viewer.md).
+// The interactive viewer (README.md, docs/viewer.md).
 #include <cstdio>
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// nearfield: one binary, subcommands (DESIGN.md §7). Errors go to stderr with exit code 1;
+// nearfield: one binary, subcommands (README.md). Errors go to stderr with exit code 1;
 // command-line mistakes exit with CLI11's code (non-zero) and a usage hint.
 #include <cstdio>
 #include <map>

@@ -43,7 +43,7 @@ inline float tonemap_channel(float value, float k, float inv_gamma) {
 // display image in [0, 1]. `mean_out`, when given, receives the L_mean used.
 Image tonemap(const Image& hdr, const std::vector<std::uint8_t>& valid, const TonemapParams& params,
               double* mean_out = nullptr);
-// The same with a given L_mean (e.g. a reference's, DESIGN §9, or a GL reduction's).
+// The same with a given L_mean (e.g. a reference's, bench/README.md, or a GL reduction's).
 Image tonemap_with_mean(const Image& hdr, double mean, const TonemapParams& params);
 
 }  // namespace nf

@@ -1,5 +1,5 @@
 #pragma once
-// Basis functions on plane U (DESIGN.md §3.2): Phi_(i,j)(u) = phi((ux-ox)/hx - i) * phi((uy-oy)/hy - j).
+// Basis functions on plane U (docs/luminaire-format.md): Phi_(i,j)(u) = phi((ux-ox)/hx - i) * phi((uy-oy)/hy - j).
 // phi is supported on [0, n] (n = Basis::support()), int phi = 1, and for both kinds the
 // integer translates sum to 1 wherever n supports overlap (partition of unity).
 #include <span>

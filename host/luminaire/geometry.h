@@ -1,5 +1,5 @@
 #pragma once
-// Two-plane geometry (DESIGN.md §3.1, paper Eq. 7): S is z = 0, U is z = -delta.
+// Two-plane geometry (docs/luminaire-format.md, paper Eq. 7): S is z = 0, U is z = -delta.
 // A point p = (x, y, z) sees the luminaire iff z > -delta; Delta(p) = |z|.
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -26,7 +26,7 @@ Rect projected_box(const Luminaire& l, int m, glm::dvec3 p);
 Rect projected_box(const Basis& b, int i, int j, double delta, glm::dvec3 p);  // not clipped
 
 // Continuous pixel coordinates: a = column coordinate from the left (column k covers
-// [k, k+1)), r = row coordinate from the TOP (row k covers [k, k+1)). DESIGN.md §3.2.
+// [k, k+1)), r = row coordinate from the TOP (row k covers [k, k+1)). docs/luminaire-format.md.
 double column_coord(const ImageGrid& g, double x);  // (x - sx0) / Sx * Nx
 double row_coord(const ImageGrid& g, double y);     // (sy0 + Sy - y) / Sy * Ny
 double x_of_column(const ImageGrid& g, double a);

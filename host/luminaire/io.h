@@ -1,5 +1,5 @@
 #pragma once
-// Luminaire file format version 1 (DESIGN.md §3.3, docs/luminaire-format.md): a JSON manifest
+// Luminaire file format version 1 (docs/luminaire-format.md): a JSON manifest
 // plus one multi-part OpenEXR file, one part per basis function named C_<i>_<j>, channels
 // R,G,B or Y alone (float or half). Every error names the file (and part, pixel, JSON key).
 #include <filesystem>

@@ -1,5 +1,5 @@
 #pragma once
-// The light-field luminaire model of DESIGN.md §3 (host side, double precision).
+// The light-field luminaire model of docs/luminaire-format.md (host side, double precision).
 // Frame: luminaire-local, metres. S: z = 0 (images). U: z = -delta (basis functions).
 #include <array>
 #include <cstddef>
@@ -46,7 +46,7 @@ struct Luminaire {
   int num_images() const { return basis.count[0] * basis.count[1]; }
 };
 
-// Per-luminaire precomputation (DESIGN.md §3.6); see kernels/shared/luminaire.h for layouts.
+// Per-luminaire precomputation (docs/luminaire-format.md); see kernels/shared/luminaire.h for layouts.
 struct Precomputed {
   NfLuminaire params{};
   std::vector<std::int64_t> sat;       // num_images * params.sat_stride

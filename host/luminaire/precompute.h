@@ -1,6 +1,6 @@
 #pragma once
-// Per-luminaire precomputation (DESIGN.md §3.6) and the exact box integral of the SAT that the
-// sampling kernels replicate (DESIGN.md §3.4, paper Eq. 10).
+// Per-luminaire precomputation (docs/luminaire-format.md) and the exact box integral of the SAT that the
+// sampling kernels replicate (docs/sampling.md, paper Eq. 10).
 //
 // Conventions (the kernels rely on them):
 // - Luminance: monochrome luminaires use the stored value; RGB ones use

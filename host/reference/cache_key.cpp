@@ -1,4 +1,5 @@
 #include "reference/cache_key.h"
+#include "scene/referenced_files.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -28,31 +29,6 @@ std::string file_stamp(const fs::path& p) {
   return fmt::format("{} {} {}\n", p.string(), ec ? 0 : size, static_cast<long long>(time));
 }
 
-// Files a JSON document names (strings naming existing files, relative to its folder), followed
-// into .json and .gltf files `depth` levels deep.
-void collect(const fs::path& file, std::set<fs::path>& out, int depth) {
-  std::error_code ec;
-  out.insert(fs::weakly_canonical(file, ec));
-  const std::string ext = file.extension().string();
-  if (depth <= 0 || (ext != ".json" && ext != ".gltf")) return;
-  std::ifstream in(file);
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded()) return;
-  std::vector<const nlohmann::json*> stack{&j};
-  while (!stack.empty()) {
-    const nlohmann::json* v = stack.back();
-    stack.pop_back();
-    if (v->is_string()) {
-      const std::string s = v->get<std::string>();
-      if (s.empty() || s.size() > 4096 || s.rfind("data:", 0) == 0) continue;
-      const fs::path p = fs::path(s).is_absolute() ? fs::path(s) : file.parent_path() / s;
-      if (fs::is_regular_file(p, ec) && !out.count(fs::weakly_canonical(p, ec))) collect(p, out, depth - 1);
-    } else if (v->is_structured()) {
-      for (const auto& c : *v) stack.push_back(&c);
-    }
-  }
-}
-
 std::uint64_t fnv1a(const std::string& s) {
   std::uint64_t h = 0xcbf29ce484222325ull;
   for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ull;
@@ -71,9 +47,7 @@ std::string cache_description(const scene::Scene& scene, const ReferenceSettings
   for (const auto& [k, v] : settings.attributes()) d += fmt::format("{} {}\n", k, v);
   if (!scene.file.empty()) {
     d += "scene text " + fmt::format("{:016x}", fnv1a(read_text(scene.file))) + "\n";
-    std::set<fs::path> files;
-    collect(scene.file, files, 3);
-    for (const auto& f : files) d += file_stamp(f);
+    for (const auto& f : scene::referenced_files(scene.file)) d += file_stamp(f);
   }
   for (const auto& l : scene.luminaires)
     d += fmt::format("luminaire {} {} {}\n", l.name, l.preset, l.manifest.string());

@@ -1,5 +1,5 @@
 #pragma once
-// CPU reference for a light-field luminaire (DESIGN.md §3.4-3.5), double precision, independent
+// CPU reference for a light-field luminaire (docs/sampling.md), double precision, independent
 // of the sampling kernels and of the SAT: it integrates the pixels of every C_m directly.
 //
 //   I(p)    = integral L dw                     (scalar irradiance, Eq. 2-4)

@@ -1,6 +1,6 @@
 #pragma once
 // A light-field luminaire instance as a light source of the reference renderer (docs/reference.md):
-// its radiance L(u -> s) (DESIGN of docs/luminaire-format.md, Eq. 1 of Lu et al. 2015) evaluated in
+// its radiance L(u -> s) (docs/luminaire-format.md, Eq. 1 of Lu et al. 2015) evaluated in
 // double precision on the host, and an unbiased estimator of its direct light at a point p:
 //
 //   L_o(p, v) = integral L(w) f_r(w, v) max(0, n.w) V(p, w) dw          (Eq. 14 with exact V)

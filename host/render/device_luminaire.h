@@ -1,5 +1,5 @@
 #pragma once
-// One luminaire's precomputed data on an OpenCL device (DESIGN.md §3.6, kernels/shared/luminaire.h):
+// One luminaire's precomputed data on an OpenCL device (docs/luminaire-format.md, kernels/shared/luminaire.h):
 // uploaded once, shared by every instance of the luminaire.
 #include <cstddef>
 #include <memory>

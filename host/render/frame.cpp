@@ -176,7 +176,7 @@ void Renderer::build_step0() {
   scene_.render.visibility = to_string(settings_.visibility);
   scene_.render.shadow_map_size = settings_.shadow_map_size;
   std::vector<gl::ShadowMapSpec> specs;
-  if (scene_.needs_shadow_maps())  // DESIGN.md §5: nothing for `none` or when nothing can occlude
+  if (scene_.needs_shadow_maps())  // docs/rendering.md: nothing for `none` or when nothing can occlude
     for (const auto& inst : instances_) {
       const lum::Precomputed& pc = sources_[inst.source].precomputed;
       specs.push_back(gl::make_shadow_map_spec(pc.params, pc.ref_lights, inst.to_world, settings_.shadow_map_size));

@@ -1,5 +1,5 @@
 #pragma once
-// The frame (paper §6.1, DESIGN.md §5): Step 0 in GL (G-buffer, shadow maps, visibility), Steps
+// The frame (paper §6.1, docs/rendering.md): Step 0 in GL (G-buffer, shadow maps, visibility), Steps
 // 1-2 in OpenCL (render::Sampler), progressive accumulation, the luminaire seen by the camera, and
 // Step 3 tone mapping (GL for display, host for files). The viewer and `nearfield render` both
 // drive a Renderer:
@@ -9,7 +9,7 @@
 //   while (...) { r.render_frame(); r.tonemap_display().present(0, w, h); }
 //   r.accumulated(); r.tonemapped(); r.stats();
 //
-// Only what the scene needs is built (DESIGN.md §5): shadow maps and visibility buffers only when
+// Only what the scene needs is built (docs/rendering.md): shadow maps and visibility buffers only when
 // visibility is `shadowmaps` and something can occlude; chroma only for RGB luminaires (see
 // DeviceLuminaire); one DeviceLuminaire per distinct manifest or preset, shared by its instances.
 #include <cstdint>

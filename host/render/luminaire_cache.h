@@ -1,6 +1,6 @@
 #pragma once
-// The luminaires of a scene, loaded once per distinct source (DESIGN.md §5: one copy of a
-// luminaire's data however many instances use it) and precomputed (DESIGN.md §3.6).
+// The luminaires of a scene, loaded once per distinct source (docs/rendering.md: one copy of a
+// luminaire's data however many instances use it) and precomputed (docs/luminaire-format.md).
 //
 // A source is either a manifest file (key: its canonical path) or a generator preset (key:
 // "preset:NAME"). Presets are generated in memory on demand, deterministically, exactly as

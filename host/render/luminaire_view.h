@@ -1,5 +1,5 @@
 #pragma once
-// The luminaire seen by the camera (DESIGN.md §5): a camera ray that crosses plane S inside the
+// The luminaire seen by the camera (docs/rendering.md): a camera ray that crosses plane S inside the
 // image rectangle sees the luminaire itself, with radiance L(u -> s) at that ray's s and u.
 // Evaluated on the host in double precision from the luminaire's images (few pixels).
 #include <cstdint>
@@ -16,7 +16,7 @@
 
 namespace nf::render {
 
-// L(u -> s) = sum_m C_m(s) Psi_m(u -> s) (DESIGN.md §3.2), s on S (z = 0) and u on U (z = -delta)
+// L(u -> s) = sum_m C_m(s) Psi_m(u -> s) (docs/luminaire-format.md), s on S (z = 0) and u on U (z = -delta)
 // in the luminaire frame; RGB (monochrome: Y in all three). C_m is piecewise constant on the pixel
 // grid (0 outside the image rectangle);
 //   goesele2003: Psi_m = Phi_m(u) delta^2 / cos^4(theta) = Phi_m(u) |s - u|^4 / delta^2

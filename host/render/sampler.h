@@ -1,5 +1,5 @@
 #pragma once
-// The OpenCL sampling pipeline (paper §6.1 Steps 1 and 2, DESIGN.md §3.4-§5): for a buffer of
+// The OpenCL sampling pipeline (paper §6.1 Steps 1 and 2, docs/sampling.md, docs/rendering.md): for a buffer of
 // NfSurface (G-buffer texels or probe points) and a list of luminaire instances it computes,
 // per surface, the reflected radiance of Eq. 14 (RGB), A(p) and the number of samples K(p).
 #include <cstdint>

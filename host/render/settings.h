@@ -1,12 +1,12 @@
 #pragma once
-// Sampling settings (DESIGN.md §4), selectable everywhere: probe, render, view, bench.
+// Sampling settings (docs/sampling.md), selectable everywhere: probe, render, view, bench.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace nf::render {
 
-// What draws the samples s_k (DESIGN.md §4 table).
+// What draws the samples s_k (docs/sampling.md table).
 enum class Method { ours, paper, uniform, global };
 // Where the 2D sample points come from. (Named SamplerKind: `Sampler` is the pipeline class.)
 enum class SamplerKind { halton, halton_scrambled, random };
@@ -40,7 +40,7 @@ std::vector<std::string> structure_names();
 struct SamplingSettings {
   Method method = Method::ours;
   SamplerKind sampler = SamplerKind::halton;
-  Balance balance = Balance::roulette;  // unbiased default (DESIGN.md §3.4); see docs/sampling.md
+  Balance balance = Balance::roulette;  // unbiased default (docs/sampling.md); see docs/sampling.md
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
   int spp = 200;                               // K of Eq. 12, >= 1
@@ -48,7 +48,7 @@ struct SamplingSettings {
   int search_depth = -1;                       // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
   std::uint32_t seed = 1;                      // random and scrambled sequences
   std::uint32_t frame = 0;                     // progressive frame index: advances every sequence
-  double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (DESIGN.md §3.5)
+  double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
   int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
 
   void validate() const;         // throws nf::Error naming the bad field

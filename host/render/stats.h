@@ -1,5 +1,5 @@
 #pragma once
-// Frame statistics (DESIGN.md §5, §7): per-step times, the paper's Fig. 10 cost breakdown,
+// Frame statistics (docs/rendering.md, README.md): per-step times, the paper's Fig. 10 cost breakdown,
 // samples drawn, pixel counts and memory per buffer, and their JSON form (`render --stats`).
 // What each number includes is documented in docs/rendering.md.
 #include <cstddef>

@@ -85,7 +85,7 @@ struct Geometry {
       }
   }
 
-  // Whether anything can cast a shadow on anything (DESIGN §5: build shadow maps only then):
+  // Whether anything can cast a shadow on anything (docs/rendering.md: build shadow maps only then):
   // a shadow-casting instance that is not planar can shadow itself or others; a planar one can
   // shadow any other instance. One lone plane or disk, or nothing that casts, cannot occlude.
   bool can_occlude() const {

@@ -1,5 +1,5 @@
 #pragma once
-// Scene files (DESIGN.md §6, format in docs/scenes.md): JSON with a camera, objects (glTF 2.0
+// Scene files (format in docs/scenes.md): JSON with a camera, objects (glTF 2.0
 // files or built-in primitives), materials, luminaire instances, an optional environment and
 // render settings. Every error names the scene file and the JSON pointer of the bad value,
 // e.g. "scene.json: /objects/2/material: unknown material 'foo'".
@@ -46,7 +46,7 @@ struct Scene {
   std::optional<Environment> environment;
   RenderSettings render;
 
-  // Step 0 builds shadow maps only when this holds (DESIGN.md §5).
+  // Step 0 builds shadow maps only when this holds (docs/rendering.md).
   bool needs_shadow_maps() const { return render.visibility == "shadowmaps" && geometry.can_occlude(); }
 };
 
@@ -63,7 +63,7 @@ struct SceneCounts {
 };
 SceneCounts count(const Scene& scene);
 
-// Where a camera ray meets a luminaire instance (DESIGN.md §5: camera rays that cross S inside
+// Where a camera ray meets a luminaire instance (docs/rendering.md: camera rays that cross S inside
 // the image rectangle see the luminaire itself, radiance L(u -> s)). In the luminaire's local
 // frame: the ray crosses S (z = 0) at `s` after travelling `t` metres, and continuing, meets U
 // (z = -delta) at `u`; light leaving u through s travels straight back along the ray to the

@@ -79,5 +79,7 @@ std::vector<std::pair<std::string, std::string>> settings_attributes(const Rende
 // when nothing differs).
 SettingEffect change_effect(const RenderSettings& a, const RenderSettings& b);
 bool same_settings(const RenderSettings& a, const RenderSettings& b);
+// The table of every setting as Markdown (`nearfield settings`, docs/settings.md).
+std::string settings_markdown();
 
 }  // namespace nf::scene

@@ -1,14 +1,14 @@
 #ifndef NEARFIELD_SHARED_LUMINAIRE_H
 #define NEARFIELD_SHARED_LUMINAIRE_H
-/* Device-side description of one precomputed light-field luminaire (DESIGN.md §3).
+/* Device-side description of one precomputed light-field luminaire (docs/luminaire-format.md).
    Frame: luminaire-local, metres; plane S is z = 0, plane U is z = -delta.
 
    Buffers that go with it (all images m = j * count_x + i, i along x):
    - sat:     nf_long[num_images * (res_x + 1) * (res_y + 1)]. Fixed-point summed-area table of
               the luminance Y_m: sat[m*stride + r*(res_x+1) + a] = sum over pixels with column < a
-              and row < r (rows count from the TOP, DESIGN.md §3.2) of round(Y / quantum[m]).
+              and row < r (rows count from the TOP, docs/luminaire-format.md) of round(Y / quantum[m]).
               Integer differences of SAT entries are exact, so any box sum is a non-negative
-              weighted sum of exact integer sub-box sums (DESIGN.md §3.4 precision requirement).
+              weighted sum of exact integer sub-box sums (docs/sampling.md precision requirement).
    - quantum: nf_float[num_images]: luminance of one SAT unit.
               A_m(box) = quantum[m] * pixel_area * (weighted integer sums).
    - chroma:  nf_float[num_images * res_x * res_y * 4] (r, g, b, 0) = C_m / Y_m, 0 where Y_m = 0.

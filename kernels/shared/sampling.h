@@ -1,11 +1,11 @@
 #ifndef NEARFIELD_SHARED_SAMPLING_H
 #define NEARFIELD_SHARED_SAMPLING_H
-/* Parameters of the light-field sampling kernels (kernels/lightfield.cl, DESIGN.md §3.4-§4).
+/* Parameters of the light-field sampling kernels (kernels/lightfield.cl, docs/sampling.md).
    Plain structs shared by the host (host/render) and OpenCL C; sizes and offsets are guarded by
    static_asserts in tests/sampling_layout_test.cpp. */
 #include "shared/types.h"
 
-/* Methods (DESIGN.md §4), selected at build time with -DNF_METHOD=... */
+/* Methods (docs/sampling.md), selected at build time with -DNF_METHOD=... */
 #define NF_METHOD_OURS 0    /* restricted exact CDFs, balanced K_m */
 #define NF_METHOD_PAPER 1   /* as ours with the precomputed full-column marginal (biased) */
 #define NF_METHOD_UNIFORM 2 /* same K_m, uniform on B_m(p) */
@@ -56,7 +56,7 @@ typedef struct {
   nf_uint frame;       /* progressive frame index: advances every sequence */
   nf_uint block;       /* random: counters reserved per image (>= the largest K_m) */
   nf_int image;        /* per-image passes and the debug kernel: the image m */
-  nf_float band;       /* |z| < band * delta uses the U-parametrised estimator (DESIGN.md §3.5) */
+  nf_float band;       /* |z| < band * delta uses the U-parametrised estimator (docs/sampling.md) */
   nf_int vis_words;    /* 32-bit visibility words per surface; 0 = no visibility */
   nf_float flux_total; /* method global: sum of the image fluxes (Y m^2) */
   nf_uint group_mul;   /* work-group w shades surface block (w * group_mul) mod (number of groups);
