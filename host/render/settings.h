@@ -7,7 +7,7 @@
 namespace nf::render {
 
 // What draws the samples s_k (DESIGN.md §4 table).
-enum class Method { ours, paper, uniform, global };
+enum class Method { ours, paper, uniform, uniform_equal, global };
 // Where the 2D sample points come from. (Named SamplerKind: `Sampler` is the pipeline class.)
 enum class SamplerKind { halton, halton_scrambled, random };
 // How K_m(p) = K A_m / A is rounded (Eq. 12). `roulette` and `min1` are unbiased.
