@@ -170,19 +170,21 @@ TEST(SamplingEstimator, UniformEqualWithFewerSamplesThanImagesIsUnbiased) {
   check_method(Method::uniform_equal, {{"bike", 1.0}, {"car1", 1.0}}, 1024, 12, false);
 }
 
-// The allocation rule itself: at a far point every image's box meets the image, so the K(p) the
-// kernels count is exactly K per replicate (floor(K / M) each plus K mod M extra), for K above,
-// equal to and below M; with K_max the sum is M min(K_max, K_m) over the rotated K_m.
+// The allocation rule itself: a luminaire with light in every pixel and a basis grid inside the
+// image, seen from a far point on the axis, so every image has A_m > 0 and the K(p) the kernels
+// count is exactly K per replicate (floor(K / M) each plus K mod M extra) for K below, equal to and
+// above M = 6; with K_max = 1 it is M where K >= M and K mod M where K < M.
 TEST(SamplingEstimator, UniformEqualSpendsExactlyKSamples) {
   nf::cl::Runtime rt;
   Sampler sampler(rt);
-  const auto l = preset({"car1", 1.0});
+  auto l =
+      make_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 3, 2, 12, 10, 0.1, 0.02, 0.24, false);
+  for (auto& img : l.images) std::fill(img.begin(), img.end(), 1.0f);
   const int M = l.num_images();
-  const auto pc = lum::precompute(l, 2);
+  const auto pc = lum::precompute(l, 1);
   DeviceLuminaire dl(rt, pc);
-  const glm::dvec3 p(0.0, 0.0, 10.0 * l.delta);
-  const std::vector<NfSurface> pts{surface(p, glm::dvec3(0.0, 0.0, -1.0))};
-  for (int spp : {7, M, 64, 200}) {
+  const std::vector<NfSurface> pts{surface(glm::dvec3(0.0, 0.0, 10.0 * l.delta), glm::dvec3(0.0, 0.0, -1.0))};
+  for (int spp : {4, M, 13, 64, 200}) {
     for (int kmax : {0, 1}) {
       SamplingSettings s;
       s.method = Method::uniform_equal;
