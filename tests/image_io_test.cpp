@@ -42,8 +42,8 @@ TEST(ImageIo, ExrRoundTripIsBitExactWithMetadata) {
 TEST(ImageIo, PngQuantisesClampsAndRoundTrips) {
   const auto dir = nf::testing::temp_dir("png");
   nf::Image img(4, 1, 3);
-  const float v[] = {0.0f,  0.5f,  1.0f, 2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(),
-                     0.25f, 0.75f, 0.1f, 0.9f, 0.33f, 0.66f};
+  const float v[] = {0.0f, 0.5f, 1.0f, 2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), 0.25f, 0.75f,
+                     0.1f, 0.9f, 0.33f, 0.66f};
   std::copy(std::begin(v), std::end(v), img.pixels.begin());
   nf::write_png(dir / "q.png", img);
   const nf::Image back = nf::read_image(dir / "q.png");

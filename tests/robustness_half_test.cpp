@@ -56,8 +56,7 @@ TEST(RobustnessHalf, EveryPresetReadsBackWithinHalfPrecision) {
 TEST(RobustnessHalf, CliGenHalfWritesAReadableFile) {
   const auto dir = nf::testing::temp_dir("half_cli");
   for (const std::string preset : {"car1", "led-rgb"}) {
-    const auto r =
-        nf::testing::run_nearfield("luminaire gen --preset " + preset + " --half --res-scale 0.2 -o " + q(dir));
+    const auto r = nf::testing::run_nearfield("luminaire gen --preset " + preset + " --half --res-scale 0.2 -o " + q(dir));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto info = nf::testing::run_nearfield("luminaire info " + q(dir / (preset + ".json")));
     EXPECT_EQ(info.exit_code, 0) << info.err;

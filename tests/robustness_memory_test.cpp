@@ -29,9 +29,8 @@ long max_rss_kib() {
 std::string manifest_json(int nx, int ny, const std::string& file) {
   return R"({ "format": "nearfield-luminaire", "version": 1, "delta": 0.05, "reconstruction": "goesele2003",
   "basis": { "kind": "bspline2", "count": [1, 1], "origin": [0, 0], "cell": [0.02, 0.02] },
-  "image": { "file": ")" +
-         file + R"(", "origin": [-0.5, -0.5], "size": [1, 1], "resolution": [)" + std::to_string(nx) + ", " +
-         std::to_string(ny) + "] } }";
+  "image": { "file": ")" + file + R"(", "origin": [-0.5, -0.5], "size": [1, 1], "resolution": [)" +
+         std::to_string(nx) + ", " + std::to_string(ny) + "] } }";
 }
 
 // The issue's 25 KB EXR whose header claims a 16383^2 image: refused from the header, without

@@ -94,8 +94,7 @@ TEST_F(RobustnessManifest, HugeNumberAndDirectoryMessagesNameTheFile) {
 }
 
 TEST(RobustnessScene, IntensityBeyondTheSupportedRangeIsRefused) {
-  const std::string base =
-      R"({"camera": {"position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8]},
+  const std::string base = R"({"camera": {"position": [0, 1, 2], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8]},
     "luminaires": [{"preset": "panel", "intensity": INTENSITY}]})";
   for (const std::string v : {"3.4e38", "3.5e38", "1e300", "1000001"}) {
     const std::string e = error_of_scene(std::regex_replace(base, std::regex("INTENSITY"), v));
@@ -147,8 +146,8 @@ TEST(RobustnessCli, FullDiskSaysNoSpaceAndNamesTheOutput) {
   const auto scene = write(dir, "s.json", small_scene(320, 200));
   fs::create_directories(dir / "small");
   const std::string cmd = "unshare -rm sh -c \"mount -t tmpfs -o size=64k tmpfs " + q(dir / "small") + " && '" +
-                          NEARFIELD_BINARY + "' render " + q(scene) + " -o " + q(dir / "small" / "out.exr") + "\" >" +
-                          q(dir / "stdout") + " 2>" + q(dir / "stderr");
+                          NEARFIELD_BINARY + "' render " + q(scene) + " -o " + q(dir / "small" / "out.exr") +
+                          "\" >" + q(dir / "stdout") + " 2>" + q(dir / "stderr");
   const int status = std::system(cmd.c_str());
   const std::string err = slurp(dir / "stderr");
   EXPECT_NE(status, 0);

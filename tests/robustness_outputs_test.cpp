@@ -63,8 +63,8 @@ TEST(RobustnessOutputs, RenderKeepsTheOldExrWhenThePngCannotBeWritten) {
   const auto scene = write(dir, "s.json", small_scene(32, 20));
   write(dir, "x.exr", "previous exr");
   std::filesystem::create_directories(dir / "y.png");
-  const auto r =
-      nf::testing::run_nearfield("render " + q(scene) + " -o " + q(dir / "x.exr") + " --png " + q(dir / "y.png"));
+  const auto r = nf::testing::run_nearfield("render " + q(scene) + " -o " + q(dir / "x.exr") + " --png " +
+                                            q(dir / "y.png"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("y.png"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(dir / "x.exr"), "previous exr");
