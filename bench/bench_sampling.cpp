@@ -3,7 +3,7 @@
 // method x structure (and optionally search kinds / depths), timed from OpenCL profiling events.
 //
 //   bench_sampling [--preset car2] [--spp 200] [--res 256] [--scene wall|road] [--frames 3]
-//                  [--methods ours,paper,uniform,global] [--structures per-image,fused]
+//                  [--methods ours,paper,uniform,uniform-equal,global] [--structures per-image,fused]
 //                  [--searches secant,binary] [--depths -1] [--sampler halton] [--csv FILE]
 //
 // Samples/s = sum over pixels of K(p) (samples actually drawn) / device time of Steps 1 + 2 of the
@@ -93,7 +93,7 @@ std::vector<NfSurface> make_scene(const std::string& scene, int res) {
 
 int main(int argc, char** argv) {
   CLI::App app{"nearfield sampling benchmark: samples/s per method and structure"};
-  std::string preset = "car2", scene = "wall", methods = "ours,paper,uniform,global", structures = "per-image,fused";
+  std::string preset = "car2", scene = "wall", methods = "ours,paper,uniform,uniform-equal,global", structures = "per-image,fused";
   std::string searches = "secant", depths = "-1", sampler_name = "halton", balances = "roulette", csv, device;
   int spp = 200, res = 256, frames = 3, ref_frames = 0, lanes = 0;
   bool interleave = false;

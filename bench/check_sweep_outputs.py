@@ -26,7 +26,7 @@ REFERENCE_COLUMNS = [
 ]
 BREAKDOWN_COLUMNS = ["target", "structure", "spp", "rep", "category", "ms"]
 PLOTS = ["error_vs_spp.png", "error_vs_time.png", "relmse_vs_spp.png", "breakdown.png", "studies.png"]
-METHODS = {"ours", "paper", "uniform", "global"}
+METHODS = {"ours", "paper", "uniform", "uniform-equal", "global"}
 SAMPLERS = {"halton", "halton-scrambled", "random"}
 
 

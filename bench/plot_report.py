@@ -38,6 +38,7 @@ METHOD_STYLE = {
     "ours": ("tab:blue", "o"),
     "paper": ("tab:purple", "v"),
     "uniform": ("tab:orange", "s"),
+    "uniform-equal": ("tab:green", "D"),
     "global": ("tab:red", "^"),
 }
 SAMPLER_STYLE = {"halton": "-", "halton-scrambled": ":", "random": "--"}
@@ -435,30 +436,35 @@ def headline(P, t, sampler):
     """The paper's comparisons on target t with `sampler` for ours/uniform (global: Halton)."""
     h = {"target": t, "sampler": sampler}
     ours = P.point(t, "ours", 252, sampler)
-    uni = P.point(t, "uniform", 252, sampler)
     if ours is None:
         return h
     e = ours["delta_e"]
     h["ours_252_de"] = e
     h["ours_252_ms"] = ours["time_ms"]
-    xs, ys = P.curve(t, "uniform", sampler)
-    if uni is not None:
-        h["uniform_252_de"] = uni["delta_e"]
-        h["uniform_err_ratio"] = ratio(uni["delta_e"], e)
-        h["uniform_mse_ratio"] = ratio(uni["rel_mse"], ours["rel_mse"])
-    spp_u, how_u = spp_to_reach(xs, ys, e)
-    h["uniform_spp"], h["uniform_spp_how"] = spp_u, how_u
-    h["uniform_spp_ratio"] = ratio(spp_u, 252.0)
-    h["uniform_spp_ratio_fit"] = spp_ratio_fit(P, t, "uniform", sampler)
-    # time to reach ours@252's error: uniform's time interpolated at the spp it needs
-    xt, yt = P.curve(t, "uniform", sampler, y="time_ms")
-    t_u = loglog_interp(xt, yt, spp_u) if np.isfinite(spp_u) else float("nan")
-    h["uniform_time_ms"] = t_u
-    h["uniform_time_ratio"] = ratio(t_u, ours["time_ms"])
-    xc, yc = P.curve(t, "uniform", sampler, y="cpu_ms")
-    ok = np.isfinite(yc) & (yc > 0)
-    if ok.sum() >= 2 and np.isfinite(spp_u) and ours.get("cpu_ms", 0) > 0:
-        h["uniform_cpu_ratio"] = ratio(loglog_interp(xc[ok], yc[ok], spp_u), ours["cpu_ms"])
+    # uniform (balanced K_m) and uniform-equal (K / M per image: the paper's Fig. 12 baseline)
+    for method in ("uniform", "uniform-equal"):
+        k = method.replace("-", "_")
+        uni = P.point(t, method, 252, sampler)
+        xs, ys = P.curve(t, method, sampler)
+        if method != "uniform" and uni is None and not len(xs):
+            continue
+        if uni is not None:
+            h[f"{k}_252_de"] = uni["delta_e"]
+            h[f"{k}_err_ratio"] = ratio(uni["delta_e"], e)
+            h[f"{k}_mse_ratio"] = ratio(uni["rel_mse"], ours["rel_mse"])
+        spp_u, how_u = spp_to_reach(xs, ys, e)
+        h[f"{k}_spp"], h[f"{k}_spp_how"] = spp_u, how_u
+        h[f"{k}_spp_ratio"] = ratio(spp_u, 252.0)
+        h[f"{k}_spp_ratio_fit"] = spp_ratio_fit(P, t, method, sampler)
+        # time to reach ours@252's error: the method's time interpolated at the spp it needs
+        xt, yt = P.curve(t, method, sampler, y="time_ms")
+        t_u = loglog_interp(xt, yt, spp_u) if np.isfinite(spp_u) else float("nan")
+        h[f"{k}_time_ms"] = t_u
+        h[f"{k}_time_ratio"] = ratio(t_u, ours["time_ms"])
+        xc, yc = P.curve(t, method, sampler, y="cpu_ms")
+        ok = np.isfinite(yc) & (yc > 0)
+        if ok.sum() >= 2 and np.isfinite(spp_u) and ours.get("cpu_ms", 0) > 0:
+            h[f"{k}_cpu_ratio"] = ratio(loglog_interp(xc[ok], yc[ok], spp_u), ours["cpu_ms"])
     # global (Halton only): rel. MSE falls as 1/spp for an unbiased estimator, so its
     # extrapolation is sound; ΔE saturates at large errors (tone mapping), so its is not.
     xg, yg = P.curve(t, "global", "halton")
@@ -820,6 +826,29 @@ def write_report(out, meta, P, R, B, micro):
                            "rel. MSE ratio @252", "uniform time / ours time for equal ΔE (paper 1.7×)",
                            "same, CPU time"], rows))
         L.append("")
+    for sampler in ("random", "halton"):
+        hs = [h for h in H[sampler] if "ours_252_de" in h and "uniform_equal_spp" in h]
+        if not hs:
+            continue
+        L.append(f"**`ours` vs `uniform-equal`, sampler `{sampler}`** — the paper's Fig. 12 baseline: "
+                 "K / M samples from every image (the remainder rotated per pixel), uniform on B_m(p)")
+        L.append("")
+        rows = []
+        for h in hs:
+            rows.append([
+                h["target"], fmt(h.get("ours_252_de")), fmt(h.get("uniform_equal_252_de")),
+                fmt(h.get("uniform_equal_err_ratio")) + "×",
+                with_how(h.get("uniform_equal_spp_ratio"), h.get("uniform_equal_spp_how")) + "×",
+                fmt(h.get("uniform_equal_spp_ratio_fit")) + "×",
+                fmt(h.get("uniform_equal_mse_ratio")) + "×",
+                fmt(h.get("uniform_equal_time_ratio")) + "×",
+                fmt(h.get("uniform_equal_cpu_ratio")) + "×",
+            ])
+        L.append(md_table(["target", "ours ΔE @252", "uniform-equal ΔE @252", "ΔE ratio @252 (paper 2.4×)",
+                           "uniform-equal spp / 252 for equal ΔE, interp. (paper 4×)", "same, fit",
+                           "rel. MSE ratio @252", "uniform-equal time / ours time for equal ΔE (paper 1.7×)",
+                           "same, CPU time"], rows))
+        L.append("")
     hs = [h for h in H["halton"] if "global_252_de" in h]
     if hs:
         L.append("**`ours` vs `global`** (precomputed light importance sampling over whole images, Eq. 6; "
@@ -958,7 +987,7 @@ def write_report(out, meta, P, R, B, micro):
     L.append("")
     rows = []
     for t in targets:
-        for m in ("ours", "paper", "uniform", "global"):
+        for m in ("ours", "paper", "uniform", "uniform-equal", "global"):
             r = P.point(t, m, 252)
             if r:
                 rows.append([t, m, fmt(r["step1_ms"]), fmt(r["step2_ms"]), fmt(r["cl_other_ms"]), fmt(r["accumulate_ms"]),

@@ -44,6 +44,8 @@
 #define NF_HAS_VIS 0
 #endif
 /* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
+/* Methods that draw uniformly on B_m(p) (uniform, uniform-equal). */
+#define NF_UNIFORM_BOX (NF_METHOD == NF_METHOD_UNIFORM || NF_METHOD == NF_METHOD_UNIFORM_EQUAL)
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
@@ -117,7 +119,8 @@ typedef struct {
   vf Xp, Rp;     /* p in continuous pixel coordinates (column, row from the top) */
   vf f;          /* z / (delta + z): B_m(p) = p + (support - p) f, per axis (Eq. 7) */
   vf bw, bh;     /* unclipped box width and height in pixels (same for every m) */
-  vf dz;         /* delta / z: u = s + (s - p) delta / z */
+  vf dz;         /* (delta + z) / z: u = p + (s - p) (delta + z) / z */
+  vf dpz;        /* delta + z, the height above U, from NfInstance::u_offset (no cancellation near U) */
   vf gs;         /* S-parametrisation factor: delta^2 / |z|^3 (goesele2003) or |z| (radiance) */
   vf gu;         /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
   vi band;       /* mask: |z| < band delta, U-parametrisation (docs/sampling.md) */
@@ -130,19 +133,28 @@ typedef struct {
   float iHx, iHy; /* 1 / Hx, 1 / Hy */
 } NfCtx;
 
+/* v / |v| for any finite non-zero v (subnormal to FLT_MAX components): the components are divided
+   by the largest magnitude first, so the sum of squares is in [1, 3] and neither underflows nor
+   overflows. Zero, Inf or NaN vectors give 0 (docs/sampling.md "Numerical extremes"). */
 NF_INLINE void nf_normalize3(float* x, float* y, float* z) {
-  const float l2 = *x * *x + *y * *y + *z * *z;
-  const float k = (l2 > 1e-30f && isfinite(l2)) ? rsqrt(l2) : 0.0f;
-  *x *= k;
-  *y *= k;
-  *z *= k;
+  const float s = fmax(fmax(fabs(*x), fabs(*y)), fabs(*z));
+  if (!(s > 0.0f && s <= FLT_MAX)) {
+    *x = *y = *z = 0.0f;
+    return;
+  }
+  const float a = *x / s, b = *y / s, c = *z / s;
+  const float l2 = a * a + b * b + c * c;
+  const float k = isfinite(l2) ? rsqrt(l2) : 0.0f;
+  *x = a * k;
+  *y = b * k;
+  *z = c * k;
 }
 
 /* Loads the NF_LANES surfaces from index `first` on (up to count), moves them into the luminaire
    frame and computes the per-pixel geometry. Returns the `lit` mask. */
 NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const NfSampleParams* P,
                       __global const NfSurface* surf, uint first) {
-  float px[NF_LANES], py[NF_LANES], pz[NF_LANES], nx[NF_LANES], ny[NF_LANES], nz[NF_LANES];
+  float px[NF_LANES], py[NF_LANES], pz[NF_LANES], nx[NF_LANES], ny[NF_LANES], nz[NF_LANES], hu[NF_LANES];
   float vx[NF_LANES], vy[NF_LANES], vz[NF_LANES], al[NF_LANES], me[NF_LANES], br[NF_LANES], bg[NF_LANES], bb[NF_LANES];
   int brdf[NF_LANES], valid[NF_LANES];
   uint pix[NF_LANES];
@@ -166,6 +178,7 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
     px[l] = M[0] * S.px + M[1] * S.py + M[2] * S.pz + M[3];
     py[l] = M[4] * S.px + M[5] * S.py + M[6] * S.pz + M[7];
     pz[l] = M[8] * S.px + M[9] * S.py + M[10] * S.pz + M[11];
+    hu[l] = M[8] * S.px + M[9] * S.py + M[10] * S.pz + I->u_offset;
     nx[l] = N[0] * S.nx + N[1] * S.ny + N[2] * S.nz;
     ny[l] = N[4] * S.nx + N[5] * S.ny + N[6] * S.nz;
     nz[l] = N[8] * S.nx + N[9] * S.ny + N[10] * S.nz;
@@ -186,10 +199,12 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
       valid[l] = 0;
       px[l] = py[l] = pz[l] = 0.0f;
     }
+    if (!isfinite(hu[l])) hu[l] = 0.0f;
   }
   c->px = VLOAD(px);
   c->py = VLOAD(py);
   c->pz = VLOAD(pz);
+  c->dpz = VLOAD(hu);
   c->sh.nx = VLOAD(nx);
   c->sh.ny = VLOAD(ny);
   c->sh.nz = VLOAD(nz);
@@ -213,12 +228,12 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->Hy = L->cell_y / c->ph;
   c->Xp = (c->px - L->image_origin_x) / c->pw;
   c->Rp = (L->image_origin_y + L->image_size_y - c->py) / c->ph;
-  /* delta + z >= 1e-7 delta keeps f finite as z -> -delta (the box then covers the image). */
-  c->f = c->pz / fmax(delta + c->pz, (vf)(1e-7f * delta));
+  /* delta + z >= 1e-20 delta keeps f finite as z -> -delta (the box then covers the image). */
+  c->f = c->pz / fmax(c->dpz, (vf)(1e-20f * delta));
   c->bw = (float)L->support * c->Hx * fabs(c->f);
   c->bh = (float)L->support * c->Hy * fabs(c->f);
   c->band = fabs(c->pz) < P->band * delta;
-  c->lit = val & (c->pz > -delta) & isfinite(c->Xp) & isfinite(c->Rp);
+  c->lit = val & (c->dpz > 0.0f) & isfinite(c->Xp) & isfinite(c->Rp);
   /* unlit lanes get harmless geometry, so that every index they form stays in range */
   c->Xp = SEL((vf)(0.0f), c->Xp, c->lit);
   c->Rp = SEL((vf)(0.0f), c->Rp, c->lit);
@@ -227,9 +242,9 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->iHx = 1.0f / c->Hx;
   c->iHy = 1.0f / c->Hy;
   /* per-pixel factors of the estimators (unlit lanes: harmless values) */
-  const vf az = fabs(c->pz), dpz = delta + c->pz;
+  const vf az = fabs(c->pz), dpz = c->dpz;
   const vi gz = c->lit & (az > 0.0f), gpz = c->lit & (dpz > 0.0f);
-  c->dz = SEL((vf)(0.0f), delta / c->pz, gz);
+  c->dz = SEL((vf)(0.0f), dpz / c->pz, gz);
   if (L->reconstruction == NF_RECON_GOESELE2003) {
     c->gs = SEL((vf)(0.0f), delta * delta / (az * az * az), gz);
     c->gu = SEL((vf)(0.0f), delta * delta / (dpz * dpz * dpz), gpz);
@@ -655,22 +670,36 @@ NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx,
 
 /* ---------------------------------------------------------------- Eq. 14 per sample ------- */
 
+/* r = |(x, y, z)| and 1 / r without overflow or underflow of the squares: scaled by the largest
+   magnitude s, r = s sqrt(q), q in [1, 3] (docs/sampling.md "Numerical extremes"). r = 0 gives
+   1 / r = 0 (callers mask r > 0). */
+NF_INLINE void nf_length3(vf x, vf y, vf z, vf* r, vf* ir) {
+  const vf s = fmax(fmax(fabs(x), fabs(y)), fabs(z));
+  const vi pos = s > 0.0f;
+  const vf is = SEL((vf)(0.0f), 1.0f / s, pos);
+  const vf a = x * is, b = y * is, c = z * is;
+  const vf q = SEL((vf)(1.0f), a * a + b * b + c * c, pos);
+  *r = s * sqrt(q);
+  *ir = is * rsqrt(q);
+}
+
 /* One S-parametrised sample s (pixel coordinates X = col + fx, R = row + fy) of image (i, j):
      Psi_m(u -> s) Delta / |s - p|^3  with u = s + (s - p) delta / z   (Eq. 5, 11)
      goesele2003: Phi_m(u) delta^2 / cos^4(theta) |z| / r^3 = Phi_m(u) delta^2 r / |z|^3
      radiance:    Phi_m(u) |z| / r^3
-   and omega = sign(z) (s - p) / r (towards U). Returns that factor (0 where undefined). */
+   and omega = sign(z) (s - p) / r (towards U). u - p = (s - p) (delta + z) / z is formed from p
+   with NfCtx::dz, so it stays exact as z -> -delta. Returns that factor (0 where undefined). */
 NF_INLINE vf nf_geom_s(const NfCtx* c, const NfLuminaire* L, int i, int j, vf X, vf R, vf* wx, vf* wy, vf* wz) {
   const vf z = c->pz;
   const vf dX = X - c->Xp, dR = R - c->Rp;
   const vf dx = dX * c->pw, dy = -dR * c->ph, dz = -z;
-  const vf r2 = dx * dx + dy * dy + dz * dz;
-  const vf r = sqrt(r2);
+  vf r, ir;
+  nf_length3(dx, dy, dz, &r, &ir);
   const vi ok = (r > 0.0f) & (c->gs > 0.0f);
-  const vf tx = (X + dX * c->dz - c->Xo) * c->iHx - (float)i;
-  const vf ty = (c->Ro - (R + dR * c->dz)) * c->iHy - (float)j;
+  const vf tx = (c->Xp + dX * c->dz - c->Xo) * c->iHx - (float)i;
+  const vf ty = (c->Ro - (c->Rp + dR * c->dz)) * c->iHy - (float)j;
   const vf phi = nf_phi(L->basis_kind, tx) * nf_phi(L->basis_kind, ty);
-  const vf inv = SEL(-1.0f / r, 1.0f / r, z > 0.0f);
+  const vf inv = SEL(-ir, ir, z > 0.0f);
   *wx = dx * inv;
   *wy = dy * inv;
   *wz = dz * inv;
@@ -698,12 +727,10 @@ NF_INLINE vf nf_geom_u(const NfCtx* c, const NfLuminaire* L, __global const long
   *col = a;
   *row = b;
   const vf Y = nf_pixel_luminance(img, L->res_x + 1, a, b, q);
-  const vf dz = L->delta + c->pz;
-  const vf dx = (Xu - c->Xp) * c->pw, dy = -(Ru - c->Rp) * c->ph, ddz = -dz;
-  const vf r2 = dx * dx + dy * dy + ddz * ddz;
-  const vf r = sqrt(r2);
+  const vf dx = (Xu - c->Xp) * c->pw, dy = -(Ru - c->Rp) * c->ph, ddz = -c->dpz;
+  vf r, inv;
+  nf_length3(dx, dy, ddz, &r, &inv);
   const vi ok = in & (r > 0.0f) & (c->gu > 0.0f) & (phi > 0.0f);
-  const vf inv = 1.0f / r;
   *wx = dx * inv;
   *wy = dy * inv;
   *wz = ddz * inv;
@@ -777,8 +804,31 @@ NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global co
 /* ---------------------------------------------------------------- Step 2: one image ------- */
 
 /* K_m(p) (Eq. 12) from x = K A_m / A: paper rounds (may drop light), min1 keeps >= 1 sample,
-   roulette keeps one sample with probability x < 1 and returns the weight 1/x in *inv_p. */
-NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, vf Am, vf A, vf* inv_p) {
+   roulette keeps one sample with probability x < 1 and returns the weight 1/x in *inv_p.
+   uniform-equal (paper Fig. 12 baseline; docs/sampling.md "uniform-equal"): every image with
+   A_m > 0 gets K_m = floor(K / M) + [((m + rot) mod M) < K mod M] of the M images, rot uniform in
+   [0, M) per pixel and frame (a hash), so the remainder goes to a rotating block of images. With
+   K >= M every lit image gets >= 1 sample; with K < M image m is drawn with probability exactly
+   K / M (a systematic roulette over the images) and weighted M / K: unbiased either way. The
+   `balance` option does not apply. */
+NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, int M, vf Am, vf A, vf* inv_p) {
+#if NF_METHOD == NF_METHOD_UNIFORM_EQUAL
+  (void)A;
+  const int q = P->spp / M, rem = P->spp % M;
+  vi k = (vi)(q);
+  *inv_p = (vf)(1.0f);
+  if (rem > 0) {
+    /* rot = floor(h M / 2^32): each value has probability within M / 2^32 of 1 / M */
+    const vu h = nf_hashv(pix ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
+    const vi rot = CVT_I(mul_hi(h, (vu)((uint)M)));
+    const vi slot = (rot + (vi)(m)) % (vi)(M);
+    k += SEL((vi)(0), (vi)(1), slot < (vi)(rem));
+    if (q == 0) *inv_p = (vf)((float)M / (float)P->spp);
+  }
+  k = min(k, (vi)(P->k_max));
+  return SEL((vi)(0), k, Am > 0.0f);
+#else
+  (void)M;
   vf x = (float)P->spp * (Am / A);
   const vi pos = (Am > 0.0f) & (A > 0.0f) & (x > 1e-30f); /* also keeps 1/x finite */
   x = SEL((vf)(1.0f), fmin(x, 1e9f), pos);
@@ -796,6 +846,7 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, vf Am, vf A, vf*
 #endif
   k = min(k, (vi)(P->k_max));
   return SEL((vi)(0), k, pos);
+#endif
 }
 
 /* One sample of image m = (i, j) at p from the 2D point (ux, uy) (Eq. 11 with Eq. 5 in the box,
@@ -827,7 +878,7 @@ NF_INLINE vf nf_sample(const NfCtx* c, const NfLuminaire* L, __global const long
   if (ANY(as_)) {
     vf gx, gy, gz, gs, fx, fy;
     vi cs, rs;
-#if NF_METHOD == NF_METHOD_UNIFORM
+#if NF_UNIFORM_BOX
     const vf X = b->sx.lo + ux * (b->sx.hi - b->sx.lo), R = b->sr.lo + uy * (b->sr.hi - b->sr.lo);
     cs = clamp(CVT_I(X), b->sx.e0, max(b->sx.e3 - 1, b->sx.e0));
     rs = clamp(CVT_I(R), b->sr.e0, max(b->sr.e3 - 1, b->sr.e0));
@@ -884,7 +935,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   nf_rotation(P, c->pix, m, &rx, &ry);
 #endif
   const vi sband = has & c->band, sbox = has & !c->band;
-#if NF_METHOD == NF_METHOD_UNIFORM
+#if NF_UNIFORM_BOX
   const vf Aest = (b->sx.hi - b->sx.lo) * (b->sr.hi - b->sr.lo) * L->pixel_area; /* 1 / pdf, m^2 */
 #else
   const vf Aest = Am; /* Eq. 11: C_m / pdf_m = A_m c_m */
@@ -972,7 +1023,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   NfBox b;
   const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   vf inv_p;
-  const vi K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
+  const vi K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
   if (!ANY(K > 0)) return;
   vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
   nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl);
@@ -1017,12 +1068,12 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     if (cached) {
       Am = am[m];
       if (!ANY(Am > 0.0f)) continue;
-      K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
+      K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
       nf_prepare(&c, &L, m, sat, quantum, info, &b);
     } else {
       Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
-      K = nf_balance(&P, c.pix, m, Am, A, &inv_p);
+      K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
     nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl);
@@ -1089,7 +1140,7 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
   const float g = nf_sample(&c, &L, img, quantum[m], &b, i, j, ux, uy, c.band, !c.band, P.search_depth, &wx, &wy, &wz,
                             &d.col, &d.row, &d.fx, &d.fy, &d.iters_x, &d.iters_y);
   nf_rho(&c, wx, wy, wz, &rr, &rg, &rb);
-#if NF_METHOD == NF_METHOD_UNIFORM
+#if NF_UNIFORM_BOX
   const float Aest = (b.sx.hi - b.sx.lo) * (b.sr.hi - b.sr.lo) * L.pixel_area;
 #else
   const float Aest = Am;

@@ -9,6 +9,7 @@
 // the seeds are fixed, so a failure reproduces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -121,13 +122,15 @@ void check_method(Method method, const std::vector<Case>& cases, int R, int spp,
       const auto e = estimate(sampler, dl, ps.pts, R, s);
       EXPECT_TRUE(e.finite);
       // global: a point whose box holds a tiny part of the image flux gets (almost) no hits at
-      // this sample count; its mean is then not normal. Such points are left out (counted).
+      // this sample count; its mean is then not normal. Such points are left out (counted). The
+      // same for uniform-equal with K < M (most replicates draw none of the few lit images).
       Estimates kept;
       std::vector<glm::dvec3> kref;
       std::vector<std::string> klabels;
       int skipped = 0;
       for (std::size_t i = 0; i < ps.pts.size(); ++i) {
-        if (method == Method::global && ref[i] != glm::dvec3(0.0) && e.nonzero[i] < 40) {
+        if ((method == Method::global || method == Method::uniform_equal) && ref[i] != glm::dvec3(0.0) &&
+            e.nonzero[i] < 40) {
           ++skipped;
           continue;
         }
@@ -157,6 +160,46 @@ const std::vector<Case> kPresets{{"bike", 1.0}, {"car1", 1.0}, {"led-rgb", 1.0}}
 TEST(SamplingEstimator, OursIsUnbiased) { check_method(Method::ours, kPresets, 256, 64, false); }
 
 TEST(SamplingEstimator, UniformIsUnbiased) { check_method(Method::uniform, kPresets, 256, 64, false); }
+
+// uniform-equal (the paper's Fig. 12 baseline): K / M samples per image, remainder rotated per pixel.
+// K >= M for every preset (bike 63, car1 25, led-rgb 16 images): every lit image gets >= 1 sample.
+TEST(SamplingEstimator, UniformEqualIsUnbiased) { check_method(Method::uniform_equal, kPresets, 256, 64, false); }
+
+// K < M: each image is drawn with probability K / M and weighted M / K (docs/sampling.md).
+TEST(SamplingEstimator, UniformEqualWithFewerSamplesThanImagesIsUnbiased) {
+  check_method(Method::uniform_equal, {{"bike", 1.0}, {"car1", 1.0}}, 1024, 12, false);
+}
+
+// The allocation rule itself: a luminaire with light in every pixel and a basis grid inside the
+// image, seen from a far point on the axis, so every image has A_m > 0 and the K(p) the kernels
+// count is exactly K per replicate (floor(K / M) each plus K mod M extra) for K below, equal to and
+// above M = 6; with K_max = 1 it is M where K >= M and K mod M where K < M.
+TEST(SamplingEstimator, UniformEqualSpendsExactlyKSamples) {
+  nf::cl::Runtime rt;
+  Sampler sampler(rt);
+  auto l =
+      make_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 3, 2, 12, 10, 0.1, 0.02, 0.24, false);
+  for (auto& img : l.images) std::fill(img.begin(), img.end(), 1.0f);
+  const int M = l.num_images();
+  const auto pc = lum::precompute(l, 1);
+  DeviceLuminaire dl(rt, pc);
+  const std::vector<NfSurface> pts{surface(glm::dvec3(0.0, 0.0, 10.0 * l.delta), glm::dvec3(0.0, 0.0, -1.0))};
+  for (int spp : {4, M, 13, 64, 200}) {
+    for (int kmax : {0, 1}) {
+      SamplingSettings s;
+      s.method = Method::uniform_equal;
+      s.sampler = SamplerKind::random;
+      s.spp = spp;
+      s.k_max = kmax;
+      const int R = 64;
+      estimate(sampler, dl, pts, R, s);
+      const auto k = sampler.read_k();
+      const int q = spp / M, rem = spp % M;
+      const int expect = kmax == 0 ? spp : M * std::min(q, kmax) + (q < kmax ? rem : 0);
+      for (int r = 0; r < R; ++r) EXPECT_EQ(static_cast<int>(k[r]), expect) << "K " << spp << " K_max " << kmax;
+    }
+  }
+}
 
 // Whole-image importance sampling misses B_m(p) for most samples near the luminaire: many samples,
 // and points whose boxes get too few hits for a normal mean are left out (at most a few).

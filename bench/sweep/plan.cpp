@@ -102,6 +102,7 @@ Plan make_plan(const PlanOptions& o) {
         for (int spp : {16, 63, 252, 1000}) b.add(base(Method::uniform), spp);
         for (int spp : {16, 63, 252}) b.add(base(Method::ours, SamplerKind::random), spp);
         for (int spp : {16, 63, 252, 1000}) b.add(base(Method::uniform, SamplerKind::random), spp);
+        for (int spp : {63, 252}) b.add(base(Method::uniform_equal, SamplerKind::random), spp);
       } else if (!is_scene) {
         for (int spp : {16, 32, 63, 126, 252, 504, 1000}) b.add(base(Method::ours), spp);
         for (int spp : {16, 63, 252, 1000, 4000}) b.add(base(Method::paper), spp);
@@ -115,6 +116,10 @@ Plan make_plan(const PlanOptions& o) {
         for (int spp : {16, 32, 63, 126, 252, 504, 1000, 2000, 4000})
           b.add(base(Method::uniform, SamplerKind::random), spp);
         b.add(base(Method::paper, SamplerKind::random), 4000);
+        // Paper Fig. 12: the same number of samples from every image (252 = 4 x 63 for the bike).
+        for (int spp : {16, 63, 126, 252, 504, 1000, 2000, 4000}) b.add(base(Method::uniform_equal), spp);
+        for (int spp : {16, 63, 126, 252, 504, 1000, 2000, 4000})
+          b.add(base(Method::uniform_equal, SamplerKind::random), spp);
       } else {
         for (int spp : {16, 63, 252, 1000}) b.add(base(Method::ours), spp);
         for (int spp : {63, 252, 1000}) b.add(base(Method::paper), spp);
@@ -123,6 +128,8 @@ Plan make_plan(const PlanOptions& o) {
         for (int spp : {16, 63, 252, 1000, 2000}) b.add(base(Method::ours, SamplerKind::random), spp);
         for (int spp : {16, 63, 252, 1000, 2000}) b.add(base(Method::uniform, SamplerKind::random), spp);
         b.add(base(Method::paper, SamplerKind::random), 2000);
+        for (int spp : {63, 252, 1000, 2000}) b.add(base(Method::uniform_equal), spp);
+        for (int spp : {63, 252, 1000, 2000}) b.add(base(Method::uniform_equal, SamplerKind::random), spp);
       }
     }
     if (wanted(o, "sampler")) {

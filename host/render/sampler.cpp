@@ -38,6 +38,8 @@ int method_code(Method m) {
       return NF_METHOD_PAPER;
     case Method::uniform:
       return NF_METHOD_UNIFORM;
+    case Method::uniform_equal:
+      return NF_METHOD_UNIFORM_EQUAL;
     case Method::global:
       return NF_METHOD_GLOBAL;
   }
@@ -98,6 +100,8 @@ NfInstance make_instance(const glm::dmat4& w2l, double intensity) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) in.normal[4 * r + c] = static_cast<float>(nm[c][r]);
   in.intensity = static_cast<float>(intensity);
+  // the rounding residual of the z translation: set_common folds delta into it in double
+  in.z_lo = static_cast<float>(w2l[3][2] - static_cast<double>(in.to_local[11]));
   return in;
 }
 
@@ -204,7 +208,12 @@ void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightIn
   const DeviceLuminaire& lum = *li.luminaire;
   k.setArg(0, sizeof(NfSampleParams), &p);
   k.setArg(1, sizeof(NfLuminaire), &lum.params());
-  k.setArg(2, sizeof(NfInstance), &li.instance);
+  // height above plane U = (M p)_z + delta with M's z translation and delta added in double, so
+  // that the kernels need not subtract two nearly equal floats near U (docs/sampling.md).
+  NfInstance inst = li.instance;
+  inst.u_offset = static_cast<float>(static_cast<double>(inst.to_local[11]) + static_cast<double>(inst.z_lo) +
+                                     static_cast<double>(lum.params().delta));
+  k.setArg(2, sizeof(NfInstance), &inst);
   k.setArg(3, surfaces);
   k.setArg(4, lum.sat());
   k.setArg(5, lum.quantum());

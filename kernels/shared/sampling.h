@@ -10,6 +10,7 @@
 #define NF_METHOD_PAPER 1   /* as ours with the precomputed full-column marginal (biased) */
 #define NF_METHOD_UNIFORM 2 /* same K_m, uniform on B_m(p) */
 #define NF_METHOD_GLOBAL 3  /* Eq. 6: whole-image importance sampling, K_m from whole-image flux */
+#define NF_METHOD_UNIFORM_EQUAL 4 /* K / M samples for every lit image, uniform on B_m(p) (paper Fig. 12) */
 
 /* Sample sequences, -DNF_SEQ=... */
 #define NF_SEQ_HALTON 0           /* bases 2, 3; one sequence shared by all pixels */
@@ -34,7 +35,11 @@ typedef struct {
   nf_float to_local[12]; /* row-major 3x4: p_local = M[:, 0:3] p + M[:, 3]; also maps directions */
   nf_float normal[12];   /* row-major 3x4, only 3x3 used: inverse transpose of M[:, 0:3] (normals) */
   nf_float intensity;    /* multiplies the radiance of this instance */
-  nf_int pad0, pad1, pad2;
+  nf_float z_lo;         /* to_local[11] + z_lo = the double translation's z, to ~1e-14 relative */
+  nf_float u_offset;     /* to_local[11] + delta in double (set by the Sampler per luminaire): the height
+                            above plane U is M[2, 0:3] p + u_offset, without the cancellation of
+                            (M p)_z + delta near U (docs/sampling.md "Numerical extremes") */
+  nf_int pad2;
 } NfInstance; /* 112 bytes */
 
 /* Per image m, precomputed on the host from the SAT (host/render/device_luminaire.cpp). */
