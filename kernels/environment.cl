@@ -39,14 +39,16 @@ __kernel void env_pyramid_down(__global float4* pyr, __global const int4* lv, in
 }
 
 /* Order-2 SH projection, one row of level 0 per work-item (the host sums the rows in double):
-   L_lm = int L(w) Y_lm(w) dw ~= sum_texels L Y_lm(w_c) J(v_c) / (W H)  (midpoint rule), w_c the
-   world direction of the texel centre. out[27 r + 3 k + c]. */
+   L_lm = int L(w) Y_lm(w) dw ~= sum_texels L Y_lm(w_c) dOmega, w_c the world direction of the
+   texel centre and dOmega = (2 pi / W) (cos(pi r / H) - cos(pi (r + 1) / H)) the texel's exact
+   solid angle (so L_00 is exact for the piecewise-constant map). out[27 r + 3 k + c]. */
 __kernel void env_sh_rows(__global const float4* pyr, __global const int4* lv, float2 rot, __global float* out) {
   const int r = get_global_id(0);
   const int4 l = lv[0];
   if (r >= l.z) return;
   const float v = ((float)r + 0.5f) / (float)l.z;
-  const float dw = nf_latlong_jacobian(v) / ((float)l.y * (float)l.z);
+  const float dw = (2.0f * NF_PI / (float)l.y) *
+                   (cos(NF_PI * (float)r / (float)l.z) - cos(NF_PI * (float)(r + 1) / (float)l.z));
   float acc[27];
   for (int k = 0; k < 27; ++k) acc[k] = 0.0f;
   for (int x = 0; x < l.y; ++x) {

@@ -91,6 +91,8 @@ TEST(EnvironmentEstimator, EnvIsIsUnbiased) { z_test("env-is"); }
 TEST(EnvironmentEstimator, FisErrorShrinksWithN) {
   const auto map = nf::envtest::make_map(64, 32, 0.0, sky);
   nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  std::vector<dvec3> wants;
+  for (const Case& c : cases()) wants.push_back(c.ggx ? exact(map, c) : dvec3(0.0));
   for (const std::string glossy : {"fis", "fis-rotated"}) {
     std::vector<double> err;
     for (const int n : {4, 16, 64, 256}) {
@@ -100,9 +102,10 @@ TEST(EnvironmentEstimator, FisErrorShrinksWithN) {
       rs.env_samples = n;
       double e2 = 0;
       int terms = 0;
-      for (const Case& c : cases()) {
+      for (std::size_t ci = 0; ci < cases().size(); ++ci) {
+        const Case c = cases()[ci];
         if (!c.ggx) continue;
-        const dvec3 want = exact(map, c);
+        const dvec3 want = wants[ci];
         const auto got = nf::envtest::shade(env, std::vector<NfSurface>(64, to_surface(c)), rs);
         for (const auto& g : got)
           for (int ch = 0; ch < 3; ++ch) {

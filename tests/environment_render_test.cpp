@@ -4,7 +4,7 @@
 //  - under an upper-hemisphere sky (2 above the horizon, 0 below) the up-facing plane reflects
 //    1.2 with mc too (every cosine sample is above the horizon);
 //  - camera rays that miss the plane see L_env(direction) (show) or 0 (hide).
-// Deterministic up to float rounding: tolerances 1e-4 relative (float sums of <= 2048 texels).
+// Deterministic: tolerances are float rounding (mc) and the SH sum's quadrature error (sh), below.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -55,7 +55,11 @@ void check_plane(const std::string& map, float top, float bottom, const std::str
       const float got = img.at(x, y, 1);
       if (valid[p]) {
         ++plane;
-        ASSERT_NEAR(got, 0.6f * top, 1e-4 * 0.6 * top) << diffuse << " pixel " << x << "," << y;
+        // mc: every sample sees the same L, float rounding only (1e-4). sh: L_00 is exact (texel
+        // solid angles) but the l = 2 coefficients of a constant, summed with Y at texel centres,
+        // are O((pi / H)^2) instead of 0: ~1e-3 for H = 32 (measured 5e-4).
+        const double tol = diffuse == "sh" ? 2e-3 : 1e-4;
+        ASSERT_NEAR(got, 0.6f * top, tol * 0.6 * top) << diffuse << " pixel " << x << "," << y;
       } else {
         ++sky;
         const double d_y = cam.pixel_ray(x, y).direction.y;
