@@ -90,8 +90,9 @@ void EnvironmentContribution::upload() {
 // The pyramid (one env_pyramid_down launch per level) and the SH projection (env_sh_rows, rows
 // summed here in double).
 void EnvironmentContribution::build() {
+  ::cl::Kernel down = rt_.kernel("environment.cl", "env_pyramid_down");  // compiled before the timer
+  ::cl::Kernel shk = rt_.kernel("environment.cl", "env_sh_rows");
   Timer timer;
-  ::cl::Kernel down = rt_.kernel("environment.cl", "env_pyramid_down");
   for (std::size_t k = 0; k + 1 < dims_.size(); ++k) {
     down.setArg(0, pyr_);
     down.setArg(1, lv_);
@@ -99,11 +100,12 @@ void EnvironmentContribution::build() {
     const glm::ivec2 d = dims_[k + 1];
     rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
   }
+  cl_call([&] { rt_.queue().finish(); }, "building the environment pyramid");
+  pyramid_ms_ = timer.ms();
   const int h = map_.height();
   ::cl::Buffer rows_out;
   cl_call([&] { rows_out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, sizeof(float) * 27 * h); },
           "environment SH buffer");
-  ::cl::Kernel shk = rt_.kernel("environment.cl", "env_sh_rows");
   shk.setArg(0, pyr_);
   shk.setArg(1, lv_);
   shk.setArg(2, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});

@@ -33,6 +33,7 @@ class EnvironmentContribution final : public Contribution {
   std::vector<glm::vec4> read_level(int k);                 // level k, rows from the top
   const std::array<glm::dvec3, 9>& sh() const { return sh_; }  // L_lm, RGB (world frame)
   double build_ms() const { return build_ms_; }             // pyramid + SH, device and host
+  double pyramid_ms() const { return pyramid_ms_; }         // the pyramid alone
   const ref::EnvironmentMap& map() const { return map_; }
 
  private:
@@ -45,7 +46,7 @@ class EnvironmentContribution final : public Contribution {
   ::cl::Buffer pyr_, lv_, sh_buf_, rows_, cols_, puv_, out_;
   std::size_t pyr_bytes_ = 0, table_bytes_ = 0, out_bytes_ = 0;
   std::array<glm::dvec3, 9> sh_{};
-  double build_ms_ = 0.0;
+  double build_ms_ = 0.0, pyramid_ms_ = 0.0;
   bool build_reported_ = false;
   std::string options_;
   ::cl::Kernel shade_;
