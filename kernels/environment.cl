@@ -102,8 +102,8 @@ static float3 env_specular_cos(float3 n, float3 v, float3 l, float alpha, float3
   return env_fresnel(base, metallic, dot(v, h)) * (D * V * nl);
 }
 
-/* Marginal-then-conditional inversion of the map's luminance CDFs (docs/reference.md): row from
-   rows[0..H], column from cols[r (W + 1) ..], uniform inside the texel. Returns uv. */
+/* The piece of a normalised CDF (n + 1 entries) holding t, by bisection, and the position inside
+   it (zero-mass pieces are never returned for t < cdf[n] since cdf[lo] <= t < cdf[lo + 1]). */
 static int env_pick(__global const float* cdf, int n, float t, float* frac) {
   int lo = 0, hi = n; /* cdf[lo] <= t < cdf[hi] */
   while (hi - lo > 1) {
@@ -116,6 +116,36 @@ static int env_pick(__global const float* cdf, int n, float t, float* frac) {
   const float d = cdf[lo + 1] - cdf[lo];
   *frac = d > 0.0f ? clamp((t - cdf[lo]) / d, 0.0f, NF_ONE_MINUS_ULP) : 0.5f;
   return lo;
+}
+
+/* Map-luminance importance sampling (docs/reference.md, "Environment"): a texel with probability
+   weight / sum (marginal over rows, conditional over the row's columns), uniform inside it;
+   p(l) = p_uv(texel) / J(v) (1/sr). Returns 0 (no sample) for an all-black map. */
+static int env_sample_map(__global const float* rows, __global const float* cols, __global const float* puv, int4 l0,
+                          float2 rot, float2 u, float3* l, float* pdf, int* texel) {
+  float fr, fc;
+  const int r = env_pick(rows, l0.z, u.x, &fr);
+  const int c = env_pick(cols + r * (l0.y + 1), l0.y, u.y, &fc);
+  const float2 uv = (float2)(((float)c + fc) / (float)l0.y, ((float)r + fr) / (float)l0.z);
+  const float jac = nf_latlong_jacobian(uv.y);
+  *texel = r * l0.y + c;
+  *pdf = jac > 0.0f ? puv[*texel] / jac : 0.0f;
+  *l = nf_env_to_world(nf_latlong_dir(uv), rot);
+  return *pdf > 0.0f && isfinite(*pdf);
+}
+
+/* Debug: `count` map samples from Philox (seed, i): (direction, pdf) per sample (tests). */
+__kernel void env_sample_debug(__global const float* rows, __global const float* cols, __global const float* puv,
+                               __global const int4* lv, float2 rot, uint seed, int count, __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  uint c0 = (uint)i, c1 = 0u;
+  nf_philox(&c0, &c1, seed);
+  float3 l;
+  float pdf;
+  int texel;
+  if (!env_sample_map(rows, cols, puv, lv[0], rot, (float2)(nf_unit1(c0), nf_unit1(c1)), &l, &pdf, &texel)) pdf = 0.0f;
+  out[i] = (float4)(l, pdf);
 }
 
 __kernel void env_shade(__global const NfSurface* surfaces, int count, __global const float4* pyr,
@@ -190,15 +220,11 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
 #endif
 #if NF_ENV_GLOSSY == 3
       /* map-luminance importance sampling: p(l) = puv(texel) / J(v) */
-      float fr, fc;
-      const int r = env_pick(rows, l0.z, u.x, &fr);
-      const int c = env_pick(cols + r * (l0.y + 1), l0.y, u.y, &fc);
-      const float2 uv = (float2)(((float)c + fc) / (float)l0.y, ((float)r + fr) / (float)l0.z);
-      const float jac = nf_latlong_jacobian(uv.y);
-      const float pdf = puv[r * l0.y + c] / jac;
-      if (!(pdf > 0.0f) || !(jac > 0.0f)) continue;
-      const float3 l = nf_env_to_world(nf_latlong_dir(uv), rot);
-      const float3 L = pyr[l0.x + r * l0.y + c].xyz;
+      float3 l;
+      float pdf;
+      int texel;
+      if (!env_sample_map(rows, cols, puv, l0, rot, u, &l, &pdf, &texel)) continue;
+      const float3 L = pyr[l0.x + texel].xyz;
 #else
       /* GGX half vector, reflected: p(l) = D(h) (n.h) / (4 v.h) (Walter et al. 2007, Eq. 14, 35) */
       const float3 h = nf_to_world(nf_sample_ggx_h(u.x, u.y, alpha), n);

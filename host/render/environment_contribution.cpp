@@ -137,6 +137,31 @@ std::vector<glm::vec4> EnvironmentContribution::read_level(int k) {
   return out;
 }
 
+std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std::uint32_t seed) {
+  std::vector<glm::vec4> out(static_cast<std::size_t>(std::max(count, 0)));
+  if (out.empty()) return out;
+  ::cl::Buffer buf;
+  cl_call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(cl_float4)); },
+          "environment sample buffer");
+  ::cl::Kernel k = rt_.kernel("environment.cl", "env_sample_debug");
+  cl_call(
+      [&] {
+        k.setArg(0, rows_);
+        k.setArg(1, cols_);
+        k.setArg(2, puv_);
+        k.setArg(3, lv_);
+        k.setArg(4, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
+        k.setArg(5, static_cast<cl_uint>(seed));
+        k.setArg(6, count);
+        k.setArg(7, buf);
+      },
+      "environment sample kernel arguments");
+  rt_.launch(k, ::cl::NDRange(out.size()));
+  cl_call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data()); },
+          "reading the environment samples");
+  return out;
+}
+
 void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   const std::string options = fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={}",

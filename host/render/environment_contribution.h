@@ -35,6 +35,8 @@ class EnvironmentContribution final : public Contribution {
   double build_ms() const { return build_ms_; }             // pyramid + SH, device and host
   double pyramid_ms() const { return pyramid_ms_; }         // the pyramid alone
   const ref::EnvironmentMap& map() const { return map_; }
+  // `count` env-is map samples (direction xyz, pdf w) from Philox streams (seed, i) (tests).
+  std::vector<glm::vec4> sample_map_debug(int count, std::uint32_t seed);
 
  private:
   void upload();
