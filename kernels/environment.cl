@@ -8,7 +8,7 @@
    Options:  NF_ENV_GLOSSY     0 mc | 1 fis | 2 fis-rotated | 3 env-is
              NF_ENV_DIFFUSE    0 sh | 1 mc
              NF_ENV_BACKGROUND 0 hide | 1 show
-             NF_ENV_FILTER     0 box (2x2 average per level)                                    */
+   The pyramid filter (env_filter: box or gauss4) is an argument of env_pyramid_down.          */
 #define NF_LANES 1
 #include "common/brdf.h"
 #include "common/pyramid.h"
@@ -25,17 +25,24 @@
 #define NF_ENV_BACKGROUND 1
 #endif
 
-/* One pyramid level from the one below: box filter, texel (x, y) = mean of the 2x2 block
-   (2x + a, 2y + b), a, b in {0, 1}, wrapped in u and clamped in v (odd sizes repeat their last
-   row). The mean is over texels, not solid angle (docs/environment.md, "Map and pyramid"). */
-__kernel void env_pyramid_down(__global float4* pyr, __global const int4* lv, int src) {
+/* One pyramid level from the one below, texels wrapped in u and clamped in v (odd sizes repeat
+   their last row); weights over texels, not solid angle (docs/environment.md, "Map and pyramid").
+   filter 0, box:    texel (x, y) = mean of the 2x2 block (2x + a, 2y + b), a, b in {0, 1};
+   filter 1, gauss4: separable 4 taps 2x - 1 .. 2x + 2 with weights (1, 3, 3, 1) / 8 per axis. */
+__kernel void env_pyramid_down(__global float4* pyr, __global const int4* lv, int src, int filter) {
   const int x = get_global_id(0), y = get_global_id(1);
   const int4 d = lv[src + 1];
   if (x >= d.y || y >= d.z) return;
   float4 s = (float4)(0.0f);
-  for (int b = 0; b < 2; ++b)
-    for (int a = 0; a < 2; ++a) s += nf_pyr_texel(pyr, lv, src, 2 * x + a, 2 * y + b);
-  pyr[d.x + y * d.y + x] = 0.25f * s;
+  if (filter == 1) {
+    const float w[4] = {0.125f, 0.375f, 0.375f, 0.125f};
+    for (int b = 0; b < 4; ++b)
+      for (int a = 0; a < 4; ++a) s += (w[a] * w[b]) * nf_pyr_texel(pyr, lv, src, 2 * x - 1 + a, 2 * y - 1 + b);
+  } else {
+    for (int b = 0; b < 2; ++b)
+      for (int a = 0; a < 2; ++a) s += 0.25f * nf_pyr_texel(pyr, lv, src, 2 * x + a, 2 * y + b);
+  }
+  pyr[d.x + y * d.y + x] = s;
 }
 
 /* Order-2 SH projection, one row of level 0 per work-item (the host sums the rows in double):
@@ -47,8 +54,8 @@ __kernel void env_sh_rows(__global const float4* pyr, __global const int4* lv, f
   const int4 l = lv[0];
   if (r >= l.z) return;
   const float v = ((float)r + 0.5f) / (float)l.z;
-  const float dw = (2.0f * NF_PI / (float)l.y) *
-                   (cos(NF_PI * (float)r / (float)l.z) - cos(NF_PI * (float)(r + 1) / (float)l.z));
+  const float dw =
+      (2.0f * NF_PI / (float)l.y) * (cos(NF_PI * (float)r / (float)l.z) - cos(NF_PI * (float)(r + 1) / (float)l.z));
   float acc[27];
   for (int k = 0; k < 27; ++k) acc[k] = 0.0f;
   for (int x = 0; x < l.y; ++x) {
@@ -150,9 +157,9 @@ __kernel void env_sample_debug(__global const float* rows, __global const float*
 
 __kernel void env_shade(__global const NfSurface* surfaces, int count, __global const float4* pyr,
                         __global const int4* lv, int levels, float2 rot, __global const float4* sh,
-                        __global const float* rows, __global const float* cols, __global const float* puv, int n_samples,
-                        float k_bias, uint frame, uint seed, float4 cam_f, float4 cam_r, float4 cam_u, int2 cam_wh,
-                        __global float4* out) {
+                        __global const float* rows, __global const float* cols, __global const float* puv,
+                        int n_samples, float k_bias, uint frame, uint seed, float4 cam_f, float4 cam_r, float4 cam_u,
+                        int2 cam_wh, __global float4* out) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const EnvMap m = {pyr, lv, levels, rot};

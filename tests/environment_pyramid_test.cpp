@@ -1,6 +1,6 @@
 // The environment contribution's device tables (kernels/environment.cl, docs/environment.md):
-//  - every pyramid level against the 2x2 box average computed here in double from level 0
-//    (odd sizes included: the block wraps in u and clamps in v);
+//  - every pyramid level against the 2x2 box average (and the 4x4 (1 3 3 1)/8 gauss4 filter)
+//    computed here in double from level 0 (odd sizes included: taps wrap in u, clamp in v);
 //  - the order-2 SH projection of analytic environments against closed-form coefficients.
 // Deterministic (no sampling): tolerances come from float arithmetic and the midpoint rule.
 #include <gtest/gtest.h>
@@ -15,11 +15,12 @@ namespace {
 using glm::dvec3;
 using nf::envtest::kPi;
 
-void check_pyramid(int w, int h) {
+void check_pyramid(int w, int h, bool gauss4 = false) {
   const auto map = nf::envtest::make_map(w, h, 0.0, [](dvec3 d) {
     return dvec3(1.0 + d.x * d.x + 3.0 * std::max(0.0, d.y), 0.5 + 0.5 * d.z, std::exp(4.0 * (d.x - 1.0)) * 100.0);
   });
   nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  if (gauss4) env.set_filter("gauss4");
   std::vector<dvec3> level = map.texels();
   int lw = w, lh = h;
   ASSERT_EQ(env.level_size(0), glm::ivec2(w, h));
@@ -30,12 +31,21 @@ void check_pyramid(int w, int h) {
       for (int y = 0; y < nh; ++y)
         for (int x = 0; x < nw; ++x) {
           dvec3 s(0.0);
-          for (int b = 0; b < 2; ++b)
-            for (int a = 0; a < 2; ++a) {
-              const int xx = (2 * x + a) % lw, yy = std::min(2 * y + b, lh - 1);
-              s += level[static_cast<std::size_t>(yy) * lw + xx];
-            }
-          next[static_cast<std::size_t>(y) * nw + x] = 0.25 * s;
+          if (gauss4) {  // taps 2x - 1 .. 2x + 2, weights (1, 3, 3, 1) / 8 per axis
+            const double wt[4] = {0.125, 0.375, 0.375, 0.125};
+            for (int b = 0; b < 4; ++b)
+              for (int a = 0; a < 4; ++a) {
+                const int xx = ((2 * x - 1 + a) % lw + lw) % lw, yy = std::clamp(2 * y - 1 + b, 0, lh - 1);
+                s += wt[a] * wt[b] * level[static_cast<std::size_t>(yy) * lw + xx];
+              }
+          } else {
+            for (int b = 0; b < 2; ++b)
+              for (int a = 0; a < 2; ++a) {
+                const int xx = (2 * x + a) % lw, yy = std::min(2 * y + b, lh - 1);
+                s += 0.25 * level[static_cast<std::size_t>(yy) * lw + xx];
+              }
+          }
+          next[static_cast<std::size_t>(y) * nw + x] = s;
         }
       level = std::move(next);
       lw = nw;
@@ -51,12 +61,21 @@ void check_pyramid(int w, int h) {
             << "level " << k << " texel " << i << " channel " << c;
   }
   EXPECT_EQ(env.level_size(env.levels() - 1), glm::ivec2(1, 1));
+  if (gauss4) {  // the filter took effect: level 1 differs from the box filter's
+    nf::render::EnvironmentContribution box(nf::envtest::runtime(), map);
+    const auto a = env.read_level(1), b = box.read_level(1);
+    double diff = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) diff = std::max(diff, double(std::abs(a[i].x - b[i].x)));
+    EXPECT_GT(diff, 1e-3);
+  }
   EXPECT_GT(env.build_ms(), 0.0);
 }
 
 TEST(EnvironmentPyramid, LevelsAreBoxAverages) { check_pyramid(64, 32); }
 TEST(EnvironmentPyramid, OddSizesWrapAndClamp) { check_pyramid(37, 19); }
 TEST(EnvironmentPyramid, TallMap) { check_pyramid(8, 20); }
+TEST(EnvironmentPyramid, Gauss4Levels) { check_pyramid(64, 32, true); }
+TEST(EnvironmentPyramid, Gauss4OddSizes) { check_pyramid(37, 19, true); }
 
 // c_lm for Y_lm as in kernels/common/sh.h
 constexpr double c0 = 0.282094791773878, c1 = 0.488602511902920, c3 = 0.315391565252520, c4 = 0.546274215296040;
@@ -75,8 +94,9 @@ TEST(EnvironmentSh, LinearEnvironment) {
   want[3] = dvec3(lin, 0.0, 0.0);
   want[1] = dvec3(0.0, 0.0, lin);
   for (int k = 0; k < 9; ++k)
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(L[static_cast<std::size_t>(k)][c], want[static_cast<std::size_t>(k)][c], 5e-3)
-        << "k " << k << " channel " << c;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(L[static_cast<std::size_t>(k)][c], want[static_cast<std::size_t>(k)][c], 5e-3)
+          << "k " << k << " channel " << c;
 }
 
 // The clamped cosine lobe L = max(0, w_y): L_00 = c0 pi, L_1-1 = c1 2 pi / 3,

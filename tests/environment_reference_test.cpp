@@ -98,8 +98,8 @@ TEST(EnvironmentReference, GgxSphereMatchesReference) {
         ++m;
       }
     }
-  std::printf("sphere, fis N = 40: mean relative difference %+.4f, mean |relative difference| %.4f\n",
-              fis_signed / m, fis_abs / m);
+  std::printf("sphere, fis N = 40: mean relative difference %+.4f, mean |relative difference| %.4f\n", fis_signed / m,
+              fis_abs / m);
 }
 
 }  // namespace

@@ -28,8 +28,7 @@ inline cl::Runtime& runtime() {
 }
 
 // A W x H map whose texel (a, r) holds f(world direction of its centre) (rotation applied).
-inline ref::EnvironmentMap make_map(int w, int h, double rotation_deg,
-                                    const std::function<glm::dvec3(glm::dvec3)>& f) {
+inline ref::EnvironmentMap make_map(int w, int h, double rotation_deg, const std::function<glm::dvec3(glm::dvec3)>& f) {
   Image img(w, h, 3);
   ref::EnvironmentMap probe(Image(1, 1, 3), rotation_deg, 1.0, "probe");
   for (int r = 0; r < h; ++r)

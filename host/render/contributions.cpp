@@ -10,7 +10,9 @@ const std::vector<ContributionKind>& contribution_kinds() {
       {"luminaires", [](const ContributionContext& c) { return !c.scene.luminaires.empty(); },
        [](const ContributionContext& c) { return std::make_unique<LuminaireContribution>(c.rt); }},
       {"environment", [](const ContributionContext& c) { return c.scene.environment.has_value(); },
-       [](const ContributionContext& c) { return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment); }},
+       [](const ContributionContext& c) {
+         return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment);
+       }},
   };
   return kinds;
 }

@@ -97,6 +97,7 @@ void EnvironmentContribution::build() {
     down.setArg(0, pyr_);
     down.setArg(1, lv_);
     down.setArg(2, static_cast<int>(k));
+    down.setArg(3, filter_ == "gauss4" ? 1 : 0);
     const glm::ivec2 d = dims_[k + 1];
     rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
   }
@@ -117,7 +118,8 @@ void EnvironmentContribution::build() {
   sh_.fill(glm::dvec3(0.0));
   for (int r = 0; r < h; ++r)
     for (int k = 0; k < 9; ++k)
-      for (int c = 0; c < 3; ++c) sh_[static_cast<std::size_t>(k)][c] += part[static_cast<std::size_t>(27 * r + 3 * k + c)];
+      for (int c = 0; c < 3; ++c)
+        sh_[static_cast<std::size_t>(k)][c] += part[static_cast<std::size_t>(27 * r + 3 * k + c)];
   std::vector<cl_float4> shf;
   for (const auto& s : sh_)
     shf.push_back(cl_float4{{static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z), 0}});
@@ -162,11 +164,21 @@ std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std:
   return out;
 }
 
+void EnvironmentContribution::set_filter(const std::string& filter) {
+  if (filter != "box" && filter != "gauss4")
+    fail(fmt::format("env_filter: unknown filter '{}' (box | gauss4)", filter));
+  if (filter == filter_) return;
+  filter_ = filter;
+  build();
+  build_reported_ = false;
+}
+
 void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
-  const std::string options = fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={}",
-                                          glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0,
-                                          d.env_background == "hide" ? 0 : 1);
+  set_filter(d.env_filter);
+  const std::string options =
+      fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={}", glossy_index(d.env_glossy),
+                  d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1);
   if (options != options_ || !shade_()) {
     shade_ = rt_.kernel("environment.cl", "env_shade", options);
     options_ = options;
@@ -209,7 +221,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
         shade_.setArg(a++, pyr_);
         shade_.setArg(a++, lv_);
         shade_.setArg(a++, levels());
-        shade_.setArg(a++, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
+        shade_.setArg(a++,
+                      cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
         shade_.setArg(a++, sh_buf_);
         shade_.setArg(a++, rows_);
         shade_.setArg(a++, cols_);

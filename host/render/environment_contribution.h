@@ -27,13 +27,17 @@ class EnvironmentContribution final : public Contribution {
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
   std::size_t device_bytes() const override;
 
+  // Rebuilds the pyramid with `box` or `gauss4` (docs/environment.md) when it differs; prepare()
+  // calls it with the env_filter setting.
+  void set_filter(const std::string& filter);
+
   // Introspection (tests, stats).
   int levels() const { return static_cast<int>(dims_.size()); }
   glm::ivec2 level_size(int k) const { return dims_[static_cast<std::size_t>(k)]; }
-  std::vector<glm::vec4> read_level(int k);                 // level k, rows from the top
+  std::vector<glm::vec4> read_level(int k);                    // level k, rows from the top
   const std::array<glm::dvec3, 9>& sh() const { return sh_; }  // L_lm, RGB (world frame)
-  double build_ms() const { return build_ms_; }             // pyramid + SH, device and host
-  double pyramid_ms() const { return pyramid_ms_; }         // the pyramid alone
+  double build_ms() const { return build_ms_; }                // pyramid + SH, device and host
+  double pyramid_ms() const { return pyramid_ms_; }            // the pyramid alone
   const ref::EnvironmentMap& map() const { return map_; }
   // `count` env-is map samples (direction xyz, pdf w) from Philox streams (seed, i) (tests).
   std::vector<glm::vec4> sample_map_debug(int count, std::uint32_t seed);
@@ -51,6 +55,7 @@ class EnvironmentContribution final : public Contribution {
   double build_ms_ = 0.0, pyramid_ms_ = 0.0;
   bool build_reported_ = false;
   std::string options_;
+  std::string filter_ = "box";
   ::cl::Kernel shade_;
 };
 

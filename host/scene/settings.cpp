@@ -143,7 +143,8 @@ std::vector<Setting> declare() {
           "env_k", "env_k", 1e6, "environment", R, "K: level bias of the filtered lookup, l = log4(K W H / (N p J))",
           [](auto& r) -> auto& { return r.env_k; }),
       choice(
-          "env_filter", "env_filter", {"box"}, "environment", R, "filter of the environment pyramid (2x2 box)",
+          "env_filter", "env_filter", {"box", "gauss4"}, "environment", R,
+          "filter of the environment pyramid: 2x2 box or 4x4 (1 3 3 1)/8 binomial",
           [](auto& r) -> auto& { return r.env_filter; }),
       choice(
           "env_diffuse", "env_diffuse", {"sh", "mc"}, "environment", R,

@@ -37,7 +37,7 @@ struct RenderSettings {
   std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is
   int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame
   double env_k = 1.0;                   // K, the filtered lookup's level bias (Krivanek and Colbert 2008)
-  std::string env_filter = "box";       // box (pyramid filter)
+  std::string env_filter = "box";       // box | gauss4 (pyramid filter)
   std::string env_diffuse = "sh";       // sh | mc
   std::string env_background = "show";  // show | hide
 };

@@ -61,8 +61,7 @@ NF_INLINE float4 nf_pyr_bilinear(__global const float4* pyr, __global const int4
 }
 
 /* Trilinear: bilinear on the two levels around the continuous level l, clamped to [0, top]. */
-NF_INLINE float4 nf_pyr_trilinear(__global const float4* pyr, __global const int4* lv, int levels, float2 uv,
-                                  float l) {
+NF_INLINE float4 nf_pyr_trilinear(__global const float4* pyr, __global const int4* lv, int levels, float2 uv, float l) {
   l = clamp(l, 0.0f, (float)(levels - 1));
   const int k0 = min((int)l, levels - 1), k1 = min(k0 + 1, levels - 1);
   const float t = l - (float)k0;
