@@ -43,6 +43,18 @@ class EnvironmentMap {
   Sample sample(double u0, double u1) const;
 
   // The lat-long mapping (exposed for tests and the environment renderer).
+  // The texels (intensity applied), rows from the top, and the sampling tables, for the renderer's
+  // device copy (render/environment_contribution.h).
+  const std::vector<glm::dvec3>& texels() const { return texels_; }
+  const std::vector<double>& row_cdf() const { return row_cdf_; }  // h + 1 entries
+  const std::vector<double>& col_cdf() const { return col_cdf_; }  // h * (w + 1) entries
+  // The density in (u, v) of sample() on texel i: weight W H / sum of weights (0 if all black).
+  double texel_density_uv(std::size_t i) const {
+    return total_ > 0.0 ? weight_[i] * static_cast<double>(w_) * h_ / total_ : 0.0;
+  }
+  double rotation_cos() const { return cos_; }
+  double rotation_sin() const { return sin_; }
+
   static glm::dvec2 to_uv(glm::dvec3 w);      // map frame (rotation not applied)
   static glm::dvec3 from_uv(glm::dvec2 uv);   // map frame
   glm::dvec3 to_map(glm::dvec3 world) const;  // R_y(-theta) w

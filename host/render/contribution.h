@@ -34,6 +34,9 @@ struct FrameInputs {
   // The scene's luminaire instances on the device, with their Step 0 visibility (the light-field
   // contribution shades with them; indirect light lights its RSMs with them).
   std::span<const LightInstance> lights;
+  // The camera of the surfaces (pixel p = (p mod width, p / width)); the environment shows itself
+  // through the pixels without a surface. nullptr: no background.
+  const scene::Camera* camera = nullptr;
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

@@ -1,5 +1,6 @@
 #include "render/contributions.h"
 
+#include "render/environment_contribution.h"
 #include "render/luminaire_contribution.h"
 
 namespace nf::render {
@@ -8,6 +9,10 @@ const std::vector<ContributionKind>& contribution_kinds() {
   static const std::vector<ContributionKind> kinds{
       {"luminaires", [](const ContributionContext& c) { return !c.scene.luminaires.empty(); },
        [](const ContributionContext& c) { return std::make_unique<LuminaireContribution>(c.rt); }},
+      {"environment", [](const ContributionContext& c) { return c.scene.environment.has_value(); },
+       [](const ContributionContext& c) {
+         return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment);
+       }},
   };
   return kinds;
 }

@@ -311,7 +311,7 @@ void Renderer::warm_up() {
       ls[i].vis_words = step0_->words_per_pixel(i);
     }
   }
-  const FrameInputs in{*rt_, one, 1, settings_, settings_.sampling.frame, ls};
+  const FrameInputs in{*rt_, one, 1, settings_, settings_.sampling.frame, ls, &camera_};
   for (auto& c : contributions_) c->prepare(in);
   warm_ = true;
 }
@@ -332,7 +332,8 @@ const StepTimes& Renderer::render_frame() {
   const int count = static_cast<int>(pixel_count(camera_));
   const auto ls = lights();
   const FrameInputs in{
-      *rt_, surfaces_buf_, count, settings_, settings_.sampling.frame + static_cast<std::uint32_t>(frames_), ls};
+      *rt_, surfaces_buf_, count, settings_, settings_.sampling.frame + static_cast<std::uint32_t>(frames_),
+      ls,   &camera_};
   frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
   contribution_frames_.clear();
   for (auto& c : contributions_) {

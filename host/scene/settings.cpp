@@ -131,6 +131,29 @@ std::vector<Setting> declare() {
             if (v != 0 && v != 1 && v != 4 && v != 8 && v != 16)
               w.fail(fmt::format("must be 0 (automatic), 1, 4, 8 or 16, got {}", v));
           }),
+      choice(
+          "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is"}, "environment", R,
+          "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling",
+          [](auto& r) -> auto& { return r.env_glossy; }),
+      integer(
+          "env_samples", "env_samples", 1, 4096, "environment", R,
+          "N: environment directions per pixel per frame (glossy, and diffuse with env_diffuse mc)",
+          [](auto& r) -> auto& { return r.env_samples; }),
+      positive_real(
+          "env_k", "env_k", 1e6, "environment", R, "K: level bias of the filtered lookup, l = log4(K W H / (N p J))",
+          [](auto& r) -> auto& { return r.env_k; }),
+      choice(
+          "env_filter", "env_filter", {"box", "gauss4"}, "environment", R,
+          "filter of the environment pyramid: 2x2 box or 4x4 (1 3 3 1)/8 binomial",
+          [](auto& r) -> auto& { return r.env_filter; }),
+      choice(
+          "env_diffuse", "env_diffuse", {"sh", "mc"}, "environment", R,
+          "environment diffuse term: order-2 SH irradiance or cosine-sampled Monte Carlo",
+          [](auto& r) -> auto& { return r.env_diffuse; }),
+      choice(
+          "env_background", "env_background", {"show", "hide"}, "environment", R,
+          "camera rays that miss the geometry see the environment (show) or black (hide)",
+          [](auto& r) -> auto& { return r.env_background; }),
       positive_real(
           "exposure", "tonemap/exposure", 1e300, "display", D, "tone mapping exposure (> 0)",
           [](auto& r) -> auto& { return r.tonemap.exposure; }),

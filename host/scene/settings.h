@@ -33,6 +33,13 @@ struct RenderSettings {
   std::uint32_t seed = 1;                 // sampler seed (random, halton-scrambled)
   int lanes = 0;                          // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
   TonemapParams tonemap;                  // exposure, gamma
+  // environment (docs/environment.md)
+  std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is
+  int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame
+  double env_k = 1.0;                   // K, the filtered lookup's level bias (Krivanek and Colbert 2008)
+  std::string env_filter = "box";       // box | gauss4 (pyramid filter)
+  std::string env_diffuse = "sh";       // sh | mc
+  std::string env_background = "show";  // show | hide
 };
 
 // What a change of a setting invalidates, in increasing order: `display` only re-tone-maps the

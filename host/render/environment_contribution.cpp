@@ -1,0 +1,259 @@
+#include "render/environment_contribution.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "cl/cl_error.h"
+#include "core/error.h"
+#include "core/timer.h"
+
+namespace nf::render {
+namespace {
+
+template <typename F>
+void cl_call(F&& f, const std::string& what) {
+  try {
+    f();
+  } catch (const ::cl::Error& e) {
+    cl::check(e.err(), what);
+  }
+}
+
+template <typename T>
+::cl::Buffer upload_vector(cl::Runtime& rt, const std::vector<T>& v, const std::string& what) {
+  ::cl::Buffer b;
+  const std::vector<T> one(1, T{});
+  const auto& src = v.empty() ? one : v;
+  cl_call(
+      [&] {
+        b = ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, src.size() * sizeof(T),
+                         const_cast<T*>(src.data()));
+      },
+      what);
+  return b;
+}
+
+int glossy_index(const std::string& s) {
+  if (s == "mc") return 0;
+  if (s == "fis") return 1;
+  if (s == "fis-rotated") return 2;
+  if (s == "env-is") return 3;
+  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is)", s));
+}
+
+}  // namespace
+
+EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, const scene::Environment& env)
+    : EnvironmentContribution(rt, ref::EnvironmentMap::load(env.file, env.rotation_deg, env.intensity)) {}
+
+EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, ref::EnvironmentMap map)
+    : rt_(rt), map_(std::move(map)) {
+  upload();
+  build();
+}
+
+// Level sizes: (W, H), then halved (rounded down, at least 1) until 1 x 1; all in one buffer.
+void EnvironmentContribution::upload() {
+  const int w = map_.width(), h = map_.height();
+  dims_.clear();
+  offsets_.clear();
+  int off = 0;
+  glm::ivec2 d(w, h);
+  for (;;) {
+    dims_.push_back(d);
+    offsets_.push_back(off);
+    off += d.x * d.y;
+    if (d.x == 1 && d.y == 1) break;
+    d = glm::ivec2(std::max(1, d.x / 2), std::max(1, d.y / 2));
+  }
+  std::vector<cl_int4> lv;
+  for (std::size_t k = 0; k < dims_.size(); ++k) lv.push_back(cl_int4{{offsets_[k], dims_[k].x, dims_[k].y, 0}});
+  lv_ = upload_vector(rt_, lv, "uploading the environment pyramid levels");
+  std::vector<cl_float4> all(static_cast<std::size_t>(off), cl_float4{{0, 0, 0, 0}});
+  const auto& tex = map_.texels();
+  for (std::size_t i = 0; i < tex.size(); ++i)
+    all[i] = cl_float4{{static_cast<float>(tex[i].x), static_cast<float>(tex[i].y), static_cast<float>(tex[i].z), 0}};
+  pyr_ = upload_vector(rt_, all, "uploading the environment map");
+  pyr_bytes_ = all.size() * sizeof(cl_float4) + lv.size() * sizeof(cl_int4);
+  std::vector<float> rows(map_.row_cdf().begin(), map_.row_cdf().end());
+  std::vector<float> cols(map_.col_cdf().begin(), map_.col_cdf().end());
+  std::vector<float> puv(tex.size());
+  for (std::size_t i = 0; i < tex.size(); ++i) puv[i] = static_cast<float>(map_.texel_density_uv(i));
+  rows_ = upload_vector(rt_, rows, "uploading the environment row CDF");
+  cols_ = upload_vector(rt_, cols, "uploading the environment column CDFs");
+  puv_ = upload_vector(rt_, puv, "uploading the environment sampling density");
+  table_bytes_ = (rows.size() + cols.size() + puv.size()) * sizeof(float);
+}
+
+// The pyramid (one env_pyramid_down launch per level) and the SH projection (env_sh_rows, rows
+// summed here in double).
+void EnvironmentContribution::build() {
+  ::cl::Kernel down = rt_.kernel("environment.cl", "env_pyramid_down");  // compiled before the timer
+  ::cl::Kernel shk = rt_.kernel("environment.cl", "env_sh_rows");
+  Timer timer;
+  for (std::size_t k = 0; k + 1 < dims_.size(); ++k) {
+    down.setArg(0, pyr_);
+    down.setArg(1, lv_);
+    down.setArg(2, static_cast<int>(k));
+    down.setArg(3, filter_ == "gauss4" ? 1 : 0);
+    const glm::ivec2 d = dims_[k + 1];
+    rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
+  }
+  cl_call([&] { rt_.queue().finish(); }, "building the environment pyramid");
+  pyramid_ms_ = timer.ms();
+  const int h = map_.height();
+  ::cl::Buffer rows_out;
+  cl_call([&] { rows_out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, sizeof(float) * 27 * h); },
+          "environment SH buffer");
+  shk.setArg(0, pyr_);
+  shk.setArg(1, lv_);
+  shk.setArg(2, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
+  shk.setArg(3, rows_out);
+  rt_.launch(shk, ::cl::NDRange(static_cast<std::size_t>(h)));
+  std::vector<float> part(static_cast<std::size_t>(27 * h));
+  cl_call([&] { rt_.queue().enqueueReadBuffer(rows_out, CL_TRUE, 0, part.size() * sizeof(float), part.data()); },
+          "reading the environment SH rows");
+  sh_.fill(glm::dvec3(0.0));
+  for (int r = 0; r < h; ++r)
+    for (int k = 0; k < 9; ++k)
+      for (int c = 0; c < 3; ++c)
+        sh_[static_cast<std::size_t>(k)][c] += part[static_cast<std::size_t>(27 * r + 3 * k + c)];
+  std::vector<cl_float4> shf;
+  for (const auto& s : sh_)
+    shf.push_back(cl_float4{{static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z), 0}});
+  sh_buf_ = upload_vector(rt_, shf, "uploading the environment SH coefficients");
+  build_ms_ = timer.ms();
+}
+
+std::vector<glm::vec4> EnvironmentContribution::read_level(int k) {
+  const glm::ivec2 d = level_size(k);
+  std::vector<glm::vec4> out(static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y));
+  cl_call(
+      [&] {
+        rt_.queue().enqueueReadBuffer(pyr_, CL_TRUE, offsets_[static_cast<std::size_t>(k)] * sizeof(cl_float4),
+                                      out.size() * sizeof(cl_float4), out.data());
+      },
+      "reading an environment pyramid level");
+  return out;
+}
+
+std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std::uint32_t seed) {
+  std::vector<glm::vec4> out(static_cast<std::size_t>(std::max(count, 0)));
+  if (out.empty()) return out;
+  ::cl::Buffer buf;
+  cl_call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(cl_float4)); },
+          "environment sample buffer");
+  ::cl::Kernel k = rt_.kernel("environment.cl", "env_sample_debug");
+  cl_call(
+      [&] {
+        k.setArg(0, rows_);
+        k.setArg(1, cols_);
+        k.setArg(2, puv_);
+        k.setArg(3, lv_);
+        k.setArg(4, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
+        k.setArg(5, static_cast<cl_uint>(seed));
+        k.setArg(6, count);
+        k.setArg(7, buf);
+      },
+      "environment sample kernel arguments");
+  rt_.launch(k, ::cl::NDRange(out.size()));
+  cl_call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data()); },
+          "reading the environment samples");
+  return out;
+}
+
+void EnvironmentContribution::set_filter(const std::string& filter) {
+  if (filter != "box" && filter != "gauss4")
+    fail(fmt::format("env_filter: unknown filter '{}' (box | gauss4)", filter));
+  if (filter == filter_) return;
+  filter_ = filter;
+  build();
+  build_reported_ = false;
+}
+
+void EnvironmentContribution::prepare(const FrameInputs& in) {
+  const auto& d = in.settings.declared;
+  set_filter(d.env_filter);
+  const std::string options =
+      fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={}", glossy_index(d.env_glossy),
+                  d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1);
+  if (options != options_ || !shade_()) {
+    shade_ = rt_.kernel("environment.cl", "env_shade", options);
+    options_ = options;
+  }
+}
+
+// One launch of env_shade over every surface; docs/environment.md has the estimators.
+ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
+  prepare(in);
+  ContributionFrame f;
+  if (!build_reported_) {  // the one-time build shows in the first frame's first-pass time
+    f.step1_ms = build_ms_;
+    build_reported_ = true;
+  }
+  Timer wall;
+  const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
+  if (out_bytes_ != n * sizeof(cl_float4)) {
+    cl_call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4)); },
+            "environment output buffer");
+    out_bytes_ = n * sizeof(cl_float4);
+  }
+  const auto& d = in.settings.declared;
+  // camera: forward, right tan(fov_x / 2), up tan(fov_y / 2) (scene::Camera::ray)
+  cl_float4 cf{{0, 0, -1, 0}}, cr{{1, 0, 0, 0}}, cu{{0, 1, 0, 0}};
+  cl_int2 wh{{1, 1}};
+  if (in.camera) {
+    const scene::Camera& c = *in.camera;
+    const double ty = c.tan_half_fov_y(), tx = ty * c.aspect();
+    const glm::dvec3 fw = c.forward(), rt = c.right() * tx, up = c.true_up() * ty;
+    cf = cl_float4{{static_cast<float>(fw.x), static_cast<float>(fw.y), static_cast<float>(fw.z), 0}};
+    cr = cl_float4{{static_cast<float>(rt.x), static_cast<float>(rt.y), static_cast<float>(rt.z), 0}};
+    cu = cl_float4{{static_cast<float>(up.x), static_cast<float>(up.y), static_cast<float>(up.z), 0}};
+    wh = cl_int2{{c.width, c.height}};
+  }
+  cl_call(
+      [&] {
+        int a = 0;
+        shade_.setArg(a++, in.surfaces);
+        shade_.setArg(a++, in.count);
+        shade_.setArg(a++, pyr_);
+        shade_.setArg(a++, lv_);
+        shade_.setArg(a++, levels());
+        shade_.setArg(a++,
+                      cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
+        shade_.setArg(a++, sh_buf_);
+        shade_.setArg(a++, rows_);
+        shade_.setArg(a++, cols_);
+        shade_.setArg(a++, puv_);
+        shade_.setArg(a++, d.env_samples);
+        shade_.setArg(a++, static_cast<float>(d.env_k));
+        shade_.setArg(a++, static_cast<cl_uint>(in.frame));
+        shade_.setArg(a++, static_cast<cl_uint>(d.seed));
+        shade_.setArg(a++, cf);
+        shade_.setArg(a++, cr);
+        shade_.setArg(a++, cu);
+        shade_.setArg(a++, wh);
+        shade_.setArg(a++, out_);
+      },
+      "environment kernel arguments");
+  const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
+  cl_call([&] { ev.wait(); }, "environment kernel");
+  f.step2_ms = cl::Runtime::event_ms(ev);
+  f.wall_ms = wall.ms();
+  Timer readback;
+  std::vector<glm::vec4> rgb(static_cast<std::size_t>(in.count));
+  if (in.count > 0)
+    cl_call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
+            "reading the environment radiance");
+  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
+  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  f.samples = static_cast<std::uint64_t>(in.count) * static_cast<std::uint64_t>(d.env_samples);
+  f.readback_ms = readback.ms();
+  return f;
+}
+
+std::size_t EnvironmentContribution::device_bytes() const { return pyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16; }
+
+}  // namespace nf::render

@@ -1,0 +1,114 @@
+// The environment contribution's device tables (kernels/environment.cl, docs/environment.md):
+//  - every pyramid level against the 2x2 box average (and the 4x4 (1 3 3 1)/8 gauss4 filter)
+//    computed here in double from level 0 (odd sizes included: taps wrap in u, clamp in v);
+//  - the order-2 SH projection of analytic environments against closed-form coefficients.
+// Deterministic (no sampling): tolerances come from float arithmetic and the midpoint rule.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "environment_support.h"
+
+namespace {
+
+using glm::dvec3;
+using nf::envtest::kPi;
+
+void check_pyramid(int w, int h, bool gauss4 = false) {
+  const auto map = nf::envtest::make_map(w, h, 0.0, [](dvec3 d) {
+    return dvec3(1.0 + d.x * d.x + 3.0 * std::max(0.0, d.y), 0.5 + 0.5 * d.z, std::exp(4.0 * (d.x - 1.0)) * 100.0);
+  });
+  nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  if (gauss4) env.set_filter("gauss4");
+  std::vector<dvec3> level = map.texels();
+  int lw = w, lh = h;
+  ASSERT_EQ(env.level_size(0), glm::ivec2(w, h));
+  for (int k = 0; k < env.levels(); ++k) {
+    if (k > 0) {
+      const int nw = std::max(1, lw / 2), nh = std::max(1, lh / 2);
+      std::vector<dvec3> next(static_cast<std::size_t>(nw) * nh);
+      for (int y = 0; y < nh; ++y)
+        for (int x = 0; x < nw; ++x) {
+          dvec3 s(0.0);
+          if (gauss4) {  // taps 2x - 1 .. 2x + 2, weights (1, 3, 3, 1) / 8 per axis
+            const double wt[4] = {0.125, 0.375, 0.375, 0.125};
+            for (int b = 0; b < 4; ++b)
+              for (int a = 0; a < 4; ++a) {
+                const int xx = ((2 * x - 1 + a) % lw + lw) % lw, yy = std::clamp(2 * y - 1 + b, 0, lh - 1);
+                s += wt[a] * wt[b] * level[static_cast<std::size_t>(yy) * lw + xx];
+              }
+          } else {
+            for (int b = 0; b < 2; ++b)
+              for (int a = 0; a < 2; ++a) {
+                const int xx = (2 * x + a) % lw, yy = std::min(2 * y + b, lh - 1);
+                s += 0.25 * level[static_cast<std::size_t>(yy) * lw + xx];
+              }
+          }
+          next[static_cast<std::size_t>(y) * nw + x] = s;
+        }
+      level = std::move(next);
+      lw = nw;
+      lh = nh;
+    }
+    ASSERT_EQ(env.level_size(k), glm::ivec2(lw, lh)) << "level " << k;
+    const auto dev = env.read_level(k);
+    ASSERT_EQ(dev.size(), level.size());
+    for (std::size_t i = 0; i < dev.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        // float: one rounding per add over <= 12 levels of 4-term means: 1e-5 relative is ~80 ulp
+        ASSERT_NEAR(dev[i][c], level[i][c], 1e-5 * std::abs(level[i][c]) + 1e-30)
+            << "level " << k << " texel " << i << " channel " << c;
+  }
+  EXPECT_EQ(env.level_size(env.levels() - 1), glm::ivec2(1, 1));
+  if (gauss4) {  // the filter took effect: level 1 differs from the box filter's
+    nf::render::EnvironmentContribution box(nf::envtest::runtime(), map);
+    const auto a = env.read_level(1), b = box.read_level(1);
+    double diff = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) diff = std::max(diff, double(std::abs(a[i].x - b[i].x)));
+    EXPECT_GT(diff, 1e-3);
+  }
+  EXPECT_GT(env.build_ms(), 0.0);
+}
+
+TEST(EnvironmentPyramid, LevelsAreBoxAverages) { check_pyramid(64, 32); }
+TEST(EnvironmentPyramid, OddSizesWrapAndClamp) { check_pyramid(37, 19); }
+TEST(EnvironmentPyramid, TallMap) { check_pyramid(8, 20); }
+TEST(EnvironmentPyramid, Gauss4Levels) { check_pyramid(64, 32, true); }
+TEST(EnvironmentPyramid, Gauss4OddSizes) { check_pyramid(37, 19, true); }
+
+// c_lm for Y_lm as in kernels/common/sh.h
+constexpr double c0 = 0.282094791773878, c1 = 0.488602511902920, c3 = 0.315391565252520, c4 = 0.546274215296040;
+
+// L = (1 + w_x, 2, 1 + w_y) under a 30 degree rotation: L_00 = sqrt(4 pi) (1, 2, 1),
+// L_11 (x) = c1 4 pi / 3 in red, L_1-1 (y) = c1 4 pi / 3 in blue, every other 0.
+// Midpoint rule on a 128 x 64 grid of a smooth integrand: error ~ (pi/64)^2 / 24 ~ 1e-4 of the
+// integral's scale (~10): 5e-3 absolute covers it with float sums.
+TEST(EnvironmentSh, LinearEnvironment) {
+  const auto map = nf::envtest::make_map(128, 64, 30.0, [](dvec3 d) { return dvec3(1.0 + d.x, 2.0, 1.0 + d.y); });
+  nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  const auto& L = env.sh();
+  const double s4pi = std::sqrt(4.0 * kPi), lin = c1 * 4.0 * kPi / 3.0;
+  std::vector<dvec3> want(9, dvec3(0.0));
+  want[0] = dvec3(s4pi, 2.0 * s4pi, s4pi);
+  want[3] = dvec3(lin, 0.0, 0.0);
+  want[1] = dvec3(0.0, 0.0, lin);
+  for (int k = 0; k < 9; ++k)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(L[static_cast<std::size_t>(k)][c], want[static_cast<std::size_t>(k)][c], 5e-3)
+          << "k " << k << " channel " << c;
+}
+
+// The clamped cosine lobe L = max(0, w_y): L_00 = c0 pi, L_1-1 = c1 2 pi / 3,
+// L_20 = c3 int y (3 z^2 - 1) = c3 (3 pi / 4 - pi) = -c3 pi / 4, L_22 = c4 int y (x^2 - y^2)
+// = c4 (pi / 4 - pi / 2) = -c4 pi / 4, the rest 0 (odd in x or z). The kink at the horizon lies
+// on a row boundary (H even), so the midpoint rule stays second order: 5e-3 as above.
+TEST(EnvironmentSh, ClampedCosineLobe) {
+  const auto map = nf::envtest::make_map(128, 64, 0.0, [](dvec3 d) { return dvec3(std::max(0.0, d.y)); });
+  nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  const auto& L = env.sh();
+  const double want[9] = {c0 * kPi, c1 * 2.0 * kPi / 3.0, 0, 0, 0, 0, -c3 * kPi / 4.0, 0, -c4 * kPi / 4.0};
+  for (int k = 0; k < 9; ++k) EXPECT_NEAR(L[static_cast<std::size_t>(k)].x, want[k], 5e-3) << "k " << k;
+}
+
+}  // namespace
