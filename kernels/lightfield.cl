@@ -202,6 +202,9 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->sh.bg = VLOAD(bg);
   c->sh.bb = VLOAD(bb);
   c->sh.brdf = VLOAD(brdf);
+  c->sh.tx = c->sh.ty = c->sh.tz = (vf)(0.0f); /* NF_BRDF_KURT: no material table here yet */
+  c->sh.kmat = (vi)(0);
+  c->sh.kurt = 0;
   c->pix = VLOAD(pix);
   const vi val = VLOAD(valid) != 0;
   const float delta = L->delta;
