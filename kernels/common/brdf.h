@@ -39,7 +39,7 @@ NF_INLINE float3 nf_kurt_f_cos(__global const NfKurtMaterial* m, float3 n, float
 NF_INLINE void nf_brdf_cos(const NfShade* sh, vf wx, vf wy, vf wz, vf* r, vf* g, vf* b) {
   const vf nl = sh->nx * wx + sh->ny * wy + sh->nz * wz;
   const vi up = nl > 0.0f;
-  const vi lam = sh->brdf == NF_BRDF_LAMBERT, irr = sh->brdf == NF_BRDF_IRRADIANCE, sca = sh->brdf == NF_BRDF_SCALAR;
+  const vi lam = sh->brdf == NF_BRDF_LAMBERT, sca = sh->brdf == NF_BRDF_SCALAR;
   const vf k = nl * (1.0f / NF_PI);
   vf fr = SEL(nl, sh->br * k, lam), fg = SEL(nl, sh->bg * k, lam), fb = SEL(nl, sh->bb * k, lam);
   const vi ggx = sh->brdf == NF_BRDF_GGX;
