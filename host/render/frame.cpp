@@ -48,11 +48,6 @@ Renderer::Renderer(scene::Scene scene, RendererOptions options)
   camera_ = scene_.camera;
   check_camera(camera_);
   const std::string scene_name = scene_.file.empty() ? std::string("<scene>") : scene_.file.string();
-  for (const scene::Material& m : scene_.geometry.materials)
-    if (m.kind == scene::MaterialKind::kurt)
-      fail(fmt::format("{}: material '{}': kurt materials are rendered by `reference` only so far "
-                       "(docs/materials.md)",
-                       scene_name, m.name));
   LuminaireSet set = load_luminaires(scene_.luminaires, scene_name, options_.luminaires);
   if (options_.context) {
     context_ = options_.context;

@@ -8,7 +8,6 @@
    D_j = anisotropic Beckmann of roughness (mx, my) along (tangent, n x tangent); F_j Schlick(r0). */
 #include "shared/types.h"
 
-#define NF_BRDF_KURT 4          /* Kurt et al. 2010 multi-lobe anisotropic; parameters in NfKurtMaterial */
 #define NF_KURT_MAX_LOBES 4     /* lobes per material (scene files with more are rejected) */
 #define NF_KURT_MIN_M 1e-3f     /* mx, my are clamped to [NF_KURT_MIN_M, 1] */
 
@@ -23,7 +22,7 @@ typedef struct {
 typedef struct {
   nf_float kd_r, kd_g, kd_b; /* diffuse albedo (linear RGB) */
   nf_int count;              /* lobes in use, 0..NF_KURT_MAX_LOBES */
-  nf_float tx, ty, tz;       /* tangent (the m_x direction) in the frame the kernel shades in */
+  nf_float tx, ty, tz;       /* the material's tangent (object frame); the kernels shade with NfShade.t */
   nf_float pad;
   NfKurtLobe lobe[NF_KURT_MAX_LOBES];
 } NfKurtMaterial; /* 160 bytes */
