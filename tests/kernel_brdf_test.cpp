@@ -316,7 +316,7 @@ TEST(KurtKernelEval, MatchesHostDouble) {
       const double th = glm::radians(view_deg);
       const dvec3 v = glm::normalize(std::sin(th) * (0.8 * fr.t - 0.6 * fr.b) + std::cos(th) * n);
       // The host sees the float-rounded inputs the kernel sees.
-      const dvec3 nr(glm::vec3(n)), vr(glm::vec3(v));
+      const dvec3 nr{glm::vec3(n)}, vr{glm::vec3(v)};
       nf::ref::KurtMaterial hm = c.m;
       hm.tangent = dvec3(glm::vec3(c.m.tangent));
       cl::Buffer table = kurt_table(rt, c.m);
