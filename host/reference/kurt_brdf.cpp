@@ -104,7 +104,7 @@ KurtSample kurt_sample(const KurtMaterial& m, glm::dvec3 n, glm::dvec3 v, double
   std::size_t c = 0;
   double acc = w[0];
   while (c + 1 < w.size() && !(u0 < acc)) acc += w[++c];
-  if (!(w[c] > 0.0)) c = 0;
+  while (c > 0 && !(w[c] > 0.0)) --c;  // rounding at u0 -> 1: the last non-empty component
   const TangentFrame fr = tangent_frame(n, m.tangent);
   KurtSample s;
   if (c == 0) {

@@ -274,7 +274,7 @@ NF_INLINE float3 nf_kurt_sample(__global const NfKurtMaterial* m, float3 n, floa
   int c = 0;
   float acc = w[0];
   while (c < NF_KURT_MAX_LOBES && !(u0 < acc)) acc += w[++c];
-  if (c > 0 && !(w[c] > 0.0f)) c = 0; /* rounding at u0 -> 1 past the last non-empty component */
+  while (c > 0 && !(w[c] > 0.0f)) --c; /* rounding at u0 -> 1: the last non-empty component */
   float3 l;
   if (c == 0) {
     l = nf_to_world(nf_sample_cosine(u1, u2), n);
