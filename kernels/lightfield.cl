@@ -961,7 +961,7 @@ NF_INLINE uint nf_first_surface(const NfSampleParams* P) {
 #define NF_KERNEL_ARGS                                                                                 \
   const NfSampleParams P, const NfLuminaire L, const NfInstance I, __global const NfSurface *surfaces, \
       __global const long *sat, __global const float *quantum, __global const NfImageInfo *info,       \
-      __global const float4 *chroma, __global const uint *vis, __global const float *halton3,           \
+      __global const float4 *chroma, __global const uint *vis, __global const float *halton3,          \
       __global const NfKurtMaterial *kurt, const int kurt_count
 
 /* Step 1, per-image pass (paper §6.1): A(p) += A_m(p) for m = P.image. */

@@ -207,9 +207,12 @@ struct KurtCase {
 std::vector<KurtCase> kurt_cases() {
   using nf::kurt_test::one_lobe;
   using nf::kurt_test::two_lobes;
-  return {{one_lobe(0.1, 0.3), 10.0, "aniso_0.1_0.3_v10"},   {one_lobe(0.1, 0.3), 70.0, "aniso_0.1_0.3_v70"},
-          {one_lobe(0.3, 0.3), 40.0, "iso_0.3_v40"},         {one_lobe(0.05, 0.05), 30.0, "iso_0.05_v30"},
-          {one_lobe(0.5, 0.15, 0.5), 60.0, "aniso_alpha_v60"}, {two_lobes(), 20.0, "two_lobes_v20"},
+  return {{one_lobe(0.1, 0.3), 10.0, "aniso_0.1_0.3_v10"},
+          {one_lobe(0.1, 0.3), 70.0, "aniso_0.1_0.3_v70"},
+          {one_lobe(0.3, 0.3), 40.0, "iso_0.3_v40"},
+          {one_lobe(0.05, 0.05), 30.0, "iso_0.05_v30"},
+          {one_lobe(0.5, 0.15, 0.5), 60.0, "aniso_alpha_v60"},
+          {two_lobes(), 20.0, "two_lobes_v20"},
           {two_lobes(), 75.0, "two_lobes_v75"}};
 }
 
@@ -257,8 +260,8 @@ TEST_P(KurtKernelSampling, HistogramMatchesHostDensity) {
   for (const auto& x : s) ASSERT_TRUE(std::isfinite(x.x + x.y + x.z + x.w));
   double total = 0.0;
   int dof = 0;
-  const double p =
-      nf::kurt_test::histogram_p(s, n, [&](dvec3 l) { return nf::ref::kurt_pdf(c.m, n, v, l); }, &total, &dof);
+  const double p = nf::kurt_test::histogram_p(
+      s, n, [&](dvec3 l) { return nf::ref::kurt_pdf(c.m, n, v, l); }, &total, &dof);
   ASSERT_LE(total, 1.0 + 1e-4) << "the host density integrates to more than 1";
   EXPECT_GT(p, 1e-4) << c.name << ": chi-square p = " << p << " with " << dof << " dof";
 }

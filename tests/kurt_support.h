@@ -42,7 +42,7 @@ inline NfKurtMaterial device_material(const ref::KurtMaterial& m) {
   d.tx = float(m.tangent.x), d.ty = float(m.tangent.y), d.tz = float(m.tangent.z);
   for (std::size_t j = 0; j < m.lobes.size(); ++j) {
     const ref::KurtLobe& l = m.lobes[j];
-    d.lobe[j] = NfKurtLobe{float(l.ks.r), float(l.ks.g), float(l.ks.b), float(l.r0),
+    d.lobe[j] = NfKurtLobe{float(l.ks.r), float(l.ks.g), float(l.ks.b),  float(l.r0),
                            float(l.mx),   float(l.my),   float(l.alpha), 0.0f};
   }
   return d;

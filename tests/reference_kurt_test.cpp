@@ -110,9 +110,12 @@ struct Case {
 };
 
 std::vector<Case> cases() {
-  return {{one_lobe(0.1, 0.3), 10.0, "aniso_0.1_0.3_v10"}, {one_lobe(0.1, 0.3), 70.0, "aniso_0.1_0.3_v70"},
-          {one_lobe(0.3, 0.3), 40.0, "iso_0.3_v40"},       {one_lobe(0.5, 0.15, 0.5), 60.0, "aniso_0.5_0.15_alpha_v60"},
-          {two_lobes(), 20.0, "two_lobes_v20"},           {two_lobes(), 75.0, "two_lobes_v75"}};
+  return {{one_lobe(0.1, 0.3), 10.0, "aniso_0.1_0.3_v10"},
+          {one_lobe(0.1, 0.3), 70.0, "aniso_0.1_0.3_v70"},
+          {one_lobe(0.3, 0.3), 40.0, "iso_0.3_v40"},
+          {one_lobe(0.5, 0.15, 0.5), 60.0, "aniso_0.5_0.15_alpha_v60"},
+          {two_lobes(), 20.0, "two_lobes_v20"},
+          {two_lobes(), 75.0, "two_lobes_v75"}};
 }
 
 class KurtSampling : public ::testing::TestWithParam<int> {};
@@ -140,8 +143,8 @@ TEST_P(KurtSampling, HistogramMatchesDensity) {
   }
   double total = 0.0;
   int dof = 0;
-  const double p =
-      nf::kurt_test::histogram_p(s, n, [&](dvec3 l) { return nf::ref::kurt_pdf(c.m, n, v, l); }, &total, &dof);
+  const double p = nf::kurt_test::histogram_p(
+      s, n, [&](dvec3 l) { return nf::ref::kurt_pdf(c.m, n, v, l); }, &total, &dof);
   EXPECT_LE(total, 1.0 + 1e-4) << "the density integrates to more than 1";
   EXPECT_GT(total, 0.5);
   EXPECT_GT(p, 1e-4) << c.name << ": chi-square p = " << p << " with " << dof << " dof";
@@ -170,7 +173,8 @@ TEST(KurtBrdf, FiniteAtExtremes) {
       const auto k = nf::ref::kurt_sample(m, n, v, u(rng), u(rng), u(rng));
       ASSERT_TRUE(std::isfinite(k.pdf) && std::isfinite(k.l.x + k.l.y + k.l.z));
     }
-    const auto k0 = nf::ref::kurt_sample(m, n, v, 0.9, 0.0, 0.0), k1 = nf::ref::kurt_sample(m, n, v, 0.9, 0.999999, 0.9999999);
+    const auto k0 = nf::ref::kurt_sample(m, n, v, 0.9, 0.0, 0.0),
+               k1 = nf::ref::kurt_sample(m, n, v, 0.9, 0.999999, 0.9999999);
     ASSERT_TRUE(std::isfinite(k0.pdf) && std::isfinite(k1.pdf));
   }
 }

@@ -77,7 +77,7 @@ TEST(ReferenceRenderKurt, WhiteFurnacePlaneShowsAlbedo) {
     const auto ray = sc.camera.pixel_ray(x, y);
     if (!(ray.direction.y < -1e-3)) return false;
     const dvec3 p = ray.origin + ray.direction * (-ray.origin.y / ray.direction.y);
-    const dvec3 pl(c * p.x - s * p.z, 0.0, s * p.x + c * p.z);  // p in the plane's frame
+    const dvec3 pl(c * p.x - s * p.z, 0.0, s * p.x + c * p.z);       // p in the plane's frame
     if (std::abs(pl.x) > 1.4 || std::abs(pl.z) > 1.4) return false;  // keep off the edges
     const dvec3 v = -glm::normalize(dvec3(ray.direction));
     e = 0.3 + lobe_albedo(m, n, v, 0.5);

@@ -62,15 +62,15 @@ TEST_F(SceneKurt, BadLobesNamePointer) {
   struct Bad {
     std::string material, pointer, words;
   };
-  for (const Bad& b : {Bad{R"({"type": "kurt", "lobes": [)" + five + "]}", "/materials/brushed/lobes", "at most 4"},
-                       Bad{R"({"type": "kurt", "lobes": [{"ks": [1, 1, 1], "mx": 0, "my": 0.1}]})",
-                           "/materials/brushed/lobes/0/mx", ""},
-                       Bad{R"({"type": "kurt", "lobes": [{"ks": [1, 1, 1], "mx": 0.1}]})", "/materials/brushed/lobes/0",
-                           "my"},
-                       Bad{R"({"type": "kurt", "lobes": [{"ks": [1, 1, 1], "mx": 0.1, "my": 0.1, "alpha": 2}]})",
-                           "/materials/brushed/lobes/0/alpha", ""},
-                       Bad{R"({"type": "kurt", "tangent": [0, 0, 0]})", "/materials/brushed/tangent", "zero"},
-                       Bad{R"({"type": "kurt", "roughness": 0.5})", "/materials/brushed", "roughness"}}) {
+  for (const Bad& b :
+       {Bad{R"({"type": "kurt", "lobes": [)" + five + "]}", "/materials/brushed/lobes", "at most 4"},
+        Bad{R"({"type": "kurt", "lobes": [{"ks": [1, 1, 1], "mx": 0, "my": 0.1}]})", "/materials/brushed/lobes/0/mx",
+            ""},
+        Bad{R"({"type": "kurt", "lobes": [{"ks": [1, 1, 1], "mx": 0.1}]})", "/materials/brushed/lobes/0", "my"},
+        Bad{R"({"type": "kurt", "lobes": [{"ks": [1, 1, 1], "mx": 0.1, "my": 0.1, "alpha": 2}]})",
+            "/materials/brushed/lobes/0/alpha", ""},
+        Bad{R"({"type": "kurt", "tangent": [0, 0, 0]})", "/materials/brushed/tangent", "zero"},
+        Bad{R"({"type": "kurt", "roughness": 0.5})", "/materials/brushed", "roughness"}}) {
     const std::string msg = error_of(b.material);
     EXPECT_NE(msg.find("scene.json"), std::string::npos) << msg;
     EXPECT_NE(msg.find(b.pointer), std::string::npos) << msg;

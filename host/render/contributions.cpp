@@ -7,7 +7,9 @@ namespace nf::render {
 const std::vector<ContributionKind>& contribution_kinds() {
   static const std::vector<ContributionKind> kinds{
       {"luminaires", [](const ContributionContext& c) { return !c.scene.luminaires.empty(); },
-       [](const ContributionContext& c) { return std::make_unique<LuminaireContribution>(c.rt, c.scene.geometry.materials); }},
+       [](const ContributionContext& c) {
+         return std::make_unique<LuminaireContribution>(c.rt, c.scene.geometry.materials);
+       }},
   };
   return kinds;
 }

@@ -173,9 +173,9 @@ NF_INLINE void nf_kurt_frame(float3 n, float3 t_in, float3* t, float3* b) {
 }
 
 /* Anisotropic Beckmann D(h) = exp(-tan^2 th (cos^2 ph / mx^2 + sin^2 ph / my^2)) / (pi mx my cos^4 th)
-   (Luksch et al. 2014 Eq. 4-5, after Kurt et al. 2010), with h = (hx, hy, hz) in (t, b, n): tan^2 th cos^2 ph = hx^2 / hz^2.
-   Normalised so that int D(h) cos th dh = 1. Exactly 0 where the exponent passes 80 (exp < 2e-35):
-   then hz^2 > 1/81 for m <= 1, so the hz^4 denominator never underflows. */
+   (Luksch et al. 2014 Eq. 4-5, after Kurt et al. 2010), with h = (hx, hy, hz) in (t, b, n): tan^2 th cos^2 ph = hx^2 /
+   hz^2. Normalised so that int D(h) cos th dh = 1. Exactly 0 where the exponent passes 80 (exp < 2e-35): then hz^2 >
+   1/81 for m <= 1, so the hz^4 denominator never underflows. */
 NF_INLINE float nf_kurt_d(float hx, float hy, float hz, float mx, float my) {
   if (!(hz > 0.0f)) return 0.0f;
   const float e = (hx * hx / (mx * mx) + hy * hy / (my * my)) / (hz * hz);
@@ -263,10 +263,9 @@ NF_INLINE float nf_kurt_pdf(__global const NfKurtMaterial* m, float3 n, float3 t
 
 /* Draws l from the mixture: u0 picks the component by nf_kurt_weights; diffuse is cosine-weighted;
    lobe j draws h with density D_j(h) cos th_h (Ward 1992's inversion, Luksch et al. 2014 Eq. 6-7):
-     ph_h = atan((my / mx) tan(2 pi u1)) in the quadrant of 2 pi u1, i.e. (cos ph, sin ph) ~ (mx cos 2 pi u1, my sin 2 pi u1),
-     tan^2 th_h = -ln(1 - u2) / (cos^2 ph / mx^2 + sin^2 ph / my^2),
-   and reflects v about h. *pdf = nf_kurt_pdf(l) (the mixture density), 0 when l is below the
-   horizon or h faces away from v (no valid reflection). u* in [0, 1). */
+     ph_h = atan((my / mx) tan(2 pi u1)) in the quadrant of 2 pi u1, i.e. (cos ph, sin ph) ~ (mx cos 2 pi u1, my sin 2
+   pi u1), tan^2 th_h = -ln(1 - u2) / (cos^2 ph / mx^2 + sin^2 ph / my^2), and reflects v about h. *pdf = nf_kurt_pdf(l)
+   (the mixture density), 0 when l is below the horizon or h faces away from v (no valid reflection). u* in [0, 1). */
 NF_INLINE float3 nf_kurt_sample(__global const NfKurtMaterial* m, float3 n, float3 t_in, float3 v, float u0, float u1,
                                 float u2, float* pdf) {
   float w[NF_KURT_MAX_LOBES + 1];

@@ -8,8 +8,8 @@
    D_j = anisotropic Beckmann of roughness (mx, my) along (tangent, n x tangent); F_j Schlick(r0). */
 #include "shared/types.h"
 
-#define NF_KURT_MAX_LOBES 4     /* lobes per material (scene files with more are rejected) */
-#define NF_KURT_MIN_M 1e-3f     /* mx, my are clamped to [NF_KURT_MIN_M, 1] */
+#define NF_KURT_MAX_LOBES 4 /* lobes per material (scene files with more are rejected) */
+#define NF_KURT_MIN_M 1e-3f /* mx, my are clamped to [NF_KURT_MIN_M, 1] */
 
 typedef struct {
   nf_float ks_r, ks_g, ks_b; /* specular colour (linear RGB, >= 0) */
