@@ -78,13 +78,19 @@ std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>
       s.vx = static_cast<float>(v.x);
       s.vy = static_cast<float>(v.y);
       s.vz = static_cast<float>(v.z);
-      const bool ggx = materials[static_cast<std::size_t>(id)].kind == scene::MaterialKind::ggx;
+      const scene::MaterialKind kind = materials[static_cast<std::size_t>(id)].kind;
+      const bool ggx = kind == scene::MaterialKind::ggx;
       s.brdf = ggx ? NF_BRDF_GGX : NF_BRDF_LAMBERT;
       s.base_r = m[0];
       s.base_g = m[1];
       s.base_b = m[2];
       s.roughness = ggx ? m[3] : 1.0f;
       s.metallic = ggx ? q[3] : 0.0f;
+      if (kind == scene::MaterialKind::kurt) {  // base = world tangent, metallic = table index
+        s.brdf = NF_BRDF_KURT;
+        s.roughness = 1.0f;
+        s.metallic = static_cast<float>(id);
+      }
     }
     out[o] = s;
   }

@@ -6,7 +6,8 @@
 //   attachment 0 "position": world position xyz (metres), w = material index + 1 (0: no surface)
 //   attachment 1 "normal":   unit world normal xyz, turned to the side the camera sees
 //                            (two-sided: back faces get the flipped normal), w = metallic
-//   attachment 2 "material": linear base colour rgb (factor x sRGB-decoded texture), a = roughness
+//   attachment 2 "material": linear base colour rgb (factor x sRGB-decoded texture), a = roughness;
+//                            kurt materials: rgb = the world tangent (the base colour uniform)
 //   depth: D32F, reversed Z (see scene_gpu.h)
 //
 // The direction to the viewer is not stored: read_surfaces() computes it per pixel in double
@@ -32,8 +33,9 @@ class GBuffer {
   void render(const SceneGpu& scene, const scene::Camera& camera);
 
   // Reads the targets back: one NfSurface per pixel, index y * width + x with row 0 at the TOP
-  // of the image. Background pixels are all zero (valid = 0). brdf is NF_BRDF_LAMBERT or
-  // NF_BRDF_GGX from the material kind; lambert surfaces get metallic 0, roughness 1.
+  // of the image. Background pixels are all zero (valid = 0). brdf is NF_BRDF_LAMBERT,
+  // NF_BRDF_GGX or NF_BRDF_KURT from the material kind; lambert surfaces get metallic 0,
+  // roughness 1; kurt surfaces base = world tangent, metallic = material index (kernels/shared/surface.h).
   std::vector<NfSurface> read_surfaces(const std::vector<scene::Material>& materials,
                                        const scene::Camera& camera) const;
 

@@ -197,7 +197,13 @@ void SceneGpu::draw(const glm::dmat4& pre, bool materials, bool casters_only) co
     if (materials) {
       glUniformMatrix3fv(2, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
       const auto& mat = materials_[static_cast<std::size_t>(d.material)];
-      glUniform3f(3, mat.base_color.r, mat.base_color.g, mat.base_color.b);
+      if (mat.kind == scene::MaterialKind::kurt) {
+        // kurt: the G-buffer's base colour carries the world tangent (gl/gbuffer.h)
+        const glm::vec3 t = glm::mat3(model) * mat.tangent;
+        glUniform3f(3, t.x, t.y, t.z);
+      } else {
+        glUniform3f(3, mat.base_color.r, mat.base_color.g, mat.base_color.b);
+      }
       glUniform1f(4, mat.kind == scene::MaterialKind::ggx ? mat.metallic : 0.0f);
       glUniform1f(5, mat.kind == scene::MaterialKind::ggx ? mat.roughness : 1.0f);
       glUniform1f(6, static_cast<float>(d.material + 1));

@@ -45,7 +45,51 @@ __kernel void brdf_debug_eval(const int brdf, const float alpha, const float met
   s.br = base.x;
   s.bg = base.y;
   s.bb = base.z;
+  s.tx = s.ty = s.tz = 0.0f;
+  s.kmat = 0;
+  s.kurt = 0;
   float r, g, b;
   nf_brdf_cos(&s, dirs[i].x, dirs[i].y, dirs[i].z, &r, &g, &b);
   out[i] = (float4)(r, g, b, 0.0f);
+}
+
+/* Kurt (NF_BRDF_KURT) sample i of `count` from material `mat` of the table, about n with tangent t
+   and viewer v: (l, pdf(l)) as nf_kurt_sample returns them; pdf = 0 marks an invalid draw. Three
+   uniforms per sample: two Philox streams keyed by `seed` and `seed + 1`. */
+__kernel void brdf_debug_kurt_sample(__global const NfKurtMaterial* table, const int mat, const float4 n4,
+                                     const float4 t4, const float4 v4, const uint seed, const int count,
+                                     __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  uint a = (uint)i, b = 0x2545f491U, c = (uint)i, d = 0x9e3779b9U;
+  nf_philox(&a, &b, seed);
+  nf_philox(&c, &d, seed + 1U);
+  float pdf;
+  const float3 l = nf_kurt_sample(table + mat, n4.xyz, t4.xyz, v4.xyz, nf_unit(c), nf_unit(a), nf_unit(b), &pdf);
+  out[i] = (float4)(l, pdf);
+}
+
+/* Kurt: f_r(l, v) max(0, n.l) through nf_brdf_cos (rgb) and nf_kurt_pdf(l) (w) for `count` directions. */
+__kernel void brdf_debug_kurt_eval(__global const NfKurtMaterial* table, const int mat, const float4 n4,
+                                   const float4 t4, const float4 v4, __global const float4* dirs, const int count,
+                                   __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  NfShade s;
+  s.nx = n4.x;
+  s.ny = n4.y;
+  s.nz = n4.z;
+  s.vx = v4.x;
+  s.vy = v4.y;
+  s.vz = v4.z;
+  s.brdf = NF_BRDF_KURT;
+  s.alpha = s.metallic = s.br = s.bg = s.bb = 0.0f;
+  s.tx = t4.x;
+  s.ty = t4.y;
+  s.tz = t4.z;
+  s.kmat = mat;
+  s.kurt = table;
+  float r, g, b;
+  nf_brdf_cos(&s, dirs[i].x, dirs[i].y, dirs[i].z, &r, &g, &b);
+  out[i] = (float4)(r, g, b, nf_kurt_pdf(table + mat, n4.xyz, t4.xyz, v4.xyz, dirs[i].xyz));
 }

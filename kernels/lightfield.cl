@@ -153,10 +153,11 @@ NF_INLINE void nf_normalize3(float* x, float* y, float* z) {
 /* Loads the NF_LANES surfaces from index `first` on (up to count), moves them into the luminaire
    frame and computes the per-pixel geometry. Returns the `lit` mask. */
 NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const NfSampleParams* P,
-                      __global const NfSurface* surf, uint first) {
+                      __global const NfSurface* surf, uint first, __global const NfKurtMaterial* kurt, int kurt_count) {
   float px[NF_LANES], py[NF_LANES], pz[NF_LANES], nx[NF_LANES], ny[NF_LANES], nz[NF_LANES], hu[NF_LANES];
   float vx[NF_LANES], vy[NF_LANES], vz[NF_LANES], al[NF_LANES], me[NF_LANES], br[NF_LANES], bg[NF_LANES], bb[NF_LANES];
-  int brdf[NF_LANES], valid[NF_LANES];
+  float tx[NF_LANES], ty[NF_LANES], tz[NF_LANES];
+  int brdf[NF_LANES], valid[NF_LANES], km[NF_LANES];
   uint pix[NF_LANES];
   const float* M = I->to_local;
   const float* N = I->normal;
@@ -188,6 +189,22 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
     vz[l] = M[8] * S.vx + M[9] * S.vy + M[10] * S.vz;
     nf_normalize3(&vx[l], &vy[l], &vz[l]);
     brdf[l] = S.brdf;
+    /* NF_BRDF_KURT (shared/surface.h): base = world tangent, metallic = table index. */
+    km[l] = 0;
+    tx[l] = ty[l] = tz[l] = 0.0f;
+    if (brdf[l] == NF_BRDF_KURT) {
+      const float kf = S.metallic;
+      if (kf >= 0.0f && kf < (float)kurt_count) {
+        km[l] = (int)kf;
+        tx[l] = M[0] * S.base_r + M[1] * S.base_g + M[2] * S.base_b;
+        ty[l] = M[4] * S.base_r + M[5] * S.base_g + M[6] * S.base_b;
+        tz[l] = M[8] * S.base_r + M[9] * S.base_g + M[10] * S.base_b;
+        S.metallic = S.base_r = S.base_g = S.base_b = 0.0f;
+      } else {
+        brdf[l] = NF_BRDF_LAMBERT; /* no such material: black */
+        S.base_r = S.base_g = S.base_b = 0.0f;
+      }
+    }
     const float rough = clamp(S.roughness, 0.0f, 1.0f);
     al[l] = fmax(rough * rough, 1e-3f);
     me[l] = clamp(S.metallic, 0.0f, 1.0f);
@@ -217,6 +234,11 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->sh.bg = VLOAD(bg);
   c->sh.bb = VLOAD(bb);
   c->sh.brdf = VLOAD(brdf);
+  c->sh.tx = VLOAD(tx);
+  c->sh.ty = VLOAD(ty);
+  c->sh.tz = VLOAD(tz);
+  c->sh.kmat = VLOAD(km);
+  c->sh.kurt = kurt;
   c->pix = VLOAD(pix);
   const vi val = VLOAD(valid) != 0;
   const float delta = L->delta;
@@ -990,14 +1012,15 @@ NF_INLINE uint nf_first_surface(const NfSampleParams* P) {
 #define NF_KERNEL_ARGS                                                                                 \
   const NfSampleParams P, const NfLuminaire L, const NfInstance I, __global const NfSurface *surfaces, \
       __global const long *sat, __global const float *quantum, __global const NfImageInfo *info,       \
-      __global const float4 *chroma, __global const uint *vis, __global const float *halton3
+      __global const float4 *chroma, __global const uint *vis, __global const float *halton3,          \
+      __global const NfKurtMaterial *kurt, const int kurt_count
 
 /* Step 1, per-image pass (paper §6.1): A(p) += A_m(p) for m = P.image. */
 __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
   const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   NfCtx c;
-  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
+  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first, kurt, kurt_count))) return;
   NfBox b;
   float a[NF_LANES];
   VSTORE(nf_prepare(&c, &L, P.image, sat, quantum, info, &b), a);
@@ -1017,7 +1040,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   }
   if (!lit) return; /* A(p) = 0: no samples (before the set-up) */
   NfCtx c;
-  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
+  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first, kurt, kurt_count))) return;
   const vf A = VLOAD(a);
   const int m = P.image;
   NfBox b;
@@ -1047,7 +1070,7 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
   const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   NfCtx c;
-  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first))) return;
+  if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first, kurt, kurt_count))) return;
   const int M = L.num_images;
   const int cached = M <= NF_FUSED_CACHE;
   vf am[NF_FUSED_CACHE];
@@ -1117,7 +1140,7 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
   NfSampleParams P1 = P;
   P1.count = 1;
   const int m = P.image;
-  if (!nf_setup(&c, &L, &I, &P1, surfaces, 0U)) {
+  if (!nf_setup(&c, &L, &I, &P1, surfaces, 0U, kurt, kurt_count)) {
     out[k] = d;
     return;
   }

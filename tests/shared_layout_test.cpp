@@ -3,6 +3,7 @@
 
 #include <cstddef>
 
+#include "kernels/shared/kurt.h"
 #include "kernels/shared/luminaire.h"
 #include "kernels/shared/surface.h"
 
@@ -13,6 +14,13 @@ static_assert(offsetof(NfSurface, base_r) == 48);
 static_assert(sizeof(NfLuminaire) % 4 == 0);
 static_assert(offsetof(NfLuminaire, res_x) == 56);
 static_assert(sizeof(NfLuminaire) == 80);
+static_assert(sizeof(NfKurtLobe) == 32);
+static_assert(offsetof(NfKurtMaterial, count) == 12);
+static_assert(offsetof(NfKurtMaterial, tx) == 16);
+static_assert(offsetof(NfKurtMaterial, lobe) == 32);
+static_assert(sizeof(NfKurtMaterial) == 160);
+static_assert(NF_BRDF_KURT != NF_BRDF_LAMBERT && NF_BRDF_KURT != NF_BRDF_GGX && NF_BRDF_KURT != NF_BRDF_IRRADIANCE &&
+              NF_BRDF_KURT != NF_BRDF_SCALAR);
 
 TEST(SharedLayout, VisibilityWords) {
   EXPECT_EQ(NF_VIS_WORDS(1), 1);

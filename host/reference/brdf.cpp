@@ -35,6 +35,7 @@ void orthonormal_basis(glm::dvec3 n, glm::dvec3& t, glm::dvec3& b) {
 glm::dvec3 brdf_eval(const ShadingMaterial& m, glm::dvec3 n, glm::dvec3 v, glm::dvec3 l) {
   const double nl = glm::dot(n, l);
   if (!(nl > 0.0)) return glm::dvec3(0.0);
+  if (m.kurt) return kurt_eval(*m.kurt, n, v, l);
   if (!m.ggx) return m.base / kPi;
   const double nv = std::max(glm::dot(n, v), 1e-4);
   glm::dvec3 h = l + v;
@@ -53,6 +54,7 @@ glm::dvec3 brdf_eval(const ShadingMaterial& m, glm::dvec3 n, glm::dvec3 v, glm::
 double brdf_pdf(const ShadingMaterial& m, glm::dvec3 n, glm::dvec3 v, glm::dvec3 l) {
   const double nl = glm::dot(n, l);
   if (!(nl > 0.0)) return 0.0;
+  if (m.kurt) return kurt_pdf(*m.kurt, n, v, l);
   const double ps = spec_probability(m);
   double pdf = (1.0 - ps) * nl / kPi;
   if (ps > 0.0) {
@@ -68,6 +70,10 @@ double brdf_pdf(const ShadingMaterial& m, glm::dvec3 n, glm::dvec3 v, glm::dvec3
 }
 
 BrdfSample brdf_sample(const ShadingMaterial& m, glm::dvec3 n, glm::dvec3 v, double u0, double u1, double u2) {
+  if (m.kurt) {
+    const KurtSample k = kurt_sample(*m.kurt, n, v, u0, u1, u2);
+    return {k.l, k.pdf};
+  }
   glm::dvec3 t, b;
   orthonormal_basis(n, t, b);
   const double ps = spec_probability(m);

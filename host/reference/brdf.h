@@ -8,7 +8,11 @@
 //            F = Schlick with F0 = mix(0.04, base, metallic) at v.h.
 // All directions are unit vectors pointing away from the surface; n is the shading normal and
 // n.v is clamped to 1e-4 as the kernels do. f is 0 below the horizon (n.l <= 0).
+#include <memory>
+
 #include <glm/vec3.hpp>
+
+#include "reference/kurt_brdf.h"
 
 namespace nf::ref {
 
@@ -17,6 +21,8 @@ struct ShadingMaterial {
   glm::dvec3 base{0.8};
   double metallic = 0.0;
   double alpha = 1.0;  // roughness^2 clamped to >= 1e-3 (ggx)
+  // Set: the material is Kurt et al. 2010 (reference/kurt_brdf.h) and the fields above are unused.
+  std::shared_ptr<const KurtMaterial> kurt;
 };
 
 // f_r(l, v) (1/sr), RGB.
@@ -25,7 +31,7 @@ glm::dvec3 brdf_eval(const ShadingMaterial& m, glm::dvec3 n, glm::dvec3 v, glm::
 // Importance sampling of f_r cos: lambert draws cos-weighted directions; ggx mixes a cos-weighted
 // diffuse lobe (probability 1 - spec_prob) with GGX half vectors drawn with density D(h) n.h and
 // reflected (p(l) = D(h) n.h / (4 v.h)). `pdf` is the mixture's density of the returned l (1/sr);
-// it is 0 (and l meaningless) when the draw falls below the horizon.
+// it is 0 (and l meaningless) when the draw falls below the horizon. kurt: kurt_sample/kurt_pdf.
 struct BrdfSample {
   glm::dvec3 l{0.0};
   double pdf = 0.0;

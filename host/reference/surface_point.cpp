@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -81,6 +82,17 @@ SurfacePoint surface_point(const scene::Geometry& geometry, const RayScene& rays
   sp.material.metallic = sp.material.ggx ? std::clamp(metal, 0.0, 1.0) : 0.0;
   const double r = std::clamp(rough, 0.0, 1.0);
   sp.material.alpha = std::max(r * r, 1e-3);
+  if (mat.kind == scene::MaterialKind::kurt) {
+    // The tangent is given in the object's frame: it moves with the instance (its projection onto
+    // the tangent plane happens in kurt_brdf.cpp). One allocation per hit: a per-material cache is
+    // a possible optimisation.
+    auto km = std::make_shared<KurtMaterial>();
+    km->kd = glm::max(glm::dvec3(mat.base_color), glm::dvec3(0.0));
+    km->tangent = glm::dmat3(inst.to_world) * glm::dvec3(mat.tangent);
+    for (const scene::KurtLobe& l : mat.kurt_lobes)
+      km->lobes.push_back({glm::dvec3(l.ks), double(l.r0), double(l.mx), double(l.my), double(l.alpha)});
+    sp.material.kurt = std::move(km);
+  }
   return sp;
 }
 

@@ -8,7 +8,9 @@ namespace nf::render {
 const std::vector<ContributionKind>& contribution_kinds() {
   static const std::vector<ContributionKind> kinds{
       {"luminaires", [](const ContributionContext& c) { return !c.scene.luminaires.empty(); },
-       [](const ContributionContext& c) { return std::make_unique<LuminaireContribution>(c.rt); }},
+       [](const ContributionContext& c) {
+         return std::make_unique<LuminaireContribution>(c.rt, c.scene.geometry.materials);
+       }},
       {"environment", [](const ContributionContext& c) { return c.scene.environment.has_value(); },
        [](const ContributionContext& c) {
          return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment);

@@ -1,8 +1,14 @@
 #include "render/luminaire_contribution.h"
 
 #include "core/timer.h"
+#include "render/kurt_table.h"
 
 namespace nf::render {
+
+LuminaireContribution::LuminaireContribution(cl::Runtime& rt, const std::vector<scene::Material>& materials)
+    : sampler_(rt) {
+  sampler_.set_kurt_table(kurt_table(materials));
+}
 
 SamplingSettings LuminaireContribution::frame_sampling(const FrameInputs& in) const {
   SamplingSettings s = in.settings.sampling;

@@ -8,7 +8,8 @@ namespace nf::render {
 
 class LuminaireContribution final : public Contribution {
  public:
-  explicit LuminaireContribution(cl::Runtime& rt) : sampler_(rt) {}
+  // `materials`: the scene's, for the Kurt material table (render/kurt_table.h).
+  LuminaireContribution(cl::Runtime& rt, const std::vector<scene::Material>& materials);
   std::string name() const override { return "luminaires"; }
   void prepare(const FrameInputs& in) override;
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;

@@ -17,6 +17,7 @@ namespace nf::render {
 namespace {
 
 constexpr const char* kFile = "lightfield.cl";
+constexpr cl_uint kSpecificArgs = 12;  // NF_KERNEL_ARGS (set_common) come first
 constexpr int kLocal = 64;
 
 // Radical inverses in base 3 of 0 .. 3^10 - 1 (the low-digit table of nf_ri3).
@@ -131,6 +132,19 @@ Sampler::Sampler(cl::Runtime& rt) : rt_(rt) {
                                   const_cast<nf_uint*>(&zero));
       },
       "Sampler: creating buffers");
+  set_kurt_table({});
+}
+
+void Sampler::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
+  const std::vector<NfKurtMaterial> one(1, NfKurtMaterial{});
+  const auto& v = table.empty() ? one : table;
+  cl_call(
+      [&] {
+        kurt_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(NfKurtMaterial),
+                             const_cast<NfKurtMaterial*>(v.data()));
+      },
+      "Sampler: uploading the kurt material table");
+  kurt_count_ = static_cast<int>(table.size());
 }
 
 std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool visibility, int lanes) {
@@ -221,6 +235,8 @@ void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightIn
   k.setArg(7, lum.chroma());
   k.setArg(8, li.visibility && li.vis_words > 0 ? *li.visibility : dummy_vis_);
   k.setArg(9, halton3_);
+  k.setArg(10, kurt_);
+  k.setArg(11, kurt_count_);
 }
 
 FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
@@ -259,9 +275,9 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
       ::cl::Kernel& k = kernel("lf_fused", opts);
       p.group_mul = group_multiplier(global[0] / local_range(k)[0]);
       set_common(k, p, li, surfaces);
-      k.setArg(10, a_);
-      k.setArg(11, rgb_);
-      k.setArg(12, k_);
+      k.setArg(kSpecificArgs, a_);
+      k.setArg(kSpecificArgs + 1, rgb_);
+      k.setArg(kSpecificArgs + 2, k_);
       step2.push_back(rt_.launch(k, global, local_range(k)));
       continue;
     }
@@ -279,7 +295,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     ::cl::Kernel& k2 = kernel("lf_step2_image", opts);
     p.group_mul = group_multiplier(global[0] / local_range(k1)[0]);
     set_common(k1, p, li, surfaces);
-    k1.setArg(10, A);
+    k1.setArg(kSpecificArgs, A);
     for (int m = 0; m < lum.num_images(); ++m) {
       p.image = m;
       k1.setArg(0, sizeof(NfSampleParams), &p);
@@ -287,9 +303,9 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     }
     p.group_mul = group_multiplier(global[0] / local_range(k2)[0]);
     set_common(k2, p, li, surfaces);
-    k2.setArg(10, A);
-    k2.setArg(11, rgb_);
-    k2.setArg(12, k_);
+    k2.setArg(kSpecificArgs, A);
+    k2.setArg(kSpecificArgs + 1, rgb_);
+    k2.setArg(kSpecificArgs + 2, k_);
     for (int m = 0; m < lum.num_images(); ++m) {
       p.image = m;
       k2.setArg(0, sizeof(NfSampleParams), &p);
@@ -364,8 +380,8 @@ std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, co
   li.instance = instance;
   ::cl::Kernel& k = kernel("lf_debug_samples", opts);
   set_common(k, p, li, surf);
-  k.setArg(10, out);
-  k.setArg(11, n);
+  k.setArg(kSpecificArgs, out);
+  k.setArg(kSpecificArgs + 1, n);
   rt_.launch(k, global_range(n, 1), local_range(k));
   std::vector<NfSampleDebug> v(n);
   cl_call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(NfSampleDebug), v.data()); },

@@ -12,6 +12,7 @@
 #include <glm/vec4.hpp>
 
 #include "cl/runtime.h"
+#include "kernels/shared/kurt.h"
 #include "kernels/shared/sampling.h"
 #include "kernels/shared/surface.h"
 #include "render/device_luminaire.h"
@@ -78,6 +79,10 @@ class Sampler {
 
   cl::Runtime& runtime() { return rt_; }
 
+  // The Kurt material table the kernels read for NF_BRDF_KURT surfaces (render/kurt_table.h);
+  // empty by default (such surfaces then reflect nothing).
+  void set_kurt_table(const std::vector<NfKurtMaterial>& table);
+
  private:
   ::cl::Kernel& kernel(const std::string& name, const std::string& options);
   NfSampleParams params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const;
@@ -87,7 +92,8 @@ class Sampler {
   ::cl::NDRange local_range(::cl::Kernel& k) const;
 
   cl::Runtime& rt_;
-  ::cl::Buffer halton3_, dummy_vis_;
+  ::cl::Buffer halton3_, dummy_vis_, kurt_;
+  int kurt_count_ = 0;
   ::cl::Buffer rgb_, a_, k_, a_inst_;
   int count_ = 0, capacity_ = 0;
   std::map<std::string, ::cl::Kernel> kernels_;

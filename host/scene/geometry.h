@@ -30,7 +30,17 @@ struct Texture {
 
 enum class MaterialKind {
   lambert,  // f_r = base / pi                                   (NF_BRDF_LAMBERT)
-  ggx       // glTF metallic-roughness: GGX/Smith + Lambert diffuse (NF_BRDF_GGX)
+  ggx,      // glTF metallic-roughness: GGX/Smith + Lambert diffuse (NF_BRDF_GGX)
+  kurt      // Kurt et al. 2010 anisotropic multi-lobe (docs/materials.md); base_color = diffuse
+};
+
+// One specular lobe of a kurt material (docs/materials.md): ks F(v.h) D(h) / (4 (v.h) ((l.n)(v.n))^alpha).
+struct KurtLobe {
+  glm::vec3 ks{0.0f};  // specular colour, >= 0
+  float r0 = 0.05f;    // Schlick reflectance at normal incidence [0, 1]
+  float mx = 0.1f;     // Beckmann roughness along the tangent [1e-3, 1]
+  float my = 0.1f;     // Beckmann roughness along n x tangent [1e-3, 1]
+  float alpha = 0.0f;  // [0, 1]; 0 keeps the BRDF reciprocal
 };
 
 // Effective values are factor × texture (glTF semantics): base = base_color × decoded texel,
@@ -43,6 +53,8 @@ struct Material {
   float roughness = 1.0f;               // perceptual roughness [0, 1] (alpha = roughness^2)
   int base_color_texture = -1;          // index into Geometry::textures, -1 none
   int metallic_roughness_texture = -1;  // index into Geometry::textures, -1 none
+  std::vector<KurtLobe> kurt_lobes;     // kurt: 0..4 lobes
+  glm::vec3 tangent{1.0f, 0.0f, 0.0f};  // kurt: m_x direction in the object's frame (projected onto each tangent plane)
 };
 
 // Triangles in the mesh's own frame. normals.size() == positions.size(); uvs empty or the same size.

@@ -152,9 +152,49 @@ class Parser {
     return c;
   }
 
+  // kurt: {"diffuse": [r,g,b], "lobes": [{"ks", "r0", "mx", "my", "alpha"}], "tangent": [x,y,z]}
+  // (docs/materials.md). At most 4 lobes; mx, my in [1e-3, 1]; r0, alpha in [0, 1].
+  void kurt_def(const json& v, const std::string& ptr, Material& m) {
+    object(v, ptr, {"type", "diffuse", "lobes", "tangent"});
+    m.kind = MaterialKind::kurt;
+    m.metallic = 0.0f;
+    m.roughness = 1.0f;
+    m.base_color = glm::vec3(0.0f);
+    if (v.contains("diffuse")) {
+      const auto c = numbers(v["diffuse"], at(ptr, "diffuse"), 3, 0.0, 1.0);
+      m.base_color = glm::vec3(static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]));
+    }
+    if (v.contains("tangent")) {
+      const auto t = numbers(v["tangent"], at(ptr, "tangent"), 3, -1e6, 1e6);
+      const glm::dvec3 td(t[0], t[1], t[2]);
+      if (!(glm::length(td) > 1e-9)) error(at(ptr, "tangent"), "tangent is the zero vector");
+      m.tangent = glm::vec3(glm::normalize(td));
+    }
+    if (v.contains("lobes")) {
+      const std::string lptr = at(ptr, "lobes");
+      const json& ls = v["lobes"];
+      if (!ls.is_array()) error(lptr, fmt::format("expected an array of lobes, got {}", type_name(ls)));
+      if (ls.size() > 4) error(lptr, fmt::format("{} lobes; a kurt material has at most 4", ls.size()));
+      for (std::size_t j = 0; j < ls.size(); ++j) {
+        const std::string lp = at(lptr, j);
+        const json& l = ls[j];
+        if (!l.is_object()) error(lp, fmt::format("expected an object, got {}", type_name(l)));
+        object(l, lp, {"ks", "r0", "mx", "my", "alpha"});
+        KurtLobe k;
+        const auto ks = numbers(require(l, lp, "ks"), at(lp, "ks"), 3, 0.0, 1e3);
+        k.ks = glm::vec3(static_cast<float>(ks[0]), static_cast<float>(ks[1]), static_cast<float>(ks[2]));
+        if (l.contains("r0")) k.r0 = static_cast<float>(number(l["r0"], at(lp, "r0"), 0, 1));
+        k.mx = static_cast<float>(number(require(l, lp, "mx"), at(lp, "mx"), 1e-3, 1));
+        k.my = static_cast<float>(number(require(l, lp, "my"), at(lp, "my"), 1e-3, 1));
+        if (l.contains("alpha")) k.alpha = static_cast<float>(number(l["alpha"], at(lp, "alpha"), 0, 1));
+        m.kurt_lobes.push_back(k);
+      }
+    }
+  }
+
   Material material_def(const json& v, const std::string& ptr, const std::string& name) {
     if (!v.is_object()) error(ptr, fmt::format("expected an object, got {}", type_name(v)));
-    const std::string kind = choice(require(v, ptr, "type"), at(ptr, "type"), {"lambert", "ggx"});
+    const std::string kind = choice(require(v, ptr, "type"), at(ptr, "type"), {"lambert", "ggx", "kurt"});
     Material m;
     m.name = name;
     if (kind == "lambert") {
@@ -162,6 +202,9 @@ class Parser {
       m.kind = MaterialKind::lambert;
       m.metallic = 0.0f;
       m.roughness = 1.0f;
+    } else if (kind == "kurt") {
+      kurt_def(v, ptr, m);
+      return m;
     } else {
       object(v, ptr, {"type", "base_color", "base_color_texture", "metallic", "roughness"});
       m.kind = MaterialKind::ggx;

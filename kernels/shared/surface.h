@@ -9,6 +9,10 @@
 #define NF_BRDF_GGX 1        /* glTF metallic-roughness: GGX/Smith specular + Lambert diffuse */
 #define NF_BRDF_IRRADIANCE 2 /* f_r = 1: the estimate is E(p, n) (light meter), as `probe` prints */
 #define NF_BRDF_SCALAR 3     /* f_r * max(0, n.w) replaced by 1: scalar irradiance I(p) */
+#define NF_BRDF_KURT 4       /* Kurt et al. 2010 anisotropic multi-lobe (shared/kurt.h) */
+/* NF_BRDF_KURT: the parameters come from the material table (NfKurtMaterial) the kernels get. Its
+   surfaces reuse fields: base_r/g/b = the tangent (world frame, any length), metallic = the
+   table index (an exact small integer); roughness unused. */
 
 typedef struct {
   nf_float px, py, pz;
