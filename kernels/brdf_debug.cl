@@ -26,12 +26,9 @@ __kernel void brdf_debug_sample(const int kind, const float alpha, const float4 
   out[i] = (float4)(l, nf_pdf_ggx(dot(n, h), dot(v, h), alpha));
 }
 
-/* f_r(l, v) max(0, n.l) of one material for `count` directions l (rgb, 0). */
-__kernel void brdf_debug_eval(const int brdf, const float alpha, const float metallic, const float4 base,
-                              const float4 n4, const float4 v4, __global const float4* dirs, const int count,
-                              __global float4* out) {
-  const int i = get_global_id(0);
-  if (i >= count) return;
+/* The shading inputs of one debug evaluation (no Kurt table unless `kurt` is given). */
+NF_INLINE NfShade nf_debug_shade(float4 n4, float4 v4, int brdf, float alpha, float metallic, float4 base, float4 t4,
+                                 int kmat, __global const NfKurtMaterial* kurt) {
   NfShade s;
   s.nx = n4.x;
   s.ny = n4.y;
@@ -45,9 +42,21 @@ __kernel void brdf_debug_eval(const int brdf, const float alpha, const float met
   s.br = base.x;
   s.bg = base.y;
   s.bb = base.z;
-  s.tx = s.ty = s.tz = 0.0f;
-  s.kmat = 0;
-  s.kurt = 0;
+  s.tx = t4.x;
+  s.ty = t4.y;
+  s.tz = t4.z;
+  s.kmat = kmat;
+  s.kurt = kurt;
+  return s;
+}
+
+/* f_r(l, v) max(0, n.l) of one material for `count` directions l (rgb, 0). */
+__kernel void brdf_debug_eval(const int brdf, const float alpha, const float metallic, const float4 base,
+                              const float4 n4, const float4 v4, __global const float4* dirs, const int count,
+                              __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const NfShade s = nf_debug_shade(n4, v4, brdf, alpha, metallic, base, (float4)(0.0f), 0, 0);
   float r, g, b;
   nf_brdf_cos(&s, dirs[i].x, dirs[i].y, dirs[i].z, &r, &g, &b);
   out[i] = (float4)(r, g, b, 0.0f);
@@ -75,20 +84,7 @@ __kernel void brdf_debug_kurt_eval(__global const NfKurtMaterial* table, const i
                                    __global float4* out) {
   const int i = get_global_id(0);
   if (i >= count) return;
-  NfShade s;
-  s.nx = n4.x;
-  s.ny = n4.y;
-  s.nz = n4.z;
-  s.vx = v4.x;
-  s.vy = v4.y;
-  s.vz = v4.z;
-  s.brdf = NF_BRDF_KURT;
-  s.alpha = s.metallic = s.br = s.bg = s.bb = 0.0f;
-  s.tx = t4.x;
-  s.ty = t4.y;
-  s.tz = t4.z;
-  s.kmat = mat;
-  s.kurt = table;
+  const NfShade s = nf_debug_shade(n4, v4, NF_BRDF_KURT, 0.0f, 0.0f, (float4)(0.0f), t4, mat, table);
   float r, g, b;
   nf_brdf_cos(&s, dirs[i].x, dirs[i].y, dirs[i].z, &r, &g, &b);
   out[i] = (float4)(r, g, b, nf_kurt_pdf(table + mat, n4.xyz, t4.xyz, v4.xyz, dirs[i].xyz));

@@ -62,9 +62,9 @@ void check_arg(const Script& s, const ScriptCommand& c, std::size_t i, ScriptArg
 // ---------------------------------------------------------------- parse-time checks ----------
 
 void check_set(const Script& s, const ScriptCommand& c) {
-  ViewSettings dummy;
+  ViewSettings scratch;  // validation only: the script's settings are applied when it runs
   try {
-    apply_setting(dummy, c.args[0], c.args[1]);
+    apply_setting(scratch, c.args[0], c.args[1]);
   } catch (const Error& e) {
     fail(fmt::format("{}: set: {}", s.where(c), e.what()));
   }

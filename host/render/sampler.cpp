@@ -128,8 +128,8 @@ Sampler::Sampler(cl::Runtime& rt) : rt_(rt) {
         halton3_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t3.size() * sizeof(float),
                                 const_cast<float*>(t3.data()));
         const nf_uint zero = 0;
-        dummy_vis_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(zero),
-                                  const_cast<nf_uint*>(&zero));
+        no_vis_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(zero),
+                               const_cast<nf_uint*>(&zero));
       },
       "Sampler: creating buffers");
   set_kurt_table({});
@@ -233,7 +233,7 @@ void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightIn
   k.setArg(5, lum.quantum());
   k.setArg(6, lum.info_buffer());
   k.setArg(7, lum.chroma());
-  k.setArg(8, li.visibility && li.vis_words > 0 ? *li.visibility : dummy_vis_);
+  k.setArg(8, li.visibility && li.vis_words > 0 ? *li.visibility : no_vis_);
   k.setArg(9, halton3_);
   k.setArg(10, kurt_);
   k.setArg(11, kurt_count_);

@@ -92,7 +92,7 @@ class Sampler {
   ::cl::NDRange local_range(::cl::Kernel& k) const;
 
   cl::Runtime& rt_;
-  ::cl::Buffer halton3_, dummy_vis_, kurt_;
+  ::cl::Buffer halton3_, no_vis_, kurt_;
   int kurt_count_ = 0;
   ::cl::Buffer rgb_, a_, k_, a_inst_;
   int count_ = 0, capacity_ = 0;
