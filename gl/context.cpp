@@ -37,10 +37,7 @@ const char* egl_error_name(EGLint e) {
 class EglContext final : public Context {
  public:
   EglContext() {
-    if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
-      fail("headless OpenGL: EGL_MESA_platform_surfaceless is not offered by this EGL (Mesa needed)");
-    display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (display_ == EGL_NO_DISPLAY) egl_fail("eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA)");
+    open_display();
     EGLint major = 0, minor = 0;
     if (!eglInitialize(display_, &major, &minor)) egl_fail("eglInitialize");
     if (!eglBindAPI(EGL_OPENGL_API)) egl_fail("eglBindAPI(EGL_OPENGL_API)");
@@ -65,9 +62,31 @@ class EglContext final : public Context {
   void make_current() override {
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) egl_fail("eglMakeCurrent");
   }
-  const char* backend() const override { return "egl-surfaceless"; }
+  const char* backend() const override { return backend_; }
 
  private:
+  // Mesa offers a surfaceless platform (llvmpipe here); NVIDIA's EGL offers its GPUs as EGL devices
+  // instead. Either gives a display without a window system.
+  void open_display() {
+    if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")) {
+      display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+      if (display_ == EGL_NO_DISPLAY) egl_fail("eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA)");
+      backend_ = "egl-surfaceless";
+      return;
+    }
+    if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_device") ||
+        !epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration"))
+      fail("headless OpenGL: this EGL offers neither EGL_MESA_platform_surfaceless nor EGL_EXT_platform_device "
+           "(install Mesa's EGL: run scripts/setup.sh)");
+    EGLDeviceEXT devices[8] = {};
+    EGLint count = 0;
+    if (!eglQueryDevicesEXT(8, devices, &count) || count < 1) egl_fail("eglQueryDevicesEXT");
+    display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
+    if (display_ == EGL_NO_DISPLAY) egl_fail("eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT)");
+    backend_ = "egl-device";
+  }
+
+  const char* backend_ = "egl";
   EGLDisplay display_ = EGL_NO_DISPLAY;
   EGLContext context_ = EGL_NO_CONTEXT;
 };

@@ -15,7 +15,7 @@ class Context {
  public:
   virtual ~Context() = default;
   virtual void make_current() = 0;
-  virtual const char* backend() const = 0;  // "egl-surfaceless" or "glfw"
+  virtual const char* backend() const = 0;  // "egl-surfaceless" (Mesa), "egl-device" (NVIDIA) or "glfw"
   ContextInfo info();                        // queries GL strings (makes this context current)
 };
 
