@@ -1063,22 +1063,39 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
     }
 }
 
+/* The pixel cache (docs/sampling.md "Pixel cache"): A_m(p) of every image, [m * stride + p], kept
+   across progressive frames of the same view and instance. OFF: not used; WRITE: computed and
+   stored; READ: loaded instead of computed (the same floats, so the frame is bit-identical). */
+#define NF_CACHE_OFF 0
+#define NF_CACHE_WRITE 1
+#define NF_CACHE_READ 2
+
 /* Fused pass: per pixel, loop 1 over the images accumulates A(p) (Step 1), loop 2 balances,
    draws and shades (Step 2). A_m(p) of up to NF_FUSED_CACHE images stays in private memory, so
-   B_m(p) is recomputed only for images that get samples. */
-__kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* rgb, __global uint* kcount) {
+   B_m(p) is recomputed only for images that get samples; with the pixel cache, loop 1 reads
+   A_m(p) from the last frame instead of computing it. */
+__kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* rgb, __global uint* kcount,
+                       __global float* am_cache, const int cache_mode, const int cache_stride) {
   const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   NfCtx c;
   if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first, kurt, kurt_count))) return;
   const int M = L.num_images;
-  const int cached = M <= NF_FUSED_CACHE;
+  const int priv = M <= NF_FUSED_CACHE;
+  const int shared = cache_mode != NF_CACHE_OFF;
   vf am[NF_FUSED_CACHE];
   vf A = (vf)(0.0f);
   for (int m = 0; m < M; ++m) {
-    NfBox b;
-    const vf a = nf_prepare(&c, &L, m, sat, quantum, info, &b);
-    if (cached) am[m] = a;
+    __global float* slot = am_cache + (size_t)m * (size_t)cache_stride + first;
+    vf a;
+    if (cache_mode == NF_CACHE_READ) {
+      a = VLOAD(slot);
+    } else {
+      NfBox b;
+      a = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      if (cache_mode == NF_CACHE_WRITE) VSTORE(a, slot);
+    }
+    if (priv) am[m] = a;
     A += a;
   }
   if (!ANY(A > 0.0f)) return;
@@ -1088,8 +1105,8 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     NfBox b;
     vf Am, inv_p;
     vi K;
-    if (cached) {
-      Am = am[m];
+    if (priv || shared) {
+      Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
       if (!ANY(Am > 0.0f)) continue;
       K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;

@@ -264,6 +264,38 @@ TEST(RenderFrame, ChangesRestartTheAccumulation) {
   EXPECT_THROW(r->set_luminaire_intensity(0, -1.0), nf::Error);
 }
 
+// The pixel cache (docs/sampling.md "Pixel cache") through the whole frame: a renderer that keeps
+// A_m(p) across frames and one that recomputes it give bit-identical images through progressive
+// frames, a camera move and a luminaire move (each must invalidate it; a stale cache would differ).
+TEST(RenderFrame, PixelCacheGivesIdenticalFramesThroughChanges) {
+  auto cached = make_renderer(default_scene("shadowmaps", 48, 27), 0.125);
+  auto plain = make_renderer(default_scene("shadowmaps", 48, 27), 0.125);
+  auto s = plain->settings();
+  s.sampling.pixel_cache_mib = 0;
+  plain->set_settings(s);
+  auto same = [&](const std::string& what) {
+    for (int f = 0; f < 2; ++f) {
+      cached->render_frame();
+      plain->render_frame();
+    }
+    const Image a = cached->accumulated(), b = plain->accumulated();
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    EXPECT_TRUE(a.pixels == b.pixels) << what;
+    EXPECT_GT(*std::max_element(a.pixels.begin(), a.pixels.end()), 0.0f) << what;
+  };
+  same("still view");
+  auto c = cached->camera();
+  c.position += glm::dvec3(0.3, 0.1, 0.0);
+  cached->set_camera(c);
+  plain->set_camera(c);
+  same("after a camera move");
+  glm::dmat4 m = cached->luminaire_transform(1);
+  m[3][0] -= 0.2;
+  cached->set_luminaire_transform(1, m);
+  plain->set_luminaire_transform(1, m);
+  same("after a luminaire move");
+}
+
 // ---------------------------------------------------------------- the luminaire itself -------
 
 // The panel facing down (-y) at the origin, seen from 1 m below; a small box hides part of it.

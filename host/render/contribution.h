@@ -37,6 +37,9 @@ struct FrameInputs {
   // The camera of the surfaces (pixel p = (p mod width, p / width)); the environment shows itself
   // through the pixels without a surface. nullptr: no background.
   const scene::Camera* camera = nullptr;
+  // Changes whenever `surfaces` get new contents (camera, Step 0); 0 = unknown. Contributions may
+  // keep per-pixel state across frames with the same version (docs/sampling.md "Pixel cache").
+  std::uint64_t view_version = 0;
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

@@ -262,6 +262,7 @@ void Renderer::update_view(StepTimes& t) {
     cl::check(e.err(), "uploading the surfaces");
   }
   t.surfaces_upload_ms += timer.ms();
+  ++view_version_;
   view_dirty_ = false;
 }
 
@@ -333,7 +334,7 @@ const StepTimes& Renderer::render_frame() {
   const auto ls = lights();
   const FrameInputs in{
       *rt_, surfaces_buf_, count, settings_, settings_.sampling.frame + static_cast<std::uint32_t>(frames_),
-      ls,   &camera_};
+      ls,   &camera_,       view_version_};
   frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
   contribution_frames_.clear();
   for (auto& c : contributions_) {

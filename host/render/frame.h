@@ -171,6 +171,7 @@ class Renderer {
   std::vector<PixelKind> kinds_;
   LuminaireView view_;
   ::cl::Buffer surfaces_buf_;
+  std::uint64_t view_version_ = 0;  // counts the surfaces' uploads (FrameInputs::view_version)
   std::size_t surfaces_bytes_ = 0;
   std::vector<::cl::Buffer> vis_bufs_;
   std::vector<std::size_t> vis_sizes_;

@@ -38,6 +38,7 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   f.sampling.search_depth = r.search_depth;
   f.sampling.seed = r.seed;
   f.sampling.lanes = r.lanes;
+  f.sampling.pixel_cache_mib = r.pixel_cache;
   f.visibility = parse_visibility(r.visibility, "render.visibility");
   f.shadow_map_size = r.shadow_map_size;
   f.tonemap = r.tonemap;
@@ -60,6 +61,7 @@ scene::RenderSettings render_settings(const FrameSettings& f) {
   r.shadow_map_size = f.shadow_map_size;
   r.seed = p.seed;
   r.lanes = p.lanes;
+  r.pixel_cache = p.pixel_cache_mib;
   r.tonemap = f.tonemap;
   return r;
 }

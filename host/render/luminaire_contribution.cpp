@@ -21,7 +21,7 @@ void LuminaireContribution::prepare(const FrameInputs& in) {
 }
 
 ContributionFrame LuminaireContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
-  const FrameStats fs = sampler_.run(in.surfaces, in.count, in.lights, frame_sampling(in));
+  const FrameStats fs = sampler_.run(in.surfaces, in.count, in.lights, frame_sampling(in), in.view_version);
   ContributionFrame f;
   f.step1_ms = fs.step1_ms;
   f.step2_ms = fs.step2_ms;
@@ -35,9 +35,10 @@ ContributionFrame LuminaireContribution::add(const FrameInputs& in, std::vector<
   return f;
 }
 
-// The sampler's outputs: radiance float4, A, per-instance A and K per surface.
+// The sampler's outputs: radiance float4, A, per-instance A and K per surface; the pixel cache.
 std::size_t LuminaireContribution::device_bytes() const {
-  return static_cast<std::size_t>(sampler_.count()) * (4 * sizeof(float) + 2 * sizeof(float) + sizeof(std::uint32_t));
+  return static_cast<std::size_t>(sampler_.count()) * (4 * sizeof(float) + 2 * sizeof(float) + sizeof(std::uint32_t)) +
+         sampler_.cache_bytes();
 }
 
 }  // namespace nf::render

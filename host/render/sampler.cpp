@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <climits>
+#include <utility>
 #include <cmath>
 #include <numeric>
 
@@ -130,6 +131,7 @@ Sampler::Sampler(cl::Runtime& rt) : rt_(rt) {
         const nf_uint zero = 0;
         no_vis_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(zero),
                                const_cast<nf_uint*>(&zero));
+        no_cache_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, sizeof(float));
       },
       "Sampler: creating buffers");
   set_kurt_table({});
@@ -241,6 +243,63 @@ void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightIn
 
 FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
                         const SamplingSettings& s) {
+  return run(surfaces, count, lights, s, 0);
+}
+
+namespace {
+
+constexpr int kCacheOff = 0, kCacheWrite = 1, kCacheRead = 2;  // NF_CACHE_* of kernels/lightfield.cl
+constexpr int kCacheAlign = 16;                                 // the widest lane count
+
+int cache_stride(int count) { return (count + kCacheAlign - 1) / kCacheAlign * kCacheAlign; }
+
+// What A_m(p) depends on besides the surfaces: the luminaire, the instance's transform and the
+// method's box (method, band, lanes through the build options).
+std::string cache_key(std::uint64_t view_version, int count, const LightInstance& li, const std::string& opts,
+                      const SamplingSettings& s) {
+  std::string key = fmt::format("{}/{}/{}/{}/{}/", view_version, count, static_cast<const void*>(li.luminaire),
+                                to_string(s.method), s.band);
+  const auto* bytes = reinterpret_cast<const unsigned char*>(&li.instance);
+  for (std::size_t i = 0; i < sizeof(NfInstance); ++i) key += fmt::format("{:02x}", bytes[i]);
+  return key + opts;
+}
+
+}  // namespace
+
+std::size_t Sampler::cache_bytes() const {
+  std::size_t b = 0;
+  for (const auto& c : cache_) b += c.bytes;
+  return b;
+}
+
+int Sampler::bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, int count, int images, bool enabled) {
+  const int stride = cache_stride(count);
+  if (cache_.size() <= i) cache_.resize(i + 1);
+  PixelCache& c = cache_[i];
+  int mode = kCacheOff;
+  if (enabled) {
+    const std::size_t need = static_cast<std::size_t>(images) * static_cast<std::size_t>(stride) * sizeof(float);
+    if (c.bytes != need) {
+      c = PixelCache{};
+      cl_call([&] { c.am = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, need); }, "Sampler: pixel cache buffer");
+      c.bytes = need;
+    }
+    mode = c.key == key ? kCacheRead : kCacheWrite;
+    if (mode == kCacheWrite) {
+      c.key.clear();
+      c.pending = key;
+    }
+  } else {
+    c = PixelCache{};
+  }
+  k.setArg(kSpecificArgs + 3, mode == kCacheOff ? no_cache_ : c.am);
+  k.setArg(kSpecificArgs + 4, mode);
+  k.setArg(kSpecificArgs + 5, stride);
+  return mode;
+}
+
+FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
+                        const SamplingSettings& s, std::uint64_t view_version) {
   s.validate();
   if (count < 0) fail(fmt::format("Sampler::run: negative surface count {}", count));
   Timer timer;
@@ -265,7 +324,17 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
   const ::cl::NDRange global = global_range(count, L);
   const ::cl::NDRange global1 = global_range(count, 1);
   const bool several = lights.size() > 1;
-  for (const LightInstance& li : lights) {
+  // The pixel cache holds every instance or none: its budget covers them all.
+  std::size_t cache_need = 0;
+  for (const LightInstance& li : lights)
+    if (li.luminaire)
+      cache_need += static_cast<std::size_t>(li.luminaire->num_images()) *
+                    static_cast<std::size_t>(cache_stride(count)) * sizeof(float);
+  const bool use_cache = view_version != 0 && s.structure == Structure::fused &&
+                         cache_need <= static_cast<std::size_t>(s.pixel_cache_mib) << 20;
+  if (!use_cache) cache_.clear();
+  for (std::size_t li_index = 0; li_index < lights.size(); ++li_index) {
+    const LightInstance& li = lights[li_index];
     if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
     const DeviceLuminaire& lum = *li.luminaire;
     const bool vis = li.visibility != nullptr && li.vis_words > 0;
@@ -278,6 +347,10 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
       k.setArg(kSpecificArgs, a_);
       k.setArg(kSpecificArgs + 1, rgb_);
       k.setArg(kSpecificArgs + 2, k_);
+      const int mode = bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count,
+                                  lum.num_images(), use_cache);
+      st.cache_reads += mode == kCacheRead ? 1 : 0;
+      st.cache_writes += mode == kCacheWrite ? 1 : 0;
       step2.push_back(rt_.launch(k, global, local_range(k)));
       continue;
     }
@@ -320,6 +393,8 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     }
   }
   cl_call([&] { q.finish(); }, "Sampler: waiting for the device");
+  for (auto& c : cache_)
+    if (!c.pending.empty()) c.key = std::exchange(c.pending, std::string());
   for (const auto& e : step1) st.step1_ms += cl::Runtime::event_ms(e);
   for (const auto& e : step2) st.step2_ms += cl::Runtime::event_ms(e);
   for (const auto& e : clears) st.other_ms += cl::Runtime::event_ms(e);

@@ -42,6 +42,8 @@ struct FrameStats {
   double other_ms = 0.0;  // clears, instance accumulation
   double wall_ms = 0.0;   // host wall clock of run(), including the final queue finish
   int launches = 0;
+  int cache_reads = 0;   // instances whose A_m(p) came from the pixel cache
+  int cache_writes = 0;  // instances whose A_m(p) was computed and stored in it
   double kernel_ms() const { return step1_ms + step2_ms + other_ms; }
 };
 
@@ -65,6 +67,14 @@ class Sampler {
   std::vector<float> read_a();
   std::vector<std::uint32_t> read_k();
   std::uint64_t total_samples();  // sum of read_k()
+
+  // With a non-zero `view_version` (the surfaces' contents version, render::FrameInputs), run()
+  // keeps A_m(p) of every instance on the device and reuses it while the version, the instance and
+  // the settings it depends on stay the same, within SamplingSettings::pixel_cache_mib
+  // (docs/sampling.md "Pixel cache"). The images are bit-identical with and without it.
+  FrameStats run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
+                 const SamplingSettings& settings, std::uint64_t view_version);
+  std::size_t cache_bytes() const;  // device bytes the pixel cache holds
 
   // Debug (tests): `n` samples of image m for one surface as the kernels draw them (sample index
   // k = 0..n-1 of the chosen sequence), with the search's evaluation counts.
@@ -97,6 +107,16 @@ class Sampler {
   ::cl::Buffer rgb_, a_, k_, a_inst_;
   int count_ = 0, capacity_ = 0;
   std::map<std::string, ::cl::Kernel> kernels_;
+  struct PixelCache {
+    ::cl::Buffer am;  // float [num_images x stride]
+    std::size_t bytes = 0;
+    std::string key;      // what the stored A_m(p) were computed for; empty: nothing stored
+    std::string pending;  // the key of a write in flight, valid once the frame has finished
+  };
+  std::vector<PixelCache> cache_;  // one per light instance
+  ::cl::Buffer no_cache_;
+  // Sets the pixel-cache arguments of lf_fused for instance i; returns the mode (kernels/lightfield.cl).
+  int bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, int count, int images, bool enabled);
 };
 
 // Uploads surfaces into a new read-only device buffer.

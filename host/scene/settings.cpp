@@ -131,6 +131,10 @@ std::vector<Setting> declare() {
             if (v != 0 && v != 1 && v != 4 && v != 8 && v != 16)
               w.fail(fmt::format("must be 0 (automatic), 1, 4, 8 or 16, got {}", v));
           }),
+      integer(
+          "pixel_cache", "pixel_cache", 0, 1048576, "luminaires", R,
+          "MiB of device memory for A_m(p) kept across progressive frames (0 = recompute every frame)",
+          [](auto& r) -> auto& { return r.pixel_cache; }),
       choice(
           "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is"}, "environment", R,
           "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling",

@@ -32,6 +32,7 @@ struct RenderSettings {
   int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
   std::uint32_t seed = 1;                 // sampler seed (random, halton-scrambled)
   int lanes = 0;                          // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
+  int pixel_cache = 1024;                 // MiB for A_m(p) kept across progressive frames; 0 = off
   TonemapParams tonemap;                  // exposure, gamma
   // environment (docs/environment.md)
   std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is
