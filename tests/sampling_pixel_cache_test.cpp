@@ -70,8 +70,8 @@ class PixelCache : public ::testing::TestWithParam<Case> {};
 TEST_P(PixelCache, IdenticalFramesAndExactInvalidation) {
   const Case c = GetParam();
   nf::cl::Runtime rt;
-  auto l = make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, c.images_x, c.images_y, 10, 8,
-                          0.1, 0.02, 0.24, false);
+  auto l = make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, c.images_x, c.images_y, 10, 8, 0.1,
+                          0.02, 0.24, false);
   fill_random(l, 11);
   const auto pc = lum::precompute(l, 1);
   DeviceLuminaire dl(rt, pc);
@@ -138,8 +138,8 @@ TEST_P(PixelCache, IdenticalFramesAndExactInvalidation) {
 
 TEST(PixelCacheBudget, AboveTheBudgetItRecomputes) {
   nf::cl::Runtime rt;
-  auto l = make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, 3, 2, 10, 8, 0.1, 0.02, 0.24,
-                          false);
+  auto l =
+      make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, 3, 2, 10, 8, 0.1, 0.02, 0.24, false);
   fill_random(l, 3);
   const auto pc = lum::precompute(l, 1);
   DeviceLuminaire dl(rt, pc);
@@ -167,11 +167,10 @@ TEST(PixelCacheBudget, AboveTheBudgetItRecomputes) {
   EXPECT_EQ(sampler.cache_bytes(), 6u * 262144u * sizeof(float));
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, PixelCache,
-                         ::testing::Values(Case{3, 2, 1}, Case{3, 2, 16}, Case{12, 11, 4}),
+INSTANTIATE_TEST_SUITE_P(Shapes, PixelCache, ::testing::Values(Case{3, 2, 1}, Case{3, 2, 16}, Case{12, 11, 4}),
                          [](const auto& param_info) {
-                           return std::to_string(param_info.param.images_x * param_info.param.images_y) + "images_lanes" +
-                                  std::to_string(param_info.param.lanes);
+                           return std::to_string(param_info.param.images_x * param_info.param.images_y) +
+                                  "images_lanes" + std::to_string(param_info.param.lanes);
                          });
 
 }  // namespace

@@ -1,5 +1,8 @@
 // nearfield probe FILE [--points PTS] [--method M --spp K --seed S | --reference]
 //                      [--quantity irradiance|scalar]
+// nearfield probe FILE --grid "ox,oy,oz;ux,uy,uz;vx,vy,vz" [--spacing P] [--csv OUT.csv] [--png OUT.png]
+//   illuminance on the EN 12464-1 grid of a rectangle (docs/illuminance-grid.md): a summary on
+//   stdout, the table as CSV, a false-colour picture with a scale bar.
 // Reads lines "x y z nx ny nz" (luminaire frame, metres; '#' starts a comment; blank lines are
 // skipped) from PTS or stdin and prints one line "E_R E_G E_B" (%.9g) per point on stdout,
 // nothing else (README.md). --reference uses the CPU quadrature (host/reference); the other
@@ -17,7 +20,10 @@
 #include <fmt/format.h>
 
 #include "app/command.h"
+#include "app/illuminance_grid.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "luminaire/io.h"
 #include "luminaire/precompute.h"
 #include "reference/irradiance.h"
@@ -34,6 +40,8 @@ struct ProbeOptions {
   std::uint32_t seed = 1;
   bool reference = false;
   std::string quantity = "irradiance";
+  std::string grid, csv, png;
+  double spacing = 0.0;
 };
 
 // Parses the probe points; errors name the source and the line.
@@ -98,7 +106,45 @@ std::vector<glm::dvec3> run_kernels(const ProbeOptions& o, const lum::Luminaire&
   return render::probe_estimate(rt, pc, surfaces, settings);
 }
 
+std::vector<glm::dvec3> estimate(const ProbeOptions& o, const lum::Luminaire& l, const std::vector<ref::Probe>& points,
+                                 bool scalar) {
+  const bool reference = o.reference || o.method == "reference";
+  if (reference)
+    return ref::reference_irradiance(l, points, scalar ? ref::Quantity::scalar : ref::Quantity::irradiance);
+  return run_kernels(o, l, points, scalar);
+}
+
+// Illuminance (the luminance channel Y of E) on the grid; outputs committed together.
+void run_grid(const ProbeOptions& o) {
+  if (o.quantity != "irradiance") fail("probe --grid: only --quantity irradiance applies to a grid");
+  if (!(o.spacing >= 0.0) || !std::isfinite(o.spacing)) fail("probe --spacing: must be a finite number >= 0");
+  const GridSpec spec = [&] {
+    GridSpec g = parse_grid(o.grid, "probe --grid");
+    g.spacing = o.spacing;
+    return g;
+  }();
+  const GridPoints g = grid_points(spec);
+  const lum::Luminaire l = lum::read_luminaire(o.file);
+  const auto rgb = estimate(o, l, g.points, false);
+  std::vector<double> e;
+  for (const auto& v : rgb) e.push_back(0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z);  // Y of Rec. 709 primaries
+  OutputTransaction tx;
+  if (!o.csv.empty()) write_text(tx, o.csv, grid_csv(g, e, "lx"));
+  if (!o.png.empty()) write_png(tx, o.png, grid_picture(g, e));
+  tx.commit();
+  const GridSummary s = summarize(e);
+  std::fputs(fmt::format("grid {} x {} points, spacing {:.4g} m; E mean {:.6g}, min {:.6g}, max {:.6g}, "
+                         "U0 = min/mean {:.4g} (lux when the luminaire's values are cd/m^2)\n",
+                         g.nu, g.nv, g.spacing, s.mean, s.min, s.max, s.uniformity)
+                 .c_str(),
+             stdout);
+}
+
 void run_probe(const ProbeOptions& o) {
+  if (!o.grid.empty() && !o.points.empty()) fail("probe: --grid and --points exclude each other");
+  if (o.grid.empty() && (!o.csv.empty() || !o.png.empty() || o.spacing != 0.0))
+    fail("probe: --csv, --png and --spacing apply to --grid only");
+  if (!o.grid.empty()) return run_grid(o);
   if (o.quantity != "irradiance" && o.quantity != "scalar")
     fail(fmt::format("probe: --quantity must be irradiance or scalar, got '{}'", o.quantity));
   const bool scalar = o.quantity == "scalar";
@@ -139,6 +185,12 @@ const CommandRegistration reg("probe", [](CLI::App& app) {
   cmd->add_option("--quantity", o.quantity, "irradiance: E(p, n); scalar: I(p), normal ignored")
       ->capture_default_str()
       ->check(CLI::IsMember({"irradiance", "scalar"}));
+  cmd->add_option("--grid", o.grid,
+                  "Illuminance on the EN 12464-1 grid of the rectangle 'ox,oy,oz;ux,uy,uz;vx,vy,vz' (corner, "
+                  "edges; lit side along u x v) instead of points");
+  cmd->add_option("--spacing", o.spacing, "Grid spacing in metres (default: EN 12464-1, 0.2 * 5^log10(d))");
+  cmd->add_option("--csv", o.csv, "With --grid: write the grid's values as CSV");
+  cmd->add_option("--png", o.png, "With --grid: write a false-colour picture with a scale bar");
   cmd->callback([] { run_probe(o); });
 });
 

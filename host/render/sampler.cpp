@@ -3,9 +3,9 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <climits>
-#include <utility>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -249,7 +249,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
 namespace {
 
 constexpr int kCacheOff = 0, kCacheWrite = 1, kCacheRead = 2;  // NF_CACHE_* of kernels/lightfield.cl
-constexpr int kCacheAlign = 16;                                 // the widest lane count
+constexpr int kCacheAlign = 16;                                // the widest lane count
 
 int cache_stride(int count) { return (count + kCacheAlign - 1) / kCacheAlign * kCacheAlign; }
 
@@ -347,8 +347,8 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
       k.setArg(kSpecificArgs, a_);
       k.setArg(kSpecificArgs + 1, rgb_);
       k.setArg(kSpecificArgs + 2, k_);
-      const int mode = bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count,
-                                  lum.num_images(), use_cache);
+      const int mode =
+          bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count, lum.num_images(), use_cache);
       st.cache_reads += mode == kCacheRead ? 1 : 0;
       st.cache_writes += mode == kCacheWrite ? 1 : 0;
       step2.push_back(rt_.launch(k, global, local_range(k)));
