@@ -75,6 +75,9 @@ VsglSettings vsgl_settings(const FrameSettings& f) {
     fail(fmt::format("rsm_size: must be a power of two >= 2, got {}", s.rsm_size));
   if (s.count < 1) fail(fmt::format("vsgl_count: must be >= 1, got {}", s.count));
   if (!(s.k > 0.0) || !std::isfinite(s.k)) fail(fmt::format("vsgl_k: must be > 0, got {}", s.k));
+  if (d.vsgl_shadowed != 0)
+    fail(fmt::format("vsgl_shadowed: only 0 is implemented (indirect light is unshadowed, docs/indirect.md), got {}",
+                     d.vsgl_shadowed));
   return s;
 }
 

@@ -180,8 +180,8 @@ std::vector<Setting> declare() {
           "stratified point set warped to the VSGL centres",
           [](auto& r) -> auto& { return r.vsgl_points; }),
       integer(
-          "vsgl_shadowed", "vsgl_shadowed", 0, 0, "indirect", R,
-          "VSGLs with shadow maps (only 0 so far: indirect light is unshadowed)",
+          "vsgl_shadowed", "vsgl_shadowed", 0, 4096, "indirect", R,
+          "VSGLs with shadow maps; only 0 (unshadowed) is implemented, others are refused",
           [](auto& r) -> auto& { return r.vsgl_shadowed; }),
       positive_real(
           "exposure", "tonemap/exposure", 1e300, "display", D, "tone mapping exposure (> 0)",
