@@ -173,6 +173,51 @@ int main(int argc, char** argv) {
         rows.push_back(row);
       }
 
+    // The paper's Fig. 1 picture: the PDF of instance 0's RSM (log grey) with the square footprint
+    // (2^l texels per side about x_i) of each of its N_v = 256 kernels, per kernel kind.
+    if (!o.images.empty())
+      for (const std::string kernel : {"point", "integral"}) {
+        frame("vsgl", kernel, 256);
+        auto* v = dynamic_cast<nf::render::VsglContribution*>(renderer.contribution("indirect"));
+        const auto q0 = v->read_level(0, 0, 0);
+        const int n = o.rsm;
+        double mean = 0, mx = 0;
+        for (const auto& t : q0) {
+          mean += static_cast<double>(t.w) / static_cast<double>(q0.size());
+          mx = std::max(mx, static_cast<double>(t.w));
+        }
+        nf::Image img(n, n, 3);
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x) {
+            const double p = q0[static_cast<std::size_t>(y * n + x)].w;
+            const double g = mean > 0 ? std::log1p(p / mean) / std::log1p(mx / mean) : 0.0;
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = static_cast<float>(0.8 * g);
+          }
+        for (int i = 0; i < 256; ++i) {
+          const NfVsgl& g = v->vsgls()[static_cast<std::size_t>(i)];
+          const double cx = static_cast<double>(g.u) * n, cy = static_cast<double>(g.v) * n,
+                       h = 0.5 * std::pow(2.0, static_cast<double>(g.level));
+          const int x0 = static_cast<int>(std::floor(cx - h)), x1 = static_cast<int>(std::ceil(cx + h)) - 1;
+          const int y0 = static_cast<int>(std::floor(cy - h)), y1 = static_cast<int>(std::ceil(cy + h)) - 1;
+          auto put = [&](int x, int y) {
+            if (x < 0 || y < 0 || x >= n || y >= n) return;
+            img.at(x, y, 0) = 1.0f;
+            img.at(x, y, 1) = 0.35f;
+            img.at(x, y, 2) = 0.1f;
+          };
+          for (int x = x0; x <= x1; ++x) {
+            put(x, y0);
+            put(x, y1);
+          }
+          for (int y = y0; y <= y1; ++y) {
+            put(x0, y);
+            put(x1, y);
+          }
+        }
+        fs::create_directories(o.images);
+        nf::write_png(fs::path(o.images) / fmt::format("vsgl-kernels-{}.png", kernel), img);
+      }
+
     // Flicker: luminaire 0 steps along x; VSGL image = frame(vsgl) - frame(none) at each position.
     std::vector<std::pair<std::string, double>> flicker;
     if (o.flicker_frames > 1) {
