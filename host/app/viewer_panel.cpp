@@ -180,6 +180,14 @@ void Panel::rendering() {
     a.set("shadow_map_size", std::to_string(std::clamp(sms, 16, 4096)));
   int seed = static_cast<int>(p.seed);
   if (ImGui::InputInt("seed", &seed)) a.set("seed", std::to_string(std::max(seed, 0)));
+  // one-bounce indirect light (docs/indirect.md); the other vsgl_* settings: `set NAME VALUE`
+  combo("indirect", "indirect", f.declared.indirect, {"none", "vsgl"});
+  if (f.declared.indirect == "vsgl") {
+    combo("VSGL kernel", "vsgl_kernel", f.declared.vsgl_kernel, {"point", "integral"});
+    int nv = f.declared.vsgl_count;
+    if (ImGui::InputInt("VSGLs per luminaire", &nv, 64, 256))
+      a.set("vsgl_count", std::to_string(std::clamp(nv, 64, 4096)));
+  }
   float scale = static_cast<float>(s.settings.scale);
   if (ImGui::SliderFloat("resolution scale", &scale, static_cast<float>(kMinScale), 1.0f, "%.3f"))
     a.set("scale", fmt::format("{}", scale));

@@ -2,6 +2,7 @@
 
 #include "render/environment_contribution.h"
 #include "render/luminaire_contribution.h"
+#include "render/vsgl_contribution.h"
 
 namespace nf::render {
 
@@ -15,6 +16,9 @@ const std::vector<ContributionKind>& contribution_kinds() {
        [](const ContributionContext& c) {
          return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment);
        }},
+      {"indirect",
+       [](const ContributionContext& c) { return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl"; },
+       [](const ContributionContext& c) { return std::make_unique<VsglContribution>(c.rt, c.scene); }},
   };
   return kinds;
 }

@@ -72,10 +72,26 @@ Renderer::Renderer(scene::Scene scene, RendererOptions options)
   }
   for (std::size_t i = 0; i < scene_.luminaires.size(); ++i)
     instances_.push_back({scene_.luminaires[i].to_world, scene_.luminaires[i].intensity, set.source_of[i]});
+  make_contributions_now();
+  resize(camera_.width, camera_.height);
+}
+
+// The contributions the scene and the settings need (render/contributions.cpp). Some hold GL
+// objects, so the context is current while the old ones go.
+void Renderer::make_contributions_now() {
+  context_->make_current();
+  contributions_.clear();
+  contribution_frames_.clear();
+  luminaires_ = nullptr;
   contributions_ = make_contributions(ContributionContext{*rt_, scene_, settings_});
   for (auto& c : contributions_)
     if (auto* l = dynamic_cast<LuminaireContribution*>(c.get())) luminaires_ = l;
-  resize(camera_.width, camera_.height);
+}
+
+Contribution* Renderer::contribution(const std::string& name) const {
+  for (const auto& c : contributions_)
+    if (c->name() == name) return c.get();
+  return nullptr;
 }
 
 Renderer::~Renderer() {
@@ -114,7 +130,12 @@ void Renderer::set_settings(const FrameSettings& s) {
   const bool changes_image = rebuild || effect == scene::SettingEffect::restart ||
                              s.sampling.frame != settings_.sampling.frame || s.sampling.band != settings_.sampling.band;
   if (changes_image) warm_ = false;
+  const bool remake = s.declared.indirect != settings_.declared.indirect;  // a contribution comes or goes
   settings_ = s;
+  if (remake) {
+    make_contributions_now();
+    warm_ = false;
+  }
   if (rebuild) {
     if (step0_) {
       context_->make_current();

@@ -127,6 +127,8 @@ class Renderer {
   const LuminaireSource& source(std::size_t s) const { return sources_.at(s); }
   std::size_t source_of(std::size_t instance) const { return instances_.at(instance).source; }
   const gl::Step0* step0() const { return step0_.get(); }
+  // The contribution called `name` ("luminaires", "environment", "indirect"), nullptr if not built.
+  Contribution* contribution(const std::string& name) const;
   cl::Runtime& runtime() { return *rt_; }
   std::string gl_renderer() const { return gl_renderer_; }
   const scene::Scene& scene() const { return scene_; }
@@ -145,6 +147,7 @@ class Renderer {
   void upload_visibility(StepTimes& t);
   void resize(int width, int height);
   void stage() const;
+  void make_contributions_now();
 
   scene::Scene scene_;
   RendererOptions options_;

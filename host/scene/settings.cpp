@@ -158,6 +158,35 @@ std::vector<Setting> declare() {
           "env_background", "env_background", {"show", "hide"}, "environment", R,
           "camera rays that miss the geometry see the environment (show) or black (hide)",
           [](auto& r) -> auto& { return r.env_background; }),
+      choice(
+          "indirect", "indirect", {"none", "vsgl"}, "indirect", R,
+          "one-bounce indirect light from the luminaires: none or VSGLs (Tokuyoshi 2016)",
+          [](auto& r) -> auto& { return r.indirect; }),
+      integer(
+          "rsm_size", "rsm_size", 16, 4096, "indirect", R, "texels per side of each luminaire's RSM (a power of two)",
+          [](auto& r) -> auto& { return r.rsm_size; },
+          [](double v, const JsonWhere& w) {
+            const auto i = static_cast<long long>(v);
+            if ((i & (i - 1)) != 0) w.fail(fmt::format("must be a power of two, got {}", v));
+          }),
+      integer(
+          "vsgl_count", "vsgl_count", 64, 4096, "indirect", R, "N_v: VSGLs per luminaire instance",
+          [](auto& r) -> auto& { return r.vsgl_count; }),
+      choice(
+          "vsgl_kernel", "vsgl_kernel", {"point", "integral"}, "indirect", R,
+          "VSGL kernel size: point density (Eq. 1, totals Eq. 4) or PDF integral (Eq. 3, totals Eq. 5)",
+          [](auto& r) -> auto& { return r.vsgl_kernel; }),
+      positive_real(
+          "vsgl_k", "vsgl_k", 1e6, "indirect", R, "K: PDF mass K/N_v per integral kernel (Eq. 3)",
+          [](auto& r) -> auto& { return r.vsgl_k; }),
+      choice(
+          "vsgl_points", "vsgl_points", {"hammersley", "fibonacci"}, "indirect", R,
+          "stratified point set warped to the VSGL centres",
+          [](auto& r) -> auto& { return r.vsgl_points; }),
+      integer(
+          "vsgl_shadowed", "vsgl_shadowed", 0, 4096, "indirect", R,
+          "VSGLs with shadow maps; only 0 (unshadowed) is implemented, others are refused",
+          [](auto& r) -> auto& { return r.vsgl_shadowed; }),
       positive_real(
           "exposure", "tonemap/exposure", 1e300, "display", D, "tone mapping exposure (> 0)",
           [](auto& r) -> auto& { return r.tonemap.exposure; }),

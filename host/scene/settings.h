@@ -41,6 +41,14 @@ struct RenderSettings {
   std::string env_filter = "box";       // box | gauss4 (pyramid filter)
   std::string env_diffuse = "sh";       // sh | mc
   std::string env_background = "show";  // show | hide
+  // one-bounce indirect light (docs/indirect.md)
+  std::string indirect = "none";          // none | vsgl
+  int rsm_size = 256;                     // RSM texels per side, a power of two 16..4096
+  int vsgl_count = 256;                   // N_v, VSGLs per luminaire instance, 64..4096
+  std::string vsgl_kernel = "integral";   // point (Eq. 1, 4) | integral (Eq. 3, 5)
+  double vsgl_k = 1.0;                    // K of Eq. 3 (integral kernels)
+  std::string vsgl_points = "hammersley";  // hammersley | fibonacci (stratified centres)
+  int vsgl_shadowed = 0;                  // VSGLs with shadow maps (only 0 is implemented: unshadowed)
 };
 
 // What a change of a setting invalidates, in increasing order: `display` only re-tone-maps the

@@ -1,0 +1,292 @@
+// One-bounce indirect light with VSGLs (docs/indirect.md) against the CPU reference renderer's
+// one-bounce image (`--bounces 1 --only indirect`, per-sample shadow rays, docs/reference.md):
+// the default scene at a small resolution, N_v in --counts, `point` and `integral` kernels. The
+// VSGL image is the frame with indirect = vsgl minus the same frame with indirect = none (the
+// direct part is deterministic: same settings, same frame index), so it holds the indirect light
+// alone. Errors as in bench/README.md (mean CIE Lab dE76 after tone mapping both images with the
+// reference's operator, relative MSE on linear radiance, relative bias of the total light).
+// Flicker: luminaire 0 moves by --step metres along x per frame for --flicker-frames frames; the
+// mean frame-to-frame relative change sum |I_t - I_{t-1}| / sum I_{t-1} of the VSGL image, for
+// both kernels (the motion itself changes the image too, equally for both).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include "bench/sweep/machine.h"
+#include "bench/sweep/metrics.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/tonemap.h"
+#include "core/timer.h"
+#include "render/frame.h"
+#include "render/reference_run.h"
+#include "render/vsgl_contribution.h"
+#include "scene/scene.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Options {
+  bool quick = false;
+  std::string out = NEARFIELD_BENCH_DIR "/results";
+  std::string cache = NEARFIELD_BENCH_DIR "/results/cache";
+  std::string counts = "64,256,1024";
+  int width = 160, height = 90, ref_spp = 256, spp = 64, rsm = 256, flicker_frames = 60;
+  double step = 0.01;
+  bool refresh = false;
+  std::string images;  // folder for PNGs of the reference and each VSGL image ("" = none)
+};
+
+std::vector<int> parse_list(const std::string& s) {
+  std::vector<int> v;
+  std::size_t pos = 0;
+  while (pos < s.size()) {
+    const std::size_t end = std::min(s.find(',', pos), s.size());
+    v.push_back(std::stoi(s.substr(pos, end - pos)));
+    pos = end + 1;
+  }
+  return v;
+}
+
+nf::Image difference(const nf::Image& a, const nf::Image& b) {
+  nf::Image d = a;
+  for (std::size_t i = 0; i < d.pixels.size(); ++i) d.pixels[i] = a.pixels[i] - b.pixels[i];
+  return d;
+}
+
+struct Row {
+  std::string kernel;
+  int count = 0;
+  nf::bench::ErrorMetrics e;
+  double build_ms = 0, rsm_ms = 0, light_ms = 0, pyramid_ms = 0, generate_ms = 0, shade_ms = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("VSGL one-bounce indirect light against the CPU reference (docs/indirect.md)");
+  Options o;
+  app.add_flag("--quick", o.quick, "Smoke test: 64x36, N_v 64 and 256, 5 flicker frames");
+  app.add_option("--out", o.out, "Folder for vsgl.csv and vsgl.md");
+  app.add_option("--cache", o.cache, "Reference cache folder");
+  app.add_option("--counts", o.counts, "N_v values, comma-separated");
+  app.add_option("--ref-spp", o.ref_spp, "Reference samples per pixel");
+  app.add_option("--spp", o.spp, "Light-field samples per RSM texel and pixel");
+  app.add_option("--rsm", o.rsm, "RSM size");
+  app.add_option("--width", o.width, "Image width");
+  app.add_option("--height", o.height, "Image height");
+  app.add_option("--flicker-frames", o.flicker_frames, "Frames of the moving-luminaire flicker run (0: none)");
+  app.add_option("--step", o.step, "Luminaire step per frame (m)");
+  app.add_flag("--refresh-references", o.refresh, "Render the references even when cached");
+  app.add_option("--images", o.images, "Write PNGs (reference's tone mapping) of the reference and each VSGL image here");
+  CLI11_PARSE(app, argc, argv);
+  if (o.quick) {
+    o.width = 64;
+    o.height = 36;
+    o.ref_spp = std::min(o.ref_spp, 32);
+    o.counts = "64,256";
+    o.flicker_frames = std::min(o.flicker_frames, 5);
+    o.rsm = 64;
+  }
+  try {
+    nf::Timer total;
+    nf::scene::Scene scene = nf::scene::load_scene(NEARFIELD_SOURCE_DIR "/scenes/default.json");
+    scene.camera.width = o.width;
+    scene.camera.height = o.height;
+    scene.render.visibility = "shadowmaps";
+    nf::ref::ReferenceSettings rs;
+    rs.spp = o.ref_spp;
+    rs.bounces = 1;
+    rs.only = nf::ref::Only::indirect;
+    rs.seed = 0x5eed;
+    const nf::render::ReferenceRun ref = nf::render::cached_reference(scene, rs, o.cache, "vsgl-default", o.refresh);
+    const auto valid = ref.result.valid_mask();
+    double var = 0, r2 = 0;
+    for (std::size_t i = 0; i < valid.size(); ++i) {
+      if (!valid[i]) continue;
+      var += ref.result.variance.pixels[i];
+      const float* p = &ref.result.image.pixels[3 * i];
+      const double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+      r2 += y * y;
+    }
+    std::vector<std::string> notes;
+    notes.push_back(fmt::format("reference {}x{} x {} spp one bounce, indirect only, key {}, {}{:.1f} s; its noise "
+                                "rel. MSE {:.2e}",
+                                o.width, o.height, o.ref_spp, ref.key, ref.from_cache ? "cached, rendered in " : "",
+                                ref.result.stats.render_ms / 1000.0, r2 > 0 ? var / r2 : 0.0));
+    const nf::bench::ReferenceImage cmp(ref.result.image, valid, scene.render.tonemap);
+
+    nf::render::Renderer renderer(scene, {});
+    auto frame = [&](const std::string& indirect, const std::string& kernel, int count) {
+      nf::render::FrameSettings f = renderer.settings();
+      f.sampling.spp = o.spp;
+      f.declared.indirect = indirect;
+      f.declared.vsgl_kernel = kernel;
+      f.declared.vsgl_count = count;
+      f.declared.rsm_size = o.rsm;
+      renderer.set_settings(f);
+      renderer.reset();
+      renderer.render_frame();
+      return renderer.last_frame();
+    };
+    const nf::Image direct = frame("none", "integral", 256);
+    auto save = [&](const std::string& name, const nf::Image& img) {
+      if (o.images.empty()) return;
+      fs::create_directories(o.images);
+      nf::write_png(fs::path(o.images) / (name + ".png"), nf::tonemap_with_mean(img, cmp.mean(), scene.render.tonemap));
+      nf::write_exr(fs::path(o.images) / (name + ".exr"), img);
+    };
+    save("reference", ref.result.image);
+    std::vector<Row> rows;
+    for (const std::string kernel : {"point", "integral"})
+      for (int count : parse_list(o.counts)) {
+        const nf::Image all = frame("vsgl", kernel, count);
+        auto* v = dynamic_cast<nf::render::VsglContribution*>(renderer.contribution("indirect"));
+        Row row;
+        row.kernel = kernel;
+        row.count = count;
+        const nf::Image only = difference(all, direct);
+        row.e = cmp.compare(only);
+        save(fmt::format("vsgl-{}-{}", kernel, count), only);
+        const auto& t = v->build_times();
+        row.build_ms = t.total();
+        row.rsm_ms = t.rsm_ms;
+        row.light_ms = t.light_ms;
+        row.pyramid_ms = t.pyramid_ms;
+        row.generate_ms = t.generate_ms;
+        for (const auto& c : renderer.stats().contributions)
+          if (c.name == "indirect") row.shade_ms = c.step2_ms;
+        std::printf("%-8s N_v %5d  dE %.3f  relMSE %.3e  bias %+.4f  build %.0f ms (rsm %.0f light %.0f pyr %.0f gen "
+                    "%.1f) shade %.0f ms\n",
+                    kernel.c_str(), count, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.build_ms, row.rsm_ms,
+                    row.light_ms, row.pyramid_ms, row.generate_ms, row.shade_ms);
+        std::fflush(stdout);
+        rows.push_back(row);
+      }
+
+    // The paper's Fig. 1 picture: the PDF of instance 0's RSM (log grey) with the square footprint
+    // (2^l texels per side about x_i) of each of its N_v = 256 kernels, per kernel kind.
+    if (!o.images.empty())
+      for (const std::string kernel : {"point", "integral"}) {
+        frame("vsgl", kernel, 256);
+        auto* v = dynamic_cast<nf::render::VsglContribution*>(renderer.contribution("indirect"));
+        const auto q0 = v->read_level(0, 0, 0);
+        const int n = o.rsm;
+        double mean = 0, mx = 0;
+        for (const auto& t : q0) {
+          mean += static_cast<double>(t.w) / static_cast<double>(q0.size());
+          mx = std::max(mx, static_cast<double>(t.w));
+        }
+        nf::Image img(n, n, 3);
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x) {
+            const double p = q0[static_cast<std::size_t>(y * n + x)].w;
+            const double g = mean > 0 ? std::log1p(p / mean) / std::log1p(mx / mean) : 0.0;
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = static_cast<float>(0.8 * g);
+          }
+        for (int i = 0; i < 256; ++i) {
+          const NfVsgl& g = v->vsgls()[static_cast<std::size_t>(i)];
+          const double cx = static_cast<double>(g.u) * n, cy = static_cast<double>(g.v) * n,
+                       h = 0.5 * std::pow(2.0, static_cast<double>(g.level));
+          const int x0 = static_cast<int>(std::floor(cx - h)), x1 = static_cast<int>(std::ceil(cx + h)) - 1;
+          const int y0 = static_cast<int>(std::floor(cy - h)), y1 = static_cast<int>(std::ceil(cy + h)) - 1;
+          auto put = [&](int x, int y) {
+            if (x < 0 || y < 0 || x >= n || y >= n) return;
+            img.at(x, y, 0) = 1.0f;
+            img.at(x, y, 1) = 0.35f;
+            img.at(x, y, 2) = 0.1f;
+          };
+          for (int x = x0; x <= x1; ++x) {
+            put(x, y0);
+            put(x, y1);
+          }
+          for (int y = y0; y <= y1; ++y) {
+            put(x0, y);
+            put(x1, y);
+          }
+        }
+        fs::create_directories(o.images);
+        nf::write_png(fs::path(o.images) / fmt::format("vsgl-kernels-{}.png", kernel), img);
+      }
+
+    // Flicker: luminaire 0 steps along x; VSGL image = frame(vsgl) - frame(none) at each position.
+    std::vector<std::pair<std::string, double>> flicker;
+    if (o.flicker_frames > 1) {
+      const glm::dmat4 start = renderer.luminaire_transform(0);
+      for (const std::string kernel : {"point", "integral"}) {
+        nf::Image prev;
+        double sum = 0;
+        int n = 0;
+        for (int k = 0; k < o.flicker_frames; ++k) {
+          glm::dmat4 m = start;
+          m[3][0] += o.step * k;
+          renderer.set_luminaire_transform(0, m);
+          const nf::Image d = frame("none", kernel, 256);
+          const nf::Image img = difference(frame("vsgl", kernel, 256), d);
+          if (k > 0) {
+            double num = 0, den = 0;
+            for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+              num += std::abs(img.pixels[i] - prev.pixels[i]);
+              den += std::abs(prev.pixels[i]);
+            }
+            sum += den > 0 ? num / den : 0.0;
+            ++n;
+          }
+          prev = img;
+        }
+        renderer.set_luminaire_transform(0, start);
+        flicker.emplace_back(kernel, n > 0 ? sum / n : 0.0);
+        std::printf("flicker %-8s N_v 256: mean frame-to-frame relative change %.4f (%d steps of %.3f m)\n",
+                    kernel.c_str(), flicker.back().second, n, o.step);
+      }
+    }
+
+    const nf::bench::MachineInfo mi = nf::bench::collect_machine(renderer.runtime());
+    fs::create_directories(o.out);
+    std::ofstream csv(fs::path(o.out) / "vsgl.csv");
+    csv << "kernel,count,delta_e,delta_e_max,rel_mse,rel_bias,build_ms,rsm_ms,light_ms,pyramid_ms,generate_ms,"
+           "shade_ms\n";
+    for (const auto& r : rows)
+      csv << fmt::format("{},{},{:.6f},{:.6f},{:.6e},{:.6e},{:.1f},{:.1f},{:.1f},{:.1f},{:.2f},{:.1f}\n", r.kernel,
+                         r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms, r.rsm_ms,
+                         r.light_ms, r.pyramid_ms, r.generate_ms, r.shade_ms);
+    std::ofstream md(fs::path(o.out) / "vsgl.md");
+    md << "# VSGL one-bounce indirect light against the CPU reference\n\n";
+    md << fmt::format("Date {}, {} ({} cores), {}; GL {}; {}x{}, RSM {}^2, K = {} per texel; {}; total {:.0f} s.\n\n",
+                      mi.date_utc, mi.cpu_model, mi.cores, mi.cl_device.name, renderer.gl_renderer(), o.width,
+                      o.height, o.rsm, o.spp, o.quick ? "quick mode" : "full", total.ms() / 1000.0);
+    for (const auto& n : notes) md << "- " << n << "\n";
+    md << "\n| kernel | N_v | mean dE76 | max dE76 | rel. MSE | rel. bias | build ms (RSM / light / pyramid / "
+          "generate) | shade ms |\n|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : rows)
+      md << fmt::format("| {} | {} | {:.3f} | {:.2f} | {:.3e} | {:+.4f} | {:.0f} ({:.0f} / {:.0f} / {:.0f} / {:.1f}) | "
+                        "{:.0f} |\n",
+                        r.kernel, r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms,
+                        r.rsm_ms, r.light_ms, r.pyramid_ms, r.generate_ms, r.shade_ms);
+    if (!flicker.empty()) {
+      md << fmt::format("\nFlicker (N_v = 256, luminaire 0 moving {} m per frame, {} frames): mean frame-to-frame "
+                        "relative change\n\n",
+                        o.step, o.flicker_frames);
+      for (const auto& [k, f] : flicker) md << fmt::format("- {}: {:.4f}\n", k, f);
+    }
+    for (const auto& n : notes) std::printf("%s\n", n.c_str());
+    for (const auto& r : rows)
+      if (!std::isfinite(r.e.delta_e) || !std::isfinite(r.e.rel_mse)) {
+        std::fprintf(stderr, "non-finite error for %s %d\n", r.kernel.c_str(), r.count);
+        return 1;
+      }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_vsgl: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,403 @@
+#include "render/vsgl_contribution.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include "cl/cl_error.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "gl/gbuffer.h"
+#include "gl/scene_gpu.h"
+#include "gl/shadow_maps.h"
+#include "render/kurt_table.h"
+
+namespace nf::render {
+
+static_assert(sizeof(NfVsgl) == 96, "NfVsgl layout (kernels/shared/vsgl.h)");
+static_assert(offsetof(NfVsgl, cs_r) == 48 && offsetof(NfVsgl, level) == 80, "NfVsgl layout");
+
+namespace {
+
+template <typename F>
+void cl_call(F&& f, const std::string& what) {
+  try {
+    f();
+  } catch (const ::cl::Error& e) {
+    cl::check(e.err(), what);
+  }
+}
+
+::cl::Buffer make_buffer(cl::Runtime& rt, cl_mem_flags flags, std::size_t bytes, const void* data,
+                         const std::string& what) {
+  ::cl::Buffer b;
+  cl_call([&] { b = ::cl::Buffer(rt.context(), flags, std::max<std::size_t>(bytes, 16), const_cast<void*>(data)); },
+          what);
+  return b;
+}
+
+template <typename T>
+::cl::Buffer upload(cl::Runtime& rt, const std::vector<T>& v, const std::string& what) {
+  if (v.empty()) return make_buffer(rt, CL_MEM_READ_WRITE, 16, nullptr, what);
+  return make_buffer(rt, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data(), what);
+}
+
+template <typename T>
+std::vector<T> download(cl::Runtime& rt, const ::cl::Buffer& b, std::size_t count, std::size_t first,
+                        const std::string& what) {
+  std::vector<T> out(count);
+  if (count > 0)
+    cl_call([&] { rt.queue().enqueueReadBuffer(b, CL_TRUE, first * sizeof(T), count * sizeof(T), out.data()); }, what);
+  return out;
+}
+
+cl_float4 f4(glm::dvec3 v) {
+  return cl_float4{{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z), 0.0f}};
+}
+
+std::string instance_bytes(const NfInstance& in) {
+  return std::string(reinterpret_cast<const char*>(&in), sizeof(NfInstance));
+}
+
+}  // namespace
+
+VsglSettings vsgl_settings(const FrameSettings& f) {
+  const auto& d = f.declared;
+  VsglSettings s;
+  s.rsm_size = d.rsm_size;
+  s.count = d.vsgl_count;
+  s.kernel = d.vsgl_kernel == "point" ? NF_VSGL_KERNEL_POINT : NF_VSGL_KERNEL_INTEGRAL;
+  s.k = d.vsgl_k;
+  s.points = d.vsgl_points == "fibonacci" ? NF_VSGL_POINTS_FIBONACCI : NF_VSGL_POINTS_HAMMERSLEY;
+  if (s.rsm_size < 2 || (s.rsm_size & (s.rsm_size - 1)) != 0)
+    fail(fmt::format("rsm_size: must be a power of two >= 2, got {}", s.rsm_size));
+  if (s.count < 1) fail(fmt::format("vsgl_count: must be >= 1, got {}", s.count));
+  if (!(s.k > 0.0) || !std::isfinite(s.k)) fail(fmt::format("vsgl_k: must be > 0, got {}", s.k));
+  if (d.vsgl_shadowed != 0)
+    fail(fmt::format("vsgl_shadowed: only 0 is implemented (indirect light is unshadowed, docs/indirect.md), got {}",
+                     d.vsgl_shadowed));
+  return s;
+}
+
+// The instance's world -> local map is rigid (Renderer checks): local = R p + t, so the world
+// position of a local point q is R^T (q - t) and a local direction d is R^T d.
+RsmView rsm_view(const NfLuminaire& lum, const NfInstance& in) {
+  glm::dmat3 r(0.0);
+  glm::dvec3 t(0.0);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) r[j][i] = in.to_local[4 * i + j];  // glm: column j, row i
+    t[i] = in.to_local[4 * i + 3];
+  }
+  const glm::dmat3 rt = glm::transpose(r);
+  const double cells_x = lum.count_x + lum.support - 1, cells_y = lum.count_y + lum.support - 1;
+  const glm::dvec3 centre(lum.basis_origin_x + 0.5 * cells_x * lum.cell_x,
+                          lum.basis_origin_y + 0.5 * cells_y * lum.cell_y, -static_cast<double>(lum.delta));
+  RsmView v;
+  v.origin = rt * (centre - t);
+  v.forward = glm::normalize(rt * glm::dvec3(0, 0, 1));
+  v.up = glm::normalize(rt * glm::dvec3(0, 1, 0));
+  // The frustum that holds every direction the light field emits in (docs/indirect.md "RSM"),
+  // made symmetric about +z so that the RSM is a plain square camera.
+  const gl::ShadowFrustum f = gl::shadow_frustum_for(lum);
+  v.tan_half = std::max({std::abs(f.left), std::abs(f.right), std::abs(f.bottom), std::abs(f.top)});
+  return v;
+}
+
+VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene)
+    : rt_(rt), scene_(scene), sampler_(rt) {
+  kurt_ = kurt_table(scene.geometry.materials);
+  kurt_buf_ = upload(rt_, kurt_, "uploading the Kurt material table (indirect)");
+}
+
+VsglContribution::~VsglContribution() = default;
+
+const std::vector<NfSurface>& VsglContribution::rsm_surfaces(int i) const {
+  return rsms_.at(static_cast<std::size_t>(i)).surfaces;
+}
+const RsmView& VsglContribution::rsm(int i) const { return rsms_.at(static_cast<std::size_t>(i)).view; }
+
+void VsglContribution::ensure_gl(int size) {
+  if (!scene_gpu_) scene_gpu_ = std::make_unique<gl::SceneGpu>(scene_.geometry);
+  if (!gbuffer_ || gbuffer_->width() != size) {
+    gbuffer_.reset();
+    gbuffer_ = std::make_unique<gl::GBuffer>(size, size);
+  }
+}
+
+::cl::Buffer VsglContribution::pyramid_buffer(int size) {
+  std::size_t texels = 0;
+  for (int s = size; s >= 1; s /= 2) texels += static_cast<std::size_t>(s) * static_cast<std::size_t>(s);
+  return make_buffer(rt_, CL_MEM_READ_WRITE, texels * NF_VSGL_QUANTITIES * sizeof(cl_float4), nullptr,
+                     "VSGL pyramid buffer");
+}
+
+void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size,
+                                  const RsmView& view, const ::cl::Buffer& pyr) {
+  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_texels");
+  const float pix = static_cast<float>(2.0 * view.tan_half / size);
+  cl_call(
+      [&] {
+        k.setArg(0, surf);
+        k.setArg(1, irradiance);
+        k.setArg(2, kurt_buf_);
+        k.setArg(3, static_cast<int>(kurt_.size()));
+        k.setArg(4, size);
+        k.setArg(5, f4(view.origin));
+        k.setArg(6, f4(view.forward));
+        k.setArg(7, pix);
+        k.setArg(8, pyr);
+      },
+      "VSGL texel kernel arguments");
+  rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
+}
+
+std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size) {
+  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_pyramid_down");
+  std::vector<int> off{0};
+  for (int s = size; s > 1; s /= 2) {
+    const int src = off.back(), dst = src + s * s;
+    off.push_back(dst);
+    cl_call(
+        [&] {
+          k.setArg(0, pyr);
+          k.setArg(1, src);
+          k.setArg(2, s);
+          k.setArg(3, dst);
+        },
+        "VSGL pyramid kernel arguments");
+    rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(s / 2), static_cast<std::size_t>(s / 2)));
+  }
+  return off;
+}
+
+void VsglContribution::run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size,
+                                    glm::dvec3 origin, const VsglSettings& s, const ::cl::Buffer& out) {
+  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_generate");
+  const ::cl::Buffer off = upload(rt_, offsets, "VSGL pyramid offsets");
+  cl_call(
+      [&] {
+        k.setArg(0, pyr);
+        k.setArg(1, off);
+        k.setArg(2, size);
+        k.setArg(3, static_cast<int>(offsets.size()));
+        k.setArg(4, s.count);
+        k.setArg(5, s.kernel);
+        k.setArg(6, static_cast<float>(s.k));
+        k.setArg(7, s.points);
+        k.setArg(8, f4(origin));
+        k.setArg(9, out);
+      },
+      "VSGL generation kernel arguments");
+  rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(s.count)));
+  cl_call([&] { rt_.queue().finish(); }, "VSGL generation");
+}
+
+void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const ::cl::Buffer& vsgls, int nv,
+                                 const ::cl::Buffer& out) {
+  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_shade");
+  cl_call(
+      [&] {
+        k.setArg(0, surfaces);
+        k.setArg(1, count);
+        k.setArg(2, vsgls);
+        k.setArg(3, nv);
+        k.setArg(4, kurt_buf_);
+        k.setArg(5, static_cast<int>(kurt_.size()));
+        k.setArg(6, out);
+      },
+      "VSGL shading kernel arguments");
+  const ::cl::Event ev = rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(std::max(count, 1))));
+  cl_call([&] { ev.wait(); }, "VSGL shading kernel");
+}
+
+bool VsglContribution::build(const FrameInputs& in) {
+  const VsglSettings vs = vsgl_settings(in.settings);
+  SamplingSettings ss = in.settings.sampling;  // fixed frame index: the VSGLs do not flicker by themselves
+  std::string key = fmt::format("{} {} {} {} {} | {} | {}", vs.rsm_size, vs.count, vs.kernel, vs.k, vs.points,
+                                ss.describe(), ss.frame);
+  for (const auto& l : in.lights) key += instance_bytes(l.instance) + fmt::format("{}", static_cast<const void*>(l.luminaire));
+  if (key == key_) return false;
+  times_ = {};
+  const int size = vs.rsm_size;
+  const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+  rsms_.resize(in.lights.size());
+  for (std::size_t i = 0; i < in.lights.size(); ++i) {
+    Rsm& r = rsms_[i];
+    const LightInstance& li = in.lights[i];
+    // 1. the RSM: the G-buffer pass from the U grid's centre
+    Timer timer;
+    r.view = rsm_view(li.luminaire->params(), li.instance);
+    ensure_gl(size);
+    scene::Camera cam;
+    cam.position = r.view.origin;
+    cam.target = r.view.origin + r.view.forward;
+    cam.up = r.view.up;
+    cam.fov_y_deg = 2.0 * std::atan(r.view.tan_half) * 180.0 / 3.14159265358979323846;
+    cam.width = cam.height = size;
+    cam.near = 0.01;
+    gbuffer_->render(*scene_gpu_, cam);
+    r.surfaces = gbuffer_->read_surfaces(scene_.geometry.materials, cam);
+    std::vector<NfSurface> irr = r.surfaces;
+    for (auto& s : irr) s.brdf = NF_BRDF_IRRADIANCE;
+    r.surf_buf = upload(rt_, r.surfaces, "uploading an RSM");
+    r.irr_buf = upload(rt_, irr, "uploading an RSM");
+    times_.rsm_ms += timer.ms();
+    // 2. E(y_j) by the light-field estimator (no visibility: the RSM holds what the luminaire's
+    //    centre sees)
+    timer.reset();
+    LightInstance one = li;
+    one.visibility = nullptr;
+    one.vis_words = 0;
+    sampler_.run(r.irr_buf, static_cast<int>(texels), std::span<const LightInstance>(&one, 1), ss);
+    times_.light_ms += timer.ms();
+    // 3. quantities and pyramid
+    timer.reset();
+    r.pyr = pyramid_buffer(size);
+    run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr);
+    r.offsets = run_pyramid(r.pyr, size);
+    cl_call([&] { rt_.queue().finish(); }, "VSGL pyramid");
+    times_.pyramid_ms += timer.ms();
+    // keep E for introspection (the sampler's buffer is reused by the next instance)
+    r.irr_buf = make_buffer(rt_, CL_MEM_READ_WRITE, texels * sizeof(cl_float4), nullptr, "RSM irradiance copy");
+    cl_call([&] { rt_.queue().enqueueCopyBuffer(sampler_.radiance(), r.irr_buf, 0, 0, texels * sizeof(cl_float4)); },
+            "copying the RSM irradiance");
+  }
+  // 4. VSGLs of every instance, one buffer
+  Timer timer;
+  const std::size_t nv = static_cast<std::size_t>(vs.count) * rsms_.size();
+  vsgl_buf_ = make_buffer(rt_, CL_MEM_READ_WRITE, nv * sizeof(NfVsgl), nullptr, "VSGL buffer");
+  vsgls_.clear();
+  for (std::size_t i = 0; i < rsms_.size(); ++i) {
+    const ::cl::Buffer part = make_buffer(rt_, CL_MEM_READ_WRITE, static_cast<std::size_t>(vs.count) * sizeof(NfVsgl),
+                                          nullptr, "VSGL buffer");
+    run_generate(rsms_[i].pyr, rsms_[i].offsets, size, rsms_[i].view.origin, vs, part);
+    const auto v = download<NfVsgl>(rt_, part, static_cast<std::size_t>(vs.count), 0, "reading the VSGLs");
+    vsgls_.insert(vsgls_.end(), v.begin(), v.end());
+  }
+  if (!vsgls_.empty())
+    cl_call(
+        [&] { rt_.queue().enqueueWriteBuffer(vsgl_buf_, CL_TRUE, 0, vsgls_.size() * sizeof(NfVsgl), vsgls_.data()); },
+        "uploading the VSGLs");
+  times_.generate_ms = timer.ms();
+  pyr_bytes_ = 0;
+  for (int s = size; s >= 1; s /= 2)
+    pyr_bytes_ += static_cast<std::size_t>(s) * static_cast<std::size_t>(s) * NF_VSGL_QUANTITIES * sizeof(cl_float4);
+  pyr_bytes_ = pyr_bytes_ * rsms_.size() + rsms_.size() * texels * (2 * sizeof(NfSurface) + sizeof(cl_float4));
+  key_ = key;
+  return true;
+}
+
+std::vector<glm::vec4> VsglContribution::read_irradiance(int i) {
+  const Rsm& r = rsms_.at(static_cast<std::size_t>(i));
+  return download<glm::vec4>(rt_, r.irr_buf, r.surfaces.size(), 0, "reading the RSM irradiance");
+}
+
+std::vector<glm::vec4> VsglContribution::read_level(int i, int level, int q) {
+  const Rsm& r = rsms_.at(static_cast<std::size_t>(i));
+  const int size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(r.surfaces.size())))) >> level;
+  const auto all = download<glm::vec4>(rt_, r.pyr, static_cast<std::size_t>(size) * size * NF_VSGL_QUANTITIES,
+                                       static_cast<std::size_t>(r.offsets.at(static_cast<std::size_t>(level))) *
+                                           NF_VSGL_QUANTITIES,
+                                       "reading a VSGL pyramid level");
+  std::vector<glm::vec4> out(static_cast<std::size_t>(size) * size);
+  for (std::size_t t = 0; t < out.size(); ++t) out[t] = all[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(q)];
+  return out;
+}
+
+std::vector<NfVsgl> VsglContribution::generate(const std::vector<glm::vec4>& level0, int size, glm::dvec3 origin,
+                                               const VsglSettings& s, std::vector<std::vector<glm::vec4>>* levels_out) {
+  const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+  if (size < 1 || (size & (size - 1)) != 0 || level0.size() != texels * NF_VSGL_QUANTITIES)
+    fail(fmt::format("VSGL generation: {} quantities for a {}^2 RSM", level0.size(), size));
+  const ::cl::Buffer pyr = pyramid_buffer(size);
+  cl_call([&] { rt_.queue().enqueueWriteBuffer(pyr, CL_TRUE, 0, level0.size() * sizeof(cl_float4), level0.data()); },
+          "uploading RSM quantities");
+  const std::vector<int> off = run_pyramid(pyr, size);
+  if (levels_out) {
+    levels_out->clear();
+    for (std::size_t k = 0; k < off.size(); ++k) {
+      const std::size_t n = static_cast<std::size_t>(size >> k);
+      levels_out->push_back(download<glm::vec4>(rt_, pyr, n * n * NF_VSGL_QUANTITIES,
+                                                static_cast<std::size_t>(off[k]) * NF_VSGL_QUANTITIES,
+                                                "reading a VSGL pyramid level"));
+    }
+  }
+  const ::cl::Buffer out =
+      make_buffer(rt_, CL_MEM_READ_WRITE, static_cast<std::size_t>(s.count) * sizeof(NfVsgl), nullptr, "VSGL buffer");
+  run_generate(pyr, off, size, origin, s, out);
+  return download<NfVsgl>(rt_, out, static_cast<std::size_t>(s.count), 0, "reading the VSGLs");
+}
+
+std::vector<glm::vec4> VsglContribution::texel_quantities(const std::vector<NfSurface>& surfaces,
+                                                          const std::vector<glm::vec4>& e, int size,
+                                                          const RsmView& view) {
+  const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+  if (surfaces.size() != texels || e.size() != texels)
+    fail(fmt::format("VSGL texels: {} surfaces and {} irradiances for a {}^2 RSM", surfaces.size(), e.size(), size));
+  const ::cl::Buffer sb = upload(rt_, surfaces, "uploading RSM texels");
+  const ::cl::Buffer eb = upload(rt_, e, "uploading RSM irradiance");
+  const ::cl::Buffer pyr = pyramid_buffer(size);
+  run_texels(sb, eb, size, view, pyr);
+  return download<glm::vec4>(rt_, pyr, texels * NF_VSGL_QUANTITIES, 0, "reading RSM quantities");
+}
+
+std::vector<glm::vec4> VsglContribution::shade(const std::vector<NfSurface>& surfaces,
+                                               const std::vector<NfVsgl>& vsgls) {
+  const ::cl::Buffer sb = upload(rt_, surfaces, "uploading surfaces");
+  const ::cl::Buffer vb = upload(rt_, vsgls, "uploading VSGLs");
+  const ::cl::Buffer out =
+      make_buffer(rt_, CL_MEM_READ_WRITE, std::max<std::size_t>(surfaces.size(), 1) * sizeof(cl_float4), nullptr,
+                  "VSGL output buffer");
+  run_shade(sb, static_cast<int>(surfaces.size()), vb, static_cast<int>(vsgls.size()), out);
+  return download<glm::vec4>(rt_, out, surfaces.size(), 0, "reading the VSGL radiance");
+}
+
+// Compiles the kernels (and the estimator's, through one texel) so that no frame times a compiler.
+void VsglContribution::prepare(const FrameInputs& in) {
+  (void)vsgl_settings(in.settings);
+  rt_.kernel("vsgl.cl", "vsgl_texels");
+  rt_.kernel("vsgl.cl", "vsgl_pyramid_down");
+  rt_.kernel("vsgl.cl", "vsgl_generate");
+  rt_.kernel("vsgl.cl", "vsgl_shade");
+  NfSurface s{};
+  s.brdf = NF_BRDF_IRRADIANCE;
+  const ::cl::Buffer one = upload_surfaces(rt_, {s});
+  for (const auto& l : in.lights) {
+    LightInstance li = l;
+    li.visibility = nullptr;
+    li.vis_words = 0;
+    sampler_.run(one, 1, std::span<const LightInstance>(&li, 1), in.settings.sampling);
+    break;
+  }
+}
+
+ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
+  ContributionFrame f;
+  Timer wall;
+  if (build(in)) f.step1_ms = times_.total();  // the build shows in the frame that did it
+  const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
+  if (out_bytes_ != n * sizeof(cl_float4)) {
+    out_ = make_buffer(rt_, CL_MEM_READ_WRITE, n * sizeof(cl_float4), nullptr, "VSGL output buffer");
+    out_bytes_ = n * sizeof(cl_float4);
+  }
+  Timer shade_timer;
+  run_shade(in.surfaces, in.count, vsgl_buf_, static_cast<int>(vsgls_.size()), out_);
+  f.step2_ms = shade_timer.ms();
+  f.wall_ms = wall.ms();
+  Timer readback;
+  const auto rgb = download<glm::vec4>(rt_, out_, static_cast<std::size_t>(std::max(in.count, 0)), 0,
+                                       "reading the VSGL radiance");
+  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
+  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) * vsgls_.size();
+  f.readback_ms = readback.ms();
+  return f;
+}
+
+std::size_t VsglContribution::device_bytes() const {
+  return pyr_bytes_ + vsgls_.size() * sizeof(NfVsgl) + out_bytes_ + kurt_.size() * sizeof(NfKurtMaterial);
+}
+
+}  // namespace nf::render

@@ -1,0 +1,428 @@
+/* One-bounce glossy indirect light with virtual spherical Gaussian lights (Tokuyoshi 2016,
+   docs/indirect.md). Per luminaire instance:
+     vsgl_texels         RSM texels lit by the light-field estimator -> the App. B.3 quantities
+     vsgl_pyramid_down   the pyramid of those quantities, by 2x2 sums
+     vsgl_generate       N_v kernel centres by hierarchical warping of the PDF image, their mip
+                         level (Eq. 1 or Eq. 3) and the VSGL of each (App. B.1, B.2; Eq. 4 or 5)
+   and per frame
+     vsgl_shade          every camera pixel against every VSGL (App. C: Eq. 10-12, the diffuse
+                         2 c_in R_d / lambda_in form, the SG x ASG product integral for GGX).
+   Pyramid layout: level k (size S >> k, rows from the top) starts at texel offset off[k]; texel t
+   of the whole pyramid holds NF_VSGL_QUANTITIES float4 at pyr[NF_VSGL_QUANTITIES t + q]. */
+#define NF_LANES 1
+#include "common/brdf.h"
+#include "common/random.h"
+#include "common/sg.h"
+#include "shared/vsgl.h"
+
+#define NQ NF_VSGL_QUANTITIES
+
+NF_INLINE float nf_lum(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+/* VPL reflectances of a surface (docs/indirect.md "VPL materials"): diffuse R_d and specular R_s
+   (RGB) and the GGX lobe sharpness lambda_h = 2 / alpha^2 (App. A.1). lambert: R_d = base; ggx
+   (the glTF model of common/brdf.h at normal incidence): F0 = mix(0.04, base, metallic),
+   R_s = F0, R_d = (1 - F0)(1 - metallic) base; kurt: R_d = kd of the table, no specular VPL. */
+NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt, int kurt_count, float3* rd, float3* rs,
+                               float* lambda_h) {
+  const float3 base = (float3)(s.base_r, s.base_g, s.base_b);
+  *rd = (float3)(0.0f);
+  *rs = (float3)(0.0f);
+  *lambda_h = 0.0f;
+  if (s.brdf == NF_BRDF_LAMBERT) {
+    *rd = base;
+  } else if (s.brdf == NF_BRDF_GGX) {
+    const float3 f0 = mix((float3)(0.04f), base, s.metallic);
+    *rs = f0;
+    *rd = ((float3)(1.0f) - f0) * (1.0f - s.metallic) * base;
+    const float a = fmax(s.roughness * s.roughness, 1e-3f);
+    *lambda_h = 2.0f / (a * a);
+  } else if (s.brdf == NF_BRDF_KURT) {
+    const int k = (int)s.metallic;
+    if (k >= 0 && k < kurt_count) *rd = (float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b);
+  }
+  *rd = fmax(*rd, (float3)(0.0f));
+  *rs = fmax(*rs, (float3)(0.0f));
+}
+
+/* One RSM texel (x, y) -> q0..q4 of level 0 (kernels/shared/vsgl.h).
+   Texel area (docs/indirect.md "Texel area"): the RSM is a perspective camera at `origin` looking
+   along `fwd` with square pixels of side `pix` at unit distance, so texel solid angle is
+   pix^2 cos^3(a) (a off axis) and its area on the surface A = pix^2 cos^3(a) r^2 / |n.w|,
+   |n.w| clamped to >= 0.05 (87 degrees; see the docs for the flux it drops).
+   Phi = E A, E the light-field estimator's irradiance on the texel (W m^-2, or the luminaire's
+   units x m^-2). The photon's incident direction w' is the direction to `origin` (the centre of
+   the luminaire's U grid), not the flux-weighted mean over the luminaire (docs/indirect.md). */
+__kernel void vsgl_texels(__global const NfSurface* surf, __global const float4* irradiance,
+                          __global const NfKurtMaterial* kurt, const int kurt_count, const int size, const float4 origin,
+                          const float4 fwd, const float pix, __global float4* pyr) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= size || y >= size) return;
+  const int t = y * size + x;
+  const NfSurface s = surf[t];
+  float4 q[NQ];
+  for (int k = 0; k < NQ; ++k) q[k] = (float4)(0.0f);
+  const float3 e = irradiance[t].xyz;
+  if (s.valid && all(isfinite(e))) {
+    const float3 p = (float3)(s.px, s.py, s.pz), n = normalize((float3)(s.nx, s.ny, s.nz));
+    const float3 yv = p - origin.xyz;
+    const float r2 = dot(yv, yv);
+    const float r = sqrt(r2);
+    const float3 wl = r > 0.0f ? -yv / r : n; /* towards the luminaire: the photon's w' reversed */
+    const float ca = r > 0.0f ? fmax(dot(yv / r, fwd.xyz), 0.0f) : 0.0f;
+    const float area = pix * pix * ca * ca * ca * r2 / fmax(fabs(dot(n, wl)), 0.05f);
+    float3 rd, rs;
+    float lh;
+    nf_vpl_material(s, kurt, kurt_count, &rd, &rs, &lh);
+    const float3 phi = fmax(e, (float3)(0.0f)) * area;
+    const float3 prd = phi * rd, prs = phi * rs;
+    const float wd = nf_lum(prd), ws = nf_lum(prs), w = wd + ws;
+    /* Toksvig (App. B.1): xi_bar = lambda / (lambda + 1) xi. Diffuse: xi = n, lambda_d = 2. */
+    const float3 xd = (2.0f / 3.0f) * n;
+    /* Specular: xi_s = the mirror direction of w' (2 (w'.n) n - w'), lambda_s = lambda_h / (4 |xi_s.n|). */
+    const float3 xs = 2.0f * dot(wl, n) * n - wl;
+    const float ls = lh / (4.0f * fmax(fabs(dot(xs, n)), 1e-3f));
+    const float3 xsb = (ls / (ls + 1.0f)) * xs;
+    q[0] = (float4)(prd, w);
+    q[1] = (float4)(prs, w * (r2 + area / 6.0f));
+    q[2] = (float4)(wd * xd, wd);
+    q[3] = (float4)(ws * xsb, ws);
+    q[4] = (float4)(w * yv, area);
+  }
+  for (int k = 0; k < NQ; ++k) pyr[NQ * t + k] = q[k];
+}
+
+/* Level k + 1 from level k: each texel is the sum of its 2x2 children (sizes are powers of two). */
+__kernel void vsgl_pyramid_down(__global float4* pyr, const int src_off, const int src_size, const int dst_off) {
+  const int x = get_global_id(0), y = get_global_id(1), ds = src_size / 2;
+  if (x >= ds || y >= ds) return;
+  for (int k = 0; k < NQ; ++k) {
+    float4 s = (float4)(0.0f);
+    for (int b = 0; b < 2; ++b)
+      for (int a = 0; a < 2; ++a) s += pyr[NQ * (src_off + (2 * y + b) * src_size + 2 * x + a) + k];
+    pyr[NQ * (dst_off + y * ds + x) + k] = s;
+  }
+}
+
+/* Texel (x, y) of level k, clamped to the level. */
+NF_INLINE float4 nf_vsgl_texel(__global const float4* pyr, __global const int* off, int size0, int k, int x, int y,
+                               int q) {
+  const int s = size0 >> k;
+  x = clamp(x, 0, s - 1);
+  y = clamp(y, 0, s - 1);
+  return pyr[NQ * (off[k] + y * s + x) + q];
+}
+
+/* Mean texel value of quantity q on level k around uv (bilinear between texel centres, clamped):
+   sums of level k divided by 4^k, i.e. the mipmap of the level-0 values. */
+NF_INLINE float4 nf_vsgl_bilinear(__global const float4* pyr, __global const int* off, int size0, int k, float2 uv,
+                                  int q) {
+  const int s = size0 >> k;
+  const float x = uv.x * (float)s - 0.5f, y = uv.y * (float)s - 0.5f;
+  const float x0 = floor(x), y0 = floor(y), fx = x - x0, fy = y - y0;
+  const int ix = (int)x0, iy = (int)y0;
+  const float4 a = nf_vsgl_texel(pyr, off, size0, k, ix, iy, q), b = nf_vsgl_texel(pyr, off, size0, k, ix + 1, iy, q);
+  const float4 c = nf_vsgl_texel(pyr, off, size0, k, ix, iy + 1, q),
+               d = nf_vsgl_texel(pyr, off, size0, k, ix + 1, iy + 1, q);
+  return mix(mix(a, b, fx), mix(c, d, fx), fy) * exp2(-2.0f * (float)k);
+}
+
+/* f_bar(uv, l): trilinear mipmap lookup at the continuous level l in [0, top]. */
+NF_INLINE float4 nf_vsgl_mip(__global const float4* pyr, __global const int* off, int size0, int levels, float2 uv,
+                             float l, int q) {
+  l = clamp(l, 0.0f, (float)(levels - 1));
+  const int k0 = min((int)l, levels - 1), k1 = min(k0 + 1, levels - 1);
+  const float t = l - (float)k0;
+  const float4 a = nf_vsgl_bilinear(pyr, off, size0, k0, uv, q);
+  if (t <= 0.0f || k1 == k0) return a;
+  return mix(a, nf_vsgl_bilinear(pyr, off, size0, k1, uv, q), t);
+}
+
+/* The PDF mass a kernel of level l at uv covers, 4^l p_bar(uv, l) / M = 4^l mean_P(uv, l) / T
+   (the left side of Eq. 3), T the total PDF weight. */
+NF_INLINE float nf_vsgl_mass(__global const float4* pyr, __global const int* off, int size0, int levels, float2 uv,
+                             float l, float total) {
+  return exp2(2.0f * l) * nf_vsgl_mip(pyr, off, size0, levels, uv, l, 0).w / total;
+}
+
+/* VSGL i of n (docs/indirect.md "Generation"):
+   1. x_i: point i of the stratified set (Hammersley or Fibonacci) warped down the PDF pyramid
+      (q0.w) level by level (Clarberg et al.'s hierarchical sample warping): at each 2x2 node the
+      row is chosen by the rows' sums, then the column within it, u rescaled each time; the last
+      residual u places x_i inside its texel. Density on [0, 1]^2: p(x) = M P_texel / T.
+   2. l_i: point, Eq. 1 with K = 1: 4^l / M = min(1 / (N p(x_i)), 1);
+           integral, Eq. 3: 4^l p_bar(x_i, l) / M = K / N by NF_VSGL_BISECTIONS bisection steps on
+           [0, top] (Algorithm 1).
+   3. totals of every quantity Q = f_bar(x_i, l_i) w_i with f_bar = M mean_Q:
+           point Eq. 4:    w_i = 1 / max(N p(x_i), 1)
+           integral Eq. 5: w_i = 1 / (N p_bar(x_i, l_i)), i.e. Q = T mean_Q / (N mean_P).
+   4. lobes (App. B.1): xi_bar = sum W xi_bar / sum W, xi = xi_bar / |xi_bar|,
+      lambda = |xi_bar| / (1 - |xi_bar|), c = (sum Phi R) / A(lambda), per RGB channel.
+      Position (App. B.2): mu = sum P y / sum P + origin; sigma^2 = (sum P (|y|^2 + A/6) / sum P -
+      |mu - origin|^2) / 2 per axis (the paper's total variance split over the two axes of a
+      planar Gaussian; docs/indirect.md). */
+__kernel void vsgl_generate(__global const float4* pyr, __global const int* off, const int size0, const int levels,
+                            const int n, const int kernel_kind, const float kk, const int points, const float4 origin,
+                            __global NfVsgl* out) {
+  const int i = get_global_id(0);
+  if (i >= n) return;
+  NfVsgl g;
+  g.mu_x = g.mu_y = g.mu_z = 0.0f;
+  g.sigma2 = 1.0f;
+  g.cd_r = g.cd_g = g.cd_b = 0.0f;
+  g.cs_r = g.cs_g = g.cs_b = 0.0f;
+  g.lambda_d = g.lambda_s = 0.0f;
+  g.xd_x = g.xd_y = g.xs_x = g.xs_y = 0.0f;
+  g.xd_z = g.xs_z = 1.0f;
+  g.u = g.v = 0.0f;
+  g.level = 0.0f;
+  g.mass = 0.0f;
+  g.power = 0.0f;
+  g.pad = 0.0f;
+  const int top = levels - 1;
+  const float total = nf_vsgl_texel(pyr, off, size0, top, 0, 0, 0).w;
+  if (!(total > 0.0f) || !isfinite(total)) {
+    out[i] = g;
+    return;
+  }
+  float2 u = points == NF_VSGL_POINTS_FIBONACCI ? nf_fibonacci((uint)i, (uint)n) : nf_hammersley((uint)i, (uint)n);
+  int px = 0, py = 0;
+  for (int k = top - 1; k >= 0; --k) {
+    const int cx = 2 * px, cy = 2 * py;
+    const float s00 = fmax(nf_vsgl_texel(pyr, off, size0, k, cx, cy, 0).w, 0.0f);
+    const float s10 = fmax(nf_vsgl_texel(pyr, off, size0, k, cx + 1, cy, 0).w, 0.0f);
+    const float s01 = fmax(nf_vsgl_texel(pyr, off, size0, k, cx, cy + 1, 0).w, 0.0f);
+    const float s11 = fmax(nf_vsgl_texel(pyr, off, size0, k, cx + 1, cy + 1, 0).w, 0.0f);
+    const float r0 = s00 + s10, r1 = s01 + s11;
+    int b = 0;
+    if (r0 + r1 > 0.0f) {
+      const float pr0 = r0 / (r0 + r1);
+      if (u.y < pr0 || r1 <= 0.0f) {
+        u.y = pr0 > 0.0f ? u.y / pr0 : 0.5f;
+      } else {
+        b = 1;
+        u.y = (u.y - pr0) / fmax(1.0f - pr0, 1e-30f);
+      }
+    }
+    const float c0 = b ? s01 : s00, c1 = b ? s11 : s10;
+    int a = 0;
+    if (c0 + c1 > 0.0f) {
+      const float pc0 = c0 / (c0 + c1);
+      if (u.x < pc0 || c1 <= 0.0f) {
+        u.x = pc0 > 0.0f ? u.x / pc0 : 0.5f;
+      } else {
+        a = 1;
+        u.x = (u.x - pc0) / fmax(1.0f - pc0, 1e-30f);
+      }
+    }
+    u = clamp(u, 0.0f, NF_ONE_MINUS_ULP);
+    px = cx + a;
+    py = cy + b;
+  }
+  const float fs = (float)size0, m = fs * fs;
+  const float2 x = (float2)(((float)px + u.x) / fs, ((float)py + u.y) / fs);
+  const float nn = (float)n;
+  float l, w4; /* level, and the factor turning mean_Q(x, l) into the kernel's total */
+  if (kernel_kind == NF_VSGL_KERNEL_POINT) {
+    const float ptex = nf_vsgl_texel(pyr, off, size0, 0, px, py, 0).w;
+    const float np = nn * m * ptex / total; /* N p(x_i) */
+    l = np > 1.0f ? 0.5f * log2(m / np) : (float)top;
+    l = clamp(l, 0.0f, (float)top);
+    w4 = m / fmax(np, 1.0f);
+  } else {
+    const float target = kk / nn;
+    float lo = 0.0f, hi = (float)top;
+    for (int it = 0; it < NF_VSGL_BISECTIONS; ++it) {
+      const float mid = 0.5f * (lo + hi);
+      if (nf_vsgl_mass(pyr, off, size0, levels, x, mid, total) < target)
+        lo = mid;
+      else
+        hi = mid;
+    }
+    l = 0.5f * (lo + hi);
+    const float mp = nf_vsgl_mip(pyr, off, size0, levels, x, l, 0).w;
+    w4 = mp > 0.0f ? total / (nn * mp) : 0.0f;
+  }
+  float4 q[NQ];
+  for (int k = 0; k < NQ; ++k) q[k] = nf_vsgl_mip(pyr, off, size0, levels, x, l, k) * w4;
+  g.u = x.x;
+  g.v = x.y;
+  g.level = l;
+  g.mass = nf_vsgl_mass(pyr, off, size0, levels, x, l, total);
+  const float pw = q[0].w;
+  if (!(pw > 0.0f) || !isfinite(pw)) {
+    out[i] = g;
+    return;
+  }
+  g.power = pw;
+  const float3 mu = q[4].xyz / pw;
+  const float var = q[1].w / pw - dot(mu, mu);
+  g.mu_x = mu.x + origin.x;
+  g.mu_y = mu.y + origin.y;
+  g.mu_z = mu.z + origin.z;
+  g.sigma2 = fmax(0.5f * var, 1e-10f * (1.0f + dot(mu, mu)));
+  for (int lobe = 0; lobe < 2; ++lobe) {
+    const float4 dq = lobe == 0 ? q[2] : q[3];
+    const float3 pc = lobe == 0 ? q[0].xyz : q[1].xyz;
+    if (!(dq.w > 0.0f)) continue;
+    const float3 xb = dq.xyz / dq.w;
+    const float len = clamp(length(xb), 0.0f, 1.0f - 1e-6f);
+    const float3 xi = len > 1e-12f ? xb / length(xb) : (float3)(0.0f, 0.0f, 1.0f);
+    const float lam = len / (1.0f - len);
+    const float3 c = fmax(pc, (float3)(0.0f)) / nf_sg_integral(lam);
+    if (lobe == 0) {
+      g.cd_r = c.x;
+      g.cd_g = c.y;
+      g.cd_b = c.z;
+      g.lambda_d = lam;
+      g.xd_x = xi.x;
+      g.xd_y = xi.y;
+      g.xd_z = xi.z;
+    } else {
+      g.cs_r = c.x;
+      g.cs_g = c.y;
+      g.cs_b = c.z;
+      g.lambda_s = lam;
+      g.xs_x = xi.x;
+      g.xs_y = xi.y;
+      g.xs_z = xi.z;
+    }
+  }
+  out[i] = g;
+}
+
+/* Radiance reflected at a surface by one SG lobe of a VSGL (App. C), docs/indirect.md "Shading":
+   incoming L_in(w) = c / (2 pi sigma^2) G(w; -xi_v, lambda_v) G(w; xi_mu, lambda_sigma) (Eq. 10-11)
+   = c_in G(w; xi_in, lambda_in) (Eq. 12), xi_mu = (mu - y_p)/|mu - y_p|, lambda_sigma = |mu - y_p|^2
+   / sigma^2. All SG sharpnesses are carried multiplied by sigma^2 (lambda_sigma sigma^2 = r^2), so no
+   1/sigma^2 is formed.
+   diffuse  L_d = R_d / pi  c_in A(lambda_in) max(xi_in.n, 0)       (the 2 c_in R_d / lambda_in form
+            with A exact, so it stays right for small lambda_in)
+   specular L_s = c_in C(xi_in) int G(w; xi_in, lambda_in) ASG(w) dw  (GGX: D ~ ASG about the mirror
+            direction of v, eta_x = lambda_h / 8 in the plane of incidence, eta_y = lambda_h /
+            (8 (n.v)^2) across it, lambda_h = 2 / alpha^2; C = F V (n.w) / (pi alpha^2), the rest of
+            f_s (n.w) once D's peak 1 / (pi alpha^2) is taken out). */
+typedef struct {
+  float3 p, n, v;
+  int brdf;
+  float3 base;
+  float metallic, alpha;
+  float3 kd; /* kurt: diffuse albedo */
+  float3 ax, ay, az;
+  float eta_x, eta_y, nv;
+} NfVsglPixel;
+
+NF_INLINE float3 nf_vsgl_lobe(const NfVsglPixel* px, float3 mu, float sigma2, float3 c, float3 xv, float lv) {
+  if (!(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f)) return (float3)(0.0f);
+  const float3 d = mu - px->p;
+  const float r2 = dot(d, d);
+  if (!(r2 > 0.0f)) return (float3)(0.0f);
+  const float r = sqrt(r2);
+  const float3 xmu = d / r;
+  /* sigma^2-scaled product: s = r^2 xi_mu - sigma^2 lambda_v xi_v */
+  const float slv = sigma2 * lv;
+  const float3 sv = r * d - slv * xv;
+  const float lin_s = length(sv); /* sigma^2 lambda_in */
+  const float3 xin = lin_s > 0.0f ? sv / lin_s : xmu;
+  const float3 dm = xmu + xv; /* the product's a - b with a = xi_mu, b = -xi_v (common/sg.h) */
+  const float log_c = -r2 * lv * dot(dm, dm) / (lin_s + r2 + slv);
+  const float3 ce = c * exp(log_c); /* c e^{log_c} = 2 pi sigma^2 c_in */
+  const float lin = lin_s / sigma2;
+  /* c_in A(lambda_in) = ce (1 - e^{-2 lambda_in}) / (sigma^2 lambda_in) */
+  const float ca = lin > 1e-4f ? -expm1(-2.0f * lin) / lin_s : (2.0f - 2.0f * lin) / sigma2;
+  const float cosn = fmax(dot(xin, px->n), 0.0f);
+  float3 out = (float3)(0.0f);
+  if (px->brdf == NF_BRDF_LAMBERT) {
+    out = px->base * (1.0f / NF_PI) * ce * ca * cosn;
+  } else if (px->brdf == NF_BRDF_KURT) {
+    out = px->kd * (1.0f / NF_PI) * ce * ca * cosn;
+  } else if (px->brdf == NF_BRDF_GGX && cosn > 0.0f) {
+    const float3 h = normalize(xin + px->v);
+    const float vh = clamp(dot(px->v, h), 0.0f, 1.0f);
+    const float s = 1.0f - vh, s5 = s * s * s * s * s;
+    const float3 f0 = mix((float3)(0.04f), px->base, px->metallic);
+    const float3 f = f0 + ((float3)(1.0f) - f0) * s5;
+    const float3 kd = ((float3)(1.0f) - f) * (1.0f - px->metallic) * px->base * (1.0f / NF_PI);
+    out = kd * ce * ca * cosn;
+    const float a2 = px->alpha * px->alpha;
+    const float vis_den = cosn * sqrt(px->nv * px->nv * (1.0f - a2) + a2) + px->nv * sqrt(cosn * cosn * (1.0f - a2) + a2);
+    const float vis = 0.5f / fmax(vis_den, 1e-12f);
+    /* c_in int G ASG = ce / (2 pi) * (scaled integral) */
+    const float integ = nf_sg_asg_integral_scaled(xin, lin_s, sigma2, px->ax, px->ay, px->az, px->eta_x, px->eta_y);
+    out += f * (vis * cosn / (NF_PI * a2)) * ce * (0.5f / NF_PI) * integ;
+  }
+  return out;
+}
+
+NF_INLINE NfVsglPixel nf_vsgl_pixel(NfSurface s, __global const NfKurtMaterial* kurt, int kurt_count) {
+  NfVsglPixel px;
+  px.p = (float3)(s.px, s.py, s.pz);
+  px.n = normalize((float3)(s.nx, s.ny, s.nz));
+  px.v = normalize((float3)(s.vx, s.vy, s.vz));
+  px.brdf = s.brdf;
+  px.base = (float3)(s.base_r, s.base_g, s.base_b);
+  px.metallic = s.metallic;
+  px.alpha = fmax(s.roughness * s.roughness, 1e-3f);
+  px.kd = (float3)(0.0f);
+  if (s.brdf == NF_BRDF_KURT) {
+    const int k = (int)s.metallic;
+    if (k >= 0 && k < kurt_count) px.kd = (float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b);
+  }
+  px.nv = fmax(dot(px.n, px.v), 1e-3f);
+  /* ASG frame of the GGX lobe: z the mirror direction of v, y across the plane of incidence. */
+  px.az = 2.0f * px.nv * px.n - px.v;
+  px.az = normalize(px.az);
+  float3 ay = cross(px.n, px.v);
+  if (dot(ay, ay) < 1e-12f) {
+    float3 t, b;
+    nf_onb(px.n, &t, &b);
+    ay = b;
+  }
+  px.ay = normalize(ay);
+  px.ax = cross(px.ay, px.az);
+  const float lh = 2.0f / (px.alpha * px.alpha);
+  px.eta_x = lh / 8.0f;
+  px.eta_y = lh / (8.0f * px.nv * px.nv);
+  return px;
+}
+
+NF_INLINE float3 nf_vsgl_shade_one(const NfVsglPixel* px, __global const NfVsgl* g) {
+  const float3 mu = (float3)(g->mu_x, g->mu_y, g->mu_z);
+  float3 o = nf_vsgl_lobe(px, mu, g->sigma2, (float3)(g->cd_r, g->cd_g, g->cd_b), (float3)(g->xd_x, g->xd_y, g->xd_z),
+                          g->lambda_d);
+  o += nf_vsgl_lobe(px, mu, g->sigma2, (float3)(g->cs_r, g->cs_g, g->cs_b), (float3)(g->xs_x, g->xs_y, g->xs_z),
+                    g->lambda_s);
+  return o;
+}
+
+/* Reflected radiance (W m^-2 sr^-1) of every surface from the `nv` VSGLs, unshadowed. */
+__kernel void vsgl_shade(__global const NfSurface* surf, const int count, __global const NfVsgl* vsgl, const int nv,
+                         __global const NfKurtMaterial* kurt, const int kurt_count, __global float4* out) {
+  const int p = get_global_id(0);
+  if (p >= count) return;
+  const NfSurface s = surf[p];
+  float3 sum = (float3)(0.0f);
+  if (s.valid) {
+    const NfVsglPixel px = nf_vsgl_pixel(s, kurt, kurt_count);
+    for (int j = 0; j < nv; ++j) sum += nf_vsgl_shade_one(&px, vsgl + j);
+  }
+  if (!all(isfinite(sum))) sum = (float3)(0.0f);
+  out[p] = (float4)(sum, 0.0f);
+}
+
+/* Test kernel: the closed forms of common/sg.h per case. in[3 i .. 3 i + 2] = (a, la), (b, lb),
+   (eta_x, eta_y, 0, 0); out[2 i] = (xi, lambda) and out[2 i + 1] = (log_c, int G(xi, lambda)
+   ASG(x, y, z, eta_x, eta_y) with (x, y, z) = the frame of common/brdf.h's nf_onb about b, z = b). */
+__kernel void vsgl_debug_sg(__global const float4* in, const int count, __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const float4 a = in[3 * i], b = in[3 * i + 1], e = in[3 * i + 2];
+  float3 xi;
+  float lam;
+  const float lc = nf_sg_product(a.xyz, a.w, b.xyz, b.w, &xi, &lam);
+  float3 t, bt;
+  nf_onb(b.xyz, &t, &bt);
+  const float integ = nf_sg_asg_integral(a.xyz, a.w, t, bt, b.xyz, e.x, e.y);
+  out[2 * i] = (float4)(xi, lam);
+  out[2 * i + 1] = (float4)(lc, integ, 0.0f, 0.0f);
+}

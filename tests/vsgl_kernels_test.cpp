@@ -1,0 +1,481 @@
+// The VSGL kernels (kernels/vsgl.cl, docs/indirect.md) on synthetic RSM data, against
+// independent host references in double precision: pyramid sums against direct sums, the
+// bisection against Eq. 3 recomputed on the host, energy of the Eq. 5 totals, the SG product and
+// SG x ASG integrals against quadrature on the sphere, a single VPL against its point light in
+// the small-variance limit, kernel coverage (Tokuyoshi 2016 Fig. 1), and no NaN/Inf for empty,
+// black, grazing and zero-roughness inputs. Deterministic: fixed seeds, no statistical tests.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "cl/runtime.h"
+#include "kernels/shared/vsgl.h"
+#include "render/vsgl_contribution.h"
+#include "scene/scene.h"
+
+namespace {
+
+using namespace nf;
+constexpr double kPi = 3.14159265358979323846;
+
+nf::cl::Runtime& runtime() {
+  static nf::cl::Runtime rt;
+  return rt;
+}
+
+render::VsglContribution& vsgl() {
+  static scene::Scene empty;
+  static render::VsglContribution c(runtime(), empty);
+  return c;
+}
+
+// Level-0 quantities whose PDF channel (q0.w) is `pdf` and whose other channels are random.
+std::vector<glm::vec4> quantities(const std::vector<double>& pdf, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<glm::vec4> q(pdf.size() * NF_VSGL_QUANTITIES);
+  for (std::size_t t = 0; t < pdf.size(); ++t) {
+    for (int k = 0; k < NF_VSGL_QUANTITIES; ++k) q[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(k)] =
+        glm::vec4(u(rng), u(rng), u(rng), u(rng));
+    q[NF_VSGL_QUANTITIES * t].w = static_cast<float>(pdf[t]);
+  }
+  return q;
+}
+
+// A high-frequency PDF: random texels of weight 1 or 100 (the Fig. 1 situation).
+std::vector<double> spiky_pdf(int size, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> p(static_cast<std::size_t>(size * size));
+  for (auto& v : p) v = u(rng) < 0.1 ? 100.0 : 1.0;
+  return p;
+}
+
+// Host mipmap of the PDF channel, in double: mean of level k around uv, bilinear between
+// texel centres with clamping, then linear between levels (the lookup kernels/vsgl.cl uses).
+struct HostMip {
+  int size;
+  std::vector<std::vector<double>> mean;  // per level, texel means
+  explicit HostMip(const std::vector<double>& p, int s) : size(s) {
+    mean.push_back(p);
+    for (int n = s; n > 1; n /= 2) {
+      const auto& a = mean.back();
+      std::vector<double> b(static_cast<std::size_t>(n / 2 * n / 2));
+      for (int y = 0; y < n / 2; ++y)
+        for (int x = 0; x < n / 2; ++x)
+          b[static_cast<std::size_t>(y * (n / 2) + x)] =
+              0.25 * (a[static_cast<std::size_t>(2 * y * n + 2 * x)] + a[static_cast<std::size_t>(2 * y * n + 2 * x + 1)] +
+                      a[static_cast<std::size_t>((2 * y + 1) * n + 2 * x)] +
+                      a[static_cast<std::size_t>((2 * y + 1) * n + 2 * x + 1)]);
+      mean.push_back(b);
+    }
+  }
+  double texel(int k, int x, int y) const {
+    const int n = size >> k;
+    x = std::clamp(x, 0, n - 1);
+    y = std::clamp(y, 0, n - 1);
+    return mean[static_cast<std::size_t>(k)][static_cast<std::size_t>(y * n + x)];
+  }
+  double bilinear(int k, double u, double v) const {
+    const int n = size >> k;
+    const double x = u * n - 0.5, y = v * n - 0.5, x0 = std::floor(x), y0 = std::floor(y);
+    const double fx = x - x0, fy = y - y0;
+    const int ix = static_cast<int>(x0), iy = static_cast<int>(y0);
+    return (1 - fy) * ((1 - fx) * texel(k, ix, iy) + fx * texel(k, ix + 1, iy)) +
+           fy * ((1 - fx) * texel(k, ix, iy + 1) + fx * texel(k, ix + 1, iy + 1));
+  }
+  double trilinear(double u, double v, double l) const {
+    const int top = static_cast<int>(mean.size()) - 1;
+    l = std::clamp(l, 0.0, static_cast<double>(top));
+    const int k0 = std::min(static_cast<int>(l), top), k1 = std::min(k0 + 1, top);
+    const double t = l - k0;
+    return (1 - t) * bilinear(k0, u, v) + t * bilinear(k1, u, v);
+  }
+  double total() const { return mean.back()[0] * size * size; }
+  // Eq. 3's left side: 4^l p_bar(x, l) / M = 4^l mean(x, l) / T.
+  double mass(double u, double v, double l) const { return std::pow(4.0, l) * trilinear(u, v, l) / total(); }
+};
+
+TEST(VsglKernels, PyramidSumsEqualDirectSums) {
+  std::mt19937 rng(7);
+  constexpr int S = 64;
+  std::uniform_real_distribution<double> u(0.0, 2.0);
+  std::vector<double> pdf(S * S);
+  for (auto& v : pdf) v = u(rng);
+  const auto q0 = quantities(pdf, rng);
+  std::vector<std::vector<glm::vec4>> levels;
+  render::VsglSettings s;
+  s.count = 64;
+  (void)vsgl().generate(q0, S, glm::dvec3(0.0), s, &levels);
+  ASSERT_EQ(levels.size(), 7u);
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    const int n = S >> k, b = 1 << k;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        for (int q = 0; q < NF_VSGL_QUANTITIES; ++q)
+          for (int c = 0; c < 4; ++c) {
+            double direct = 0.0;
+            for (int j = 0; j < b; ++j)
+              for (int i = 0; i < b; ++i)
+                direct += q0[static_cast<std::size_t>(NF_VSGL_QUANTITIES * ((y * b + j) * S + x * b + i) + q)][c];
+            const double got =
+                levels[k][static_cast<std::size_t>(NF_VSGL_QUANTITIES * (y * n + x) + q)][c];
+            // float sums of <= 4096 terms in [0, 2], pairwise by the pyramid: relative error
+            // <= log2(4096) * 2^-24 ~ 7e-7; 1e-5 leaves room.
+            ASSERT_NEAR(got, direct, 1e-5 * direct + 1e-6) << "level " << k << " texel " << x << "," << y;
+          }
+  }
+}
+
+// The bisection (Algorithm 1, 12 steps on [0, top]) leaves an interval of top / 4096 levels, so
+// the mass it reaches is within a factor 4^(top / 8192) of K / N (<= 0.1 % for top = 6) where
+// Eq. 3 has a root inside (0, top); the host recomputes the mass in double from its own pyramid.
+TEST(VsglKernels, BisectionSolvesEq3) {
+  std::mt19937 rng(11);
+  constexpr int S = 64;
+  const auto pdf = spiky_pdf(S, rng);
+  const HostMip mip(pdf, S);
+  for (double k : {1.0, 4.0}) {
+    render::VsglSettings s;
+    s.count = 256;
+    s.k = k;
+    s.kernel = NF_VSGL_KERNEL_INTEGRAL;
+    const auto v = vsgl().generate(quantities(pdf, rng), S, glm::dvec3(0.0), s);
+    const double target = k / s.count;
+    int interior = 0;
+    for (const auto& g : v) {
+      const double m = mip.mass(g.u, g.v, g.level);
+      EXPECT_NEAR(g.mass, m, 1e-4 * m + 1e-9);  // the kernel's own mass: float trilinear vs double
+      if (g.level > 0.01 && g.level < 5.99) {
+        ++interior;
+        EXPECT_NEAR(m / target, 1.0, 0.005) << "level " << g.level;
+      } else if (g.level <= 0.01) {
+        EXPECT_GE(m, target * 0.995);  // one texel already holds more than K / N
+      }
+    }
+    EXPECT_GT(interior, 100);
+  }
+}
+
+// Eq. 5 totals: each VSGL gets T mean_Q / (N mean_P), so the PDF channel's totals add up to T
+// exactly (up to float rounding), whatever the kernel sizes.
+TEST(VsglKernels, IntegralTotalsConserveThePdfMass) {
+  std::mt19937 rng(3);
+  constexpr int S = 32;
+  const auto pdf = spiky_pdf(S, rng);
+  double total = 0.0;
+  for (double p : pdf) total += p;
+  for (double k : {1.0, 8.0}) {
+    render::VsglSettings s;
+    s.count = 128;
+    s.k = k;
+    const auto v = vsgl().generate(quantities(pdf, rng), S, glm::dvec3(0.0), s);
+    double sum = 0.0;
+    for (const auto& g : v) sum += g.power;
+    EXPECT_NEAR(sum / total, 1.0, 1e-4);  // float: 128 terms of ~1e-2 relative 1e-7 each
+  }
+}
+
+// Tokuyoshi 2016 Fig. 1: on a high-frequency PDF the integral kernels (Eq. 3) tile the texel
+// grid with fewer overlaps and gaps than the point-density ones (Eq. 1). Coverage c_t of texel t
+// = the number of kernels whose square footprint (2^l texels per side about x_i) holds it; ideal
+// is K everywhere. Measured: the PDF-weighted mean |c_t - 1|.
+TEST(VsglKernels, IntegralKernelsOverlapLessThanPointKernels) {
+  std::mt19937 rng(5);
+  constexpr int S = 64;
+  const auto pdf = spiky_pdf(S, rng);
+  const auto q = quantities(pdf, rng);
+  double err[2];
+  for (int kind : {NF_VSGL_KERNEL_POINT, NF_VSGL_KERNEL_INTEGRAL}) {
+    render::VsglSettings s;
+    s.count = 256;
+    s.kernel = kind;
+    const auto v = vsgl().generate(q, S, glm::dvec3(0.0), s);
+    std::vector<double> cover(S * S, 0.0);
+    for (const auto& g : v) {
+      const double half = 0.5 * std::pow(2.0, g.level);
+      const double cx = g.u * S, cy = g.v * S;
+      for (int y = 0; y < S; ++y)
+        for (int x = 0; x < S; ++x)
+          if (std::abs(x + 0.5 - cx) < half && std::abs(y + 0.5 - cy) < half) cover[static_cast<std::size_t>(y * S + x)] += 1.0;
+    }
+    double e = 0.0, w = 0.0;
+    for (std::size_t t = 0; t < cover.size(); ++t) {
+      e += pdf[t] * std::abs(cover[t] - 1.0);
+      w += pdf[t];
+    }
+    err[kind] = e / w;
+  }
+  std::printf("coverage error |c - 1| (PDF-weighted): point %.3f, integral %.3f\n", err[NF_VSGL_KERNEL_POINT],
+              err[NF_VSGL_KERNEL_INTEGRAL]);
+  EXPECT_LT(err[NF_VSGL_KERNEL_INTEGRAL], err[NF_VSGL_KERNEL_POINT]);
+}
+
+// ---- spherical Gaussians --------------------------------------------------------------------
+
+glm::dvec3 nrm(double x, double y, double z) { return glm::normalize(glm::dvec3(x, y, z)); }
+
+// The frame of common/brdf.h's nf_onb (Duff et al. 2017), in double.
+void onb(glm::dvec3 n, glm::dvec3& t, glm::dvec3& b) {
+  const double s = n.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (s + n.z), c = n.x * n.y * a;
+  t = glm::dvec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
+  b = glm::dvec3(c, s + n.y * n.y * a, -n.y);
+}
+
+// Midpoint rule on (theta, phi) about `axis`, n x 2n cells: integrand smooth, lobes no sharper
+// than lambda = 500, whose width 1/sqrt(500) ~ 0.045 rad spans ~ 17 cells at n = 1200 (results
+// move by < 5e-5 relative between n = 1200 and n = 3000).
+template <typename F>
+double sphere_quadrature(glm::dvec3 axis, F&& f, int n = 1200) {
+  glm::dvec3 t, b;
+  onb(axis, t, b);
+  const double dth = kPi / n, dph = kPi / n;
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double th = (i + 0.5) * dth, st = std::sin(th), ct = std::cos(th);
+    double row = 0.0;
+    for (int j = 0; j < 2 * n; ++j) {
+      const double ph = (j + 0.5) * dph;
+      row += f(st * std::cos(ph) * t + st * std::sin(ph) * b + ct * axis);
+    }
+    sum += row * st;
+  }
+  return sum * dth * dph;
+}
+
+struct SgCase {
+  glm::dvec3 a;
+  double la;
+  glm::dvec3 b;
+  double lb;
+  double ex, ey;
+};
+
+std::vector<glm::vec4> run_debug_sg(const std::vector<SgCase>& cases) {
+  auto& rt = runtime();
+  std::vector<glm::vec4> in;
+  for (const auto& c : cases) {
+    in.emplace_back(glm::vec3(c.a), static_cast<float>(c.la));
+    in.emplace_back(glm::vec3(c.b), static_cast<float>(c.lb));
+    in.emplace_back(static_cast<float>(c.ex), static_cast<float>(c.ey), 0.0f, 0.0f);
+  }
+  ::cl::Buffer bin(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(glm::vec4), in.data());
+  ::cl::Buffer bout(rt.context(), CL_MEM_WRITE_ONLY, 2 * cases.size() * sizeof(glm::vec4));
+  ::cl::Kernel k = rt.kernel("vsgl.cl", "vsgl_debug_sg");
+  k.setArg(0, bin);
+  k.setArg(1, static_cast<int>(cases.size()));
+  k.setArg(2, bout);
+  rt.launch(k, ::cl::NDRange(cases.size()));
+  std::vector<glm::vec4> out(2 * cases.size());
+  rt.queue().enqueueReadBuffer(bout, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data());
+  return out;
+}
+
+// Eq. 12: G(w; a, la) G(w; b, lb) = exp(log_c) G(w; xi, lambda) is exact, so its integral over the
+// sphere is exp(log_c) A(lambda) = exp(log_c) 2 pi (1 - e^{-2 lambda}) / lambda; quadrature of the
+// product itself must agree to the quadrature's accuracy (5e-5) plus float rounding: 1e-4.
+TEST(VsglKernels, SgProductMatchesQuadrature) {
+  const std::vector<SgCase> cases{{nrm(0, 0, 1), 5.0, nrm(0.3, 0.1, 1), 40.0, 0, 0},
+                                  {nrm(1, 0, 0.2), 2.0, nrm(-0.5, 0.2, 1), 100.0, 0, 0},
+                                  {nrm(0, 1, 0), 300.0, nrm(0, 1, 0.05), 20.0, 0, 0},
+                                  {nrm(0, 0, 1), 0.5, nrm(0, 0, -1), 0.7, 0, 0}};
+  const auto out = run_debug_sg(cases);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto& c = cases[i];
+    const double lam = out[2 * i].w, lc = out[2 * i + 1].x;
+    const glm::dvec3 xi(out[2 * i]);
+    const double closed = std::exp(lc) * 2.0 * kPi * (1.0 - std::exp(-2.0 * lam)) / lam;
+    const double q = sphere_quadrature(xi, [&](glm::dvec3 w) {
+      return std::exp(c.la * (glm::dot(w, c.a) - 1.0)) * std::exp(c.lb * (glm::dot(w, c.b) - 1.0));
+    });
+    EXPECT_NEAR(closed / q, 1.0, 1e-4) << "case " << i;
+  }
+}
+
+// App. C: int G(w; xi, lambda) ASG(w) dw in closed form (Xu et al. 2013's tangent-plane
+// approximation) against quadrature. The approximation is asymptotic in the sharpness (the
+// sphere replaced by its tangent plane: O(1/sharpness) error); measured relative errors 0.2 % ..
+// 3.3 % (printed), the largest for the broadest case (lambda/2 + min eta = 40). Bound:
+// 5 / (lambda/2 + min eta), i.e. 12.5 % there and 1 % at sharpness 500.
+TEST(VsglKernels, SgAsgIntegralMatchesQuadrature) {
+  const std::vector<SgCase> cases{{nrm(0, 0, 1), 50, nrm(0, 0, 1), 0, 50, 50},
+                                  {nrm(0.1, 0, 1), 100, nrm(0, 0, 1), 0, 20, 200},
+                                  {nrm(0.2, 0.1, 1), 30, nrm(0.3, 0.2, 1), 0, 40, 80},
+                                  {nrm(0.05, 0.02, 1), 500, nrm(0, 0.1, 1), 0, 200, 800},
+                                  {nrm(0.3, 0, 1), 20, nrm(0, 0, 1), 0, 30, 30}};
+  const auto out = run_debug_sg(cases);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto& c = cases[i];
+    glm::dvec3 x, y;
+    onb(c.b, x, y);
+    const double q = sphere_quadrature(c.b, [&](glm::dvec3 w) {
+      const double wx = glm::dot(w, x), wy = glm::dot(w, y);
+      return std::exp(c.la * (glm::dot(w, c.a) - 1.0)) * std::max(glm::dot(w, c.b), 0.0) *
+             std::exp(-c.ex * wx * wx - c.ey * wy * wy);
+    });
+    const double got = out[2 * i + 1].y;
+    const double sharp = 0.5 * c.la + std::min(c.ex, c.ey);
+    std::printf("SG x ASG case %zu: closed %.6g quadrature %.6g relative error %.4f\n", i, got, q, got / q - 1.0);
+    EXPECT_NEAR(got / q, 1.0, 5.0 / sharp) << "case " << i;
+  }
+}
+
+// ---- shading ----------------------------------------------------------------------------------
+
+NfSurface surface(glm::dvec3 p, glm::dvec3 n, glm::dvec3 v, int brdf, glm::vec3 base, float rough = 1.0f,
+                  float metallic = 0.0f) {
+  NfSurface s{};
+  s.px = static_cast<float>(p.x);
+  s.py = static_cast<float>(p.y);
+  s.pz = static_cast<float>(p.z);
+  s.valid = 1;
+  s.nx = static_cast<float>(n.x);
+  s.ny = static_cast<float>(n.y);
+  s.nz = static_cast<float>(n.z);
+  s.brdf = brdf;
+  s.vx = static_cast<float>(v.x);
+  s.vy = static_cast<float>(v.y);
+  s.vz = static_cast<float>(v.z);
+  s.roughness = rough;
+  s.metallic = metallic;
+  s.base_r = base.r;
+  s.base_g = base.g;
+  s.base_b = base.b;
+  return s;
+}
+
+// One Lambertian VPL (power Phi R_d, normal n_j, at y_j, texel area 1e-8 m^2) in an otherwise
+// black 16^2 RSM. Every VSGL lands on its texel, so their totals add up to the VPL and their
+// variance is the texel's (A/12 per axis, ~1e-9 m^2). Shading must then equal the point-light
+// VPL with the SG intensity of App. A (I(w) = Phi R_d G(w; n_j, 2) / A(2)):
+//   L_o = base / pi * I(-xi) max(n.xi, 0) / r^2,  xi = (y_j - y_p) / r,
+// up to O(sigma^2 lambda / r^2) ~ 1e-8 and float rounding: 1e-3.
+TEST(VsglKernels, SingleVplMatchesItsPointLightInTheSmallVarianceLimit) {
+  constexpr int S = 16;
+  const glm::dvec3 yj(0.2, -0.1, 0.3), nj = nrm(0.2, 0.1, 1.0);
+  const double area = 1e-8;
+  const glm::dvec3 prd(2.0, 1.0, 0.5);
+  const double w = 0.2126 * prd.x + 0.7152 * prd.y + 0.0722 * prd.z;
+  std::vector<glm::vec4> q(S * S * NF_VSGL_QUANTITIES, glm::vec4(0.0f));
+  const std::size_t t = 5 * S + 9;
+  q[NF_VSGL_QUANTITIES * t + 0] = glm::vec4(glm::vec3(prd), static_cast<float>(w));
+  q[NF_VSGL_QUANTITIES * t + 1] = glm::vec4(0, 0, 0, static_cast<float>(w * (glm::dot(yj, yj) + area / 6.0)));
+  q[NF_VSGL_QUANTITIES * t + 2] = glm::vec4(glm::vec3(w * (2.0 / 3.0) * nj), static_cast<float>(w));
+  q[NF_VSGL_QUANTITIES * t + 4] = glm::vec4(glm::vec3(w * yj), static_cast<float>(area));
+  const glm::dvec3 origin(1.0, 2.0, -3.0);
+  for (int kind : {NF_VSGL_KERNEL_POINT, NF_VSGL_KERNEL_INTEGRAL}) {
+    render::VsglSettings s;
+    s.count = 64;
+    s.kernel = kind;
+    const auto v = vsgl().generate(q, S, origin, s);
+    double power = 0.0;
+    for (const auto& g : v) {
+      power += g.power;
+      EXPECT_NEAR(g.mu_x, origin.x + yj.x, 1e-5);
+      EXPECT_NEAR(g.lambda_d, 2.0, 1e-3);
+    }
+    // integral (Eq. 5): T mean_Q / (N mean_P) gives each VSGL exactly 1/N of the VPL. point
+    // (Eq. 4): the bilinear lookup at x_i blends the texel with its black neighbours while the
+    // denominator N p(x_i) does not, so each VSGL gets 1/N of the VPL times a factor in (0, 1];
+    // the shading is then compared with the point light of the power the VSGLs hold.
+    if (kind == NF_VSGL_KERNEL_INTEGRAL) {
+      EXPECT_NEAR(power / w, 1.0, 1e-4);
+    } else {
+      EXPECT_GT(power, 0.0);
+      EXPECT_LE(power / w, 1.0 + 1e-4);
+    }
+    const double held = power / w;
+    const glm::dvec3 y = origin + yj;
+    std::vector<NfSurface> px;
+    std::vector<double> expect;
+    const glm::vec3 base(0.8f, 0.5f, 0.3f);
+    for (const glm::dvec3 p : {glm::dvec3(1.5, 3.0, -1.0), glm::dvec3(0.0, 2.5, -1.5), glm::dvec3(2.0, 1.5, -2.0)}) {
+      const glm::dvec3 n = glm::normalize(y - p + glm::dvec3(0.1, 0.0, 0.0));
+      px.push_back(surface(p, n, n, NF_BRDF_LAMBERT, base));
+      const glm::dvec3 d = y - p;
+      const double r2 = glm::dot(d, d);
+      const glm::dvec3 xi = d / std::sqrt(r2);
+      const double a2 = 2.0 * kPi * (1.0 - std::exp(-4.0)) / 2.0;
+      const double i = std::exp(2.0 * (glm::dot(-xi, nj) - 1.0)) / a2;
+      expect.push_back(i * std::max(glm::dot(n, xi), 0.0) / r2 / kPi);
+    }
+    const auto got = vsgl().shade(px, v);
+    for (std::size_t k = 0; k < px.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[k][c] / (held * expect[k] * prd[c] * base[c]), 1.0, 1e-3) << "kernel " << kind << " pixel " << k;
+  }
+}
+
+// No NaN/Inf anywhere for an all-zero RSM, a black one (valid texels, no light), grazing VPLs and
+// receivers, zero roughness, metallic 1, and pixels on top of a VSGL.
+TEST(VsglKernels, NoNanForEmptyBlackGrazingAndMirrorInputs) {
+  constexpr int S = 16;
+  render::VsglSettings s;
+  s.count = 64;
+  for (int kind : {NF_VSGL_KERNEL_POINT, NF_VSGL_KERNEL_INTEGRAL}) {
+    s.kernel = kind;
+    const auto v = vsgl().generate(std::vector<glm::vec4>(S * S * NF_VSGL_QUANTITIES, glm::vec4(0.0f)), S,
+                                   glm::dvec3(0.0), s);
+    for (const auto& g : v) {
+      EXPECT_EQ(g.power, 0.0f);
+      EXPECT_EQ(g.cd_r + g.cs_r, 0.0f);
+    }
+  }
+  // texels: valid black surfaces; a grazing mirror; a zero-roughness GGX texel lit at grazing
+  std::vector<NfSurface> surf(S * S);
+  std::vector<glm::vec4> e(S * S, glm::vec4(0.0f));
+  render::RsmView view;
+  view.origin = glm::dvec3(0, 0, 0);
+  view.forward = glm::dvec3(0, 0, 1);
+  view.tan_half = 1.0;
+  for (int y = 0; y < S; ++y)
+    for (int x = 0; x < S; ++x) {
+      const glm::dvec3 p((x - 7.5) / 8.0, (y - 7.5) / 8.0, 1.0);
+      const glm::dvec3 n = (x + y) % 3 == 0 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 0, -1);  // some exactly grazing
+      surf[static_cast<std::size_t>(y * S + x)] =
+          surface(p, n, -glm::normalize(p), (x % 2) ? NF_BRDF_GGX : NF_BRDF_LAMBERT, glm::vec3(0.9f), 0.0f, 1.0f);
+    }
+  for (int lit : {0, 1}) {
+    if (lit)
+      for (std::size_t t = 0; t < e.size(); ++t) e[t] = glm::vec4(3.0f, 2.0f, 1.0f, 0.0f);
+    const auto q = vsgl().texel_quantities(surf, e, S, view);
+    for (const auto& v4 : q)
+      for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(v4[c]));
+    for (int kind : {NF_VSGL_KERNEL_POINT, NF_VSGL_KERNEL_INTEGRAL}) {
+      s.kernel = kind;
+      const auto v = vsgl().generate(q, S, view.origin, s);
+      for (const auto& g : v) {
+        const float* f = &g.mu_x;
+        for (int c = 0; c < 24; ++c) ASSERT_TRUE(std::isfinite(f[c])) << "field " << c;
+        if (lit) {
+          EXPECT_GT(g.power, 0.0f);
+        } else {
+          EXPECT_EQ(g.power, 0.0f);
+        }
+      }
+      // receivers: grazing view, zero roughness, metallic, on top of a VSGL, behind
+      std::vector<NfSurface> px;
+      const glm::dvec3 mu(v[0].mu_x, v[0].mu_y, v[0].mu_z);
+      for (float rough : {0.0f, 0.02f, 0.5f, 1.0f})
+        for (const glm::dvec3 vdir : {glm::dvec3(0, 0, -1), glm::dvec3(1, 0, 0), nrm(1, 0, -0.01)}) {
+          px.push_back(surface(glm::dvec3(0.1, 0.2, 0.0), glm::dvec3(0, 0, 1), vdir, NF_BRDF_GGX, glm::vec3(1.0f),
+                               rough, 1.0f));
+          px.push_back(surface(mu, glm::dvec3(0, 0, -1), vdir, NF_BRDF_GGX, glm::vec3(0.5f), rough, 0.0f));
+          px.push_back(surface(glm::dvec3(0.0, 0.0, 3.0), glm::dvec3(0, 0, -1), vdir, NF_BRDF_LAMBERT,
+                               glm::vec3(0.5f)));
+        }
+      const auto out = vsgl().shade(px, v);
+      for (const auto& o : out)
+        for (int c = 0; c < 4; ++c) {
+          ASSERT_TRUE(std::isfinite(o[c]));
+          ASSERT_GE(o[c], 0.0f);
+        }
+    }
+  }
+}
+
+}  // namespace
