@@ -438,10 +438,14 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf));
 #else
       /* env-fis, integral kernel (Tokuyoshi 2016 Eq. 3): the lat-long level holding mass K / N,
-         as a solid angle 4^l J(v) / (W H) for the lookup's own parametrisation */
+         as a solid angle 4^l J(v) / (W H) for the lookup's own parametrisation; the density in
+         the denominator is filtered with the same kernel (Eq. 5): pbar = p_uv(uv, l) / J(v) */
       const float2 uv = nf_latlong_uv(nf_env_to_map(l, rot));
       const float lev = env_integral_level(pyr, lv, levels, uv, k_bias * inv_n);
-      const float3 L = env_filtered(&m, l, exp2(2.0f * lev) * nf_latlong_jacobian(uv.y) / ((float)l0.y * (float)l0.z));
+      const float jl = nf_latlong_jacobian(uv.y);
+      const float3 L = env_filtered(&m, l, exp2(2.0f * lev) * jl / ((float)l0.y * (float)l0.z));
+      pdf = nf_pyr_trilinear(pyr, lv, levels, uv, lev).w / fmax(jl, 1e-20f);
+      if (!(pdf > 0.0f) || !isfinite(pdf)) continue;
 #endif
 #else
       float3 l;
