@@ -5,15 +5,21 @@
 //    box / gauss6 filter applied in double to the level below, taps clamped inside each half;
 //  - a constant map gives the same image in both parametrisations (fis, fis-rotated, env-fis);
 //  - fis-rotated converges to the unbiased mean (the double quadrature `mc` is z-tested against in
-//    environment_estimator_test) in both parametrisations: RMS error at N = 256 well below N = 4.
+//    environment_estimator_test) in both parametrisations: RMS error at N = 256 well below N = 4;
+//  - the `render --dry-run` estimate of the environment's device memory equals what the
+//    contribution allocates (both parametrisations), and the command prints it.
 // Deterministic but for fis-rotated's hashed rotations (fixed seed).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <vector>
 
+#include "core/image_io.h"
+#include "core/memory.h"
 #include "environment_support.h"
+#include "support/testing.h"
 
 namespace {
 
@@ -192,6 +198,50 @@ TEST(EnvironmentParaboloid, FisConvergesInBothParams) {
     }
     EXPECT_LT(err[1], 0.5 * err[0]) << param;
   }
+}
+
+// EnvironmentContribution::estimate_bytes (what `render --dry-run` adds) against device_bytes()
+// of a contribution that has allocated everything: equal but for the Kurt table (one empty entry).
+TEST(EnvironmentMemory, EstimateMatchesAllocation) {
+  const auto map = nf::envtest::make_map(60, 30, 0.0, smooth);
+  nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  const std::vector<NfSurface> surf(100, ggx_surfaces()[0]);
+  for (const std::string param : {"latlong", "paraboloid"}) {
+    nf::scene::RenderSettings rs;
+    rs.env_param = param;
+    (void)nf::envtest::shade(env, surf, rs);
+    const std::size_t est = nf::render::EnvironmentContribution::estimate_bytes(60, 30, param == "paraboloid", 100);
+    EXPECT_EQ(env.device_bytes(), est + sizeof(NfKurtMaterial)) << param;
+  }
+}
+
+TEST(EnvironmentMemory, DryRunCountsTheEnvironment) {
+  const auto dir = nf::testing::temp_dir("env_dry");
+  nf::Image img(64, 32, 3);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c) img.at(x, y, c) = 1.0f;
+  nf::write_exr(dir / "sky.exr", img);
+  {
+    std::ofstream f(dir / "s.json");
+    f << R"({ "camera": { "position": [0, 0, 3], "target": [0, 0, 0], "fov_y": 30, "resolution": [64, 40] },
+  "materials": { "m": { "type": "lambert", "base_color": [0.5, 0.5, 0.5] } },
+  "objects": [ { "type": "sphere", "radius": 0.7, "material": "m" } ],
+  "environment": { "file": "sky.exr" } })";
+  }
+  const std::string scene = "'" + (dir / "s.json").string() + "'";
+  const auto a = nf::testing::run_nearfield("render --dry-run " + scene);
+  const auto b = nf::testing::run_nearfield("render --dry-run --env-param paraboloid " + scene);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  // latlong: 64 x 32 pyramid (2731 texels) + tables + 2560 outputs; paraboloid adds 64 x 32 + ...
+  auto device = [](std::size_t w, std::size_t h, bool par) {
+    return nf::render::EnvironmentContribution::estimate_bytes(int(w), int(h), par, 64 * 40);
+  };
+  EXPECT_NE(a.out.find("environment "), std::string::npos) << a.out;
+  EXPECT_NE(a.out.find(nf::format_bytes(device(64, 32, false)) + " device)"), std::string::npos) << a.out;
+  EXPECT_NE(b.out.find(nf::format_bytes(device(64, 32, true)) + " device)"), std::string::npos) << b.out;
+  EXPECT_GT(device(64, 32, true), device(64, 32, false) + 64 * 32 * 16);
 }
 
 }  // namespace
