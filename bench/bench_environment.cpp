@@ -1,7 +1,8 @@
 // Environment glossy estimators against each other (docs/environment.md, "Benchmark"), after
 // Krivanek and Colbert 2008 Fig. 3: RMS relative error vs N of one frame of fis (filtered BRDF
 // importance sampling, shared Hammersley set), fis-rotated, mc (BRDF importance sampling),
-// env-is (map importance sampling) and env-fis (map sampling, filtered, point kernel) on the
+// env-is (map importance sampling) and env-fis (map sampling, filtered; point and integral
+// kernels) on the
 // visible points of a metallic GGX sphere (roughness 0.05 .. 0.7) under every HDRI of
 // ../shared/data/hdri that is present.
 //
@@ -101,7 +102,8 @@ void run(const Options& o) {
   const std::vector<double> roughs =
       o.quick ? std::vector<double>{0.1, 0.4} : std::vector<double>{0.05, 0.1, 0.2, 0.4, 0.7};
   const std::vector<int> ns = o.quick ? std::vector<int>{4, 16, 64} : std::vector<int>{4, 8, 16, 32, 64, 128, 256};
-  const std::vector<std::string> methods{"fis", "fis-rotated", "mc", "env-is", "env-fis"};
+  // env-fis twice: point kernel (Tokuyoshi Eq. 1 / 4) and integral kernel (Eq. 3 / 5)
+  const std::vector<std::string> methods{"fis", "fis-rotated", "mc", "env-is", "env-fis", "env-fis-integral"};
   std::vector<Row> rows;
   nf::Timer wall;
   nf::Progress progress("bench_environment", maps.size() * roughs.size());
@@ -143,7 +145,8 @@ void run(const Options& o) {
       for (const std::string& m : methods)
         for (const int n : ns) {
           nf::scene::RenderSettings rs;
-          rs.env_glossy = m;
+          rs.env_glossy = m == "env-fis-integral" ? "env-fis" : m;
+          rs.env_kernel = m == "env-fis-integral" ? "integral" : "point";
           rs.env_samples = n;
           rs.seed = 99;
           const int frames = m == "fis" ? 1 : o.frames;  // fis frame 0 is deterministic
