@@ -1,14 +1,18 @@
 /* Environment lighting of the G-buffer surfaces (docs/environment.md): the filtered pyramid of a
    lat-long map, its order-2 SH projection, and the estimators of reflected radiance
      L_o(p, v) = int f_r(l, v) max(0, n.l) L_env(l) dl
-   split into a diffuse part (SH irradiance or cosine-sampled Monte Carlo) and a glossy part (GGX
-   specular lobe only) estimated from N directions l_i with density p:
+   split into a diffuse part (SH irradiance or cosine-sampled Monte Carlo) and a glossy part (the
+   GGX specular lobe, or the Kurt material's lobes) estimated from N directions l_i with density p:
      L_o ~= (1/N) sum_i f_s(l_i, v) (n.l_i) L(l_i) / p(l_i).
 
-   Options:  NF_ENV_GLOSSY     0 mc | 1 fis | 2 fis-rotated | 3 env-is
+   Options:  NF_ENV_GLOSSY     0 mc | 1 fis | 2 fis-rotated | 3 env-is | 4 env-fis
+             NF_ENV_KERNEL     0 point | 1 integral (env-fis kernel size)
+             NF_ENV_PARAM      0 latlong | 1 paraboloid (the pyramid the filtered lookups read)
              NF_ENV_DIFFUSE    0 sh | 1 mc
              NF_ENV_BACKGROUND 0 hide | 1 show
-   The pyramid filter (env_filter: box or gauss4) is an argument of env_pyramid_down.          */
+   The pyramid filter (env_filter: box, gauss4 or gauss6) is an argument of env_pyramid_down.
+   The lat-long pyramid carries the map-sampling density p_uv in .w (its filtered levels are the
+   density pyramid of Tokuyoshi 2016 Eq. 3).                                                   */
 #define NF_LANES 1
 #include "common/brdf.h"
 #include "common/pyramid.h"
@@ -18,6 +22,12 @@
 #ifndef NF_ENV_GLOSSY
 #define NF_ENV_GLOSSY 1
 #endif
+#ifndef NF_ENV_KERNEL
+#define NF_ENV_KERNEL 0
+#endif
+#ifndef NF_ENV_PARAM
+#define NF_ENV_PARAM 0
+#endif
 #ifndef NF_ENV_DIFFUSE
 #define NF_ENV_DIFFUSE 0
 #endif
@@ -25,24 +35,53 @@
 #define NF_ENV_BACKGROUND 1
 #endif
 
-/* One pyramid level from the one below, texels wrapped in u and clamped in v (odd sizes repeat
-   their last row); weights over texels, not solid angle (docs/environment.md, "Map and pyramid").
-   filter 0, box:    texel (x, y) = mean of the 2x2 block (2x + a, 2y + b), a, b in {0, 1};
-   filter 1, gauss4: separable 4 taps 2x - 1 .. 2x + 2 with weights (1, 3, 3, 1) / 8 per axis. */
-__kernel void env_pyramid_down(__global float4* pyr, __global const int4* lv, int src, int filter) {
+/* One pyramid level from the one below (docs/environment.md, "Pyramid"); weights over texels, not
+   solid angle. Separable filters centred on the coarse texel's centre (fine 2x + 1/2), per axis:
+     filter 0, box:    taps 2x .. 2x + 1,     weights (1, 1) / 2;
+     filter 1, gauss4: taps 2x - 1 .. 2x + 2, weights (1, 3, 3, 1) / 8;
+     filter 2, gauss6: taps 2x - 2 .. 2x + 3, weights (1, 5, 10, 10, 5, 1) / 32.
+   param 0, lat-long: taps wrap in u and clamp in v (odd sizes repeat their last row);
+   param 1, paraboloid: level k is two S_k x S_k halves side by side, taps clamp inside the half. */
+__kernel void env_pyramid_down(__global float4* pyr, __global const int4* lv, int src, int filter, int param) {
   const int x = get_global_id(0), y = get_global_id(1);
   const int4 d = lv[src + 1];
   if (x >= d.y || y >= d.z) return;
+  const float box[2] = {0.5f, 0.5f};
+  const float g4[4] = {0.125f, 0.375f, 0.375f, 0.125f};
+  const float g6[6] = {0.03125f, 0.15625f, 0.3125f, 0.3125f, 0.15625f, 0.03125f};
+  const int n = filter == 2 ? 6 : (filter == 1 ? 4 : 2), o = filter == 2 ? -2 : (filter == 1 ? -1 : 0);
+  const int hf = param == 1 ? x / d.z : 0, lx = param == 1 ? x - hf * d.z : x;
   float4 s = (float4)(0.0f);
-  if (filter == 1) {
-    const float w[4] = {0.125f, 0.375f, 0.375f, 0.125f};
-    for (int b = 0; b < 4; ++b)
-      for (int a = 0; a < 4; ++a) s += (w[a] * w[b]) * nf_pyr_texel(pyr, lv, src, 2 * x - 1 + a, 2 * y - 1 + b);
-  } else {
-    for (int b = 0; b < 2; ++b)
-      for (int a = 0; a < 2; ++a) s += 0.25f * nf_pyr_texel(pyr, lv, src, 2 * x + a, 2 * y + b);
-  }
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a < n; ++a) {
+      const float w = filter == 2 ? g6[a] * g6[b] : (filter == 1 ? g4[a] * g4[b] : box[a] * box[b]);
+      const int tx = 2 * lx + o + a, ty = 2 * y + o + b;
+      s += w * (param == 1 ? nf_par_texel(pyr, lv, src, hf, tx, ty) : nf_pyr_texel(pyr, lv, src, tx, ty));
+    }
   pyr[d.x + y * d.y + x] = s;
+}
+
+/* Level 0 of the dual-paraboloid pyramid from level 0 of the lat-long one: each texel is the
+   solid-angle-weighted mean of 4 x 4 point samples of the (piecewise-constant) map,
+     L = sum_i J_i L(w_i) / sum_i J_i,  J_i = 4 b^2 (1 + sigma w_y)^2 (docs/environment.md). */
+__kernel void env_paraboloid_base(__global const float4* src, __global const int4* slv, __global float4* dst,
+                                  __global const int4* dlv) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  const int4 d = dlv[0];
+  if (x >= d.y || y >= d.z) return;
+  const int hf = x / d.z, lx = x - hf * d.z;
+  float3 acc = (float3)(0.0f);
+  float wsum = 0.0f;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const float2 uv = (float2)(((float)lx + ((float)i + 0.5f) * 0.25f) / (float)d.z,
+                                 ((float)y + ((float)j + 0.5f) * 0.25f) / (float)d.z);
+      const float3 w = nf_paraboloid_dir(uv, hf);
+      const float jac = nf_paraboloid_jacobian(hf ? -w.y : w.y);
+      acc += jac * nf_pyr_nearest(src, slv, 0, nf_latlong_uv(w)).xyz;
+      wsum += jac;
+    }
+  dst[d.x + y * d.y + x] = (float4)(acc / wsum, 0.0f);
 }
 
 /* Order-2 SH projection, one row of level 0 per work-item (the host sums the rows in double):
@@ -73,11 +112,64 @@ __kernel void env_sh_rows(__global const float4* pyr, __global const int4* lv, f
 }
 
 typedef struct {
-  __global const float4* pyr;
+  __global const float4* pyr; /* lat-long pyramid (level 0 = the map; .w = p_uv) */
   __global const int4* lv;
   int levels;
   float2 rot;
+  __global const float4* fpyr; /* the pyramid of the filtered lookups (NF_ENV_PARAM) */
+  __global const int4* flv;
+  int flevels;
 } EnvMap;
+
+/* The filtered radiance around the world direction l over a solid angle omega (sr): the level
+   whose texels span omega, l = log4(omega / Omega_texel), Omega_texel = J / (texels per unit
+   texture area) at l (Krivanek and Colbert 2008 §5.1; docs/environment.md, "Filter size"),
+   clamped to [0, top], trilinear. */
+static float3 env_filtered(const EnvMap* m, float3 l, float omega) {
+  const float3 w = nf_env_to_map(l, m->rot);
+#if NF_ENV_PARAM == 1
+  int hf;
+  const float2 uv = nf_paraboloid_uv(w, &hf);
+  const float side = (float)m->flv[0].z;
+  const float texel = nf_paraboloid_jacobian(fabs(w.y)) / (side * side);
+  const float level = 0.5f * log2(fmax(omega / texel, 1.0f));
+  return nf_par_trilinear(m->fpyr, m->flv, m->flevels, hf, uv, level).xyz;
+#else
+  const float2 uv = nf_latlong_uv(w);
+  const int4 l0 = m->flv[0];
+  const float texel = fmax(nf_latlong_jacobian(uv.y), 1e-20f) / ((float)l0.y * (float)l0.z);
+  const float level = 0.5f * log2(fmax(omega / texel, 1.0f));
+  return nf_pyr_trilinear(m->fpyr, m->flv, m->flevels, uv, level).xyz;
+#endif
+}
+
+/* Tokuyoshi 2016 Eq. 3: the lat-long level l whose kernel around uv holds the probability mass
+   K / N of the map-sampling density, 4^l / M pbar(uv, l) = K / N, with pbar the filtered p_uv
+   (.w of the pyramid; mean 1 over the unit square) and M = W H. The mass rises with l towards the
+   whole map's; 12 bisection steps on [0, top] (docs/environment.md, "env-fis"). */
+static float env_integral_level(__global const float4* pyr, __global const int4* lv, int levels, float2 uv,
+                                float target) {
+  const float inv_m = 1.0f / ((float)lv[0].y * (float)lv[0].z);
+  float lo = 0.0f, hi = (float)(levels - 1);
+  if (nf_pyr_trilinear(pyr, lv, levels, uv, lo).w * inv_m >= target) return lo;
+  if (exp2(2.0f * hi) * nf_pyr_trilinear(pyr, lv, levels, uv, hi).w * inv_m <= target) return hi;
+  for (int i = 0; i < 12; ++i) {
+    const float mid = 0.5f * (lo + hi);
+    if (exp2(2.0f * mid) * nf_pyr_trilinear(pyr, lv, levels, uv, mid).w * inv_m < target)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5f * (lo + hi);
+}
+
+/* Debug: env_integral_level at `count` (u, v) points for the mass `target` (tests). */
+__kernel void env_integral_debug(__global const float4* pyr, __global const int4* lv, int levels,
+                                 __global const float2* uv, int count, float target, __global float* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  out[i] = env_integral_level(pyr, lv, levels, uv[i], target);
+}
 
 /* L_env(w) at level 0, piecewise constant (the map as the reference renderer sees it). */
 static float3 env_l0(const EnvMap* m, float3 w) {
@@ -107,6 +199,97 @@ static float3 env_specular_cos(float3 n, float3 v, float3 l, float alpha, float3
   const float den = nl * sqrt(nv * nv * (1.0f - a2) + a2) + nv * sqrt(nl * nl * (1.0f - a2) + a2);
   const float V = 0.5f / fmax(den, 1e-12f);
   return env_fresnel(base, metallic, dot(v, h)) * (D * V * nl);
+}
+
+/* The glossy part of a surface: the GGX specular lobe, or the lobes of a Kurt material without
+   its diffuse term (docs/environment.md, "Splitting the BRDF"). Kurt lobes are sampled from the
+   material's mixture (kernels/common/brdf.h) restricted to the lobes: w[1 + j] / (1 - w[0]). */
+typedef struct {
+  int kind; /* 0 nothing glossy, 1 ggx, 2 kurt */
+  float3 n, v, t, base;
+  float alpha, metallic;
+  __global const NfKurtMaterial* km;
+  float w[NF_KURT_MAX_LOBES + 1]; /* kurt: nf_kurt_weights */
+  float ws;                       /* kurt: 1 - w[0], the lobes' share */
+} EnvGlossy;
+
+/* Kurt lobes only: f_s(l, v) (n.l) = sum_j ks_j F_j D_j (n.l) / (4 (v.h) ((n.l)(n.v))^alpha_j)
+   (Luksch et al. 2014 Eq. 1-3, as nf_kurt_f_cos without kd / pi) and the lobe mixture's density
+   p(l) = sum_j w_j / ws D_j(h) (n.h) / (4 v.h) (1/sr). */
+static float3 env_kurt_lobes(const EnvGlossy* g, float3 l, float* pdf) {
+  *pdf = 0.0f;
+  const float nl = dot(g->n, l);
+  const float3 hs = l + g->v;
+  const float h2 = dot(hs, hs);
+  if (!(nl > 0.0f) || !(h2 > 1e-12f)) return (float3)(0.0f);
+  float3 t, b;
+  nf_kurt_frame(g->n, g->t, &t, &b);
+  const float3 h = hs * rsqrt(h2);
+  const float hx = dot(h, t), hy = dot(h, b), hz = dot(h, g->n), vh = dot(g->v, h);
+  const float vhc = fmax(clamp(vh, 0.0f, 1.0f), 1e-6f);
+  const float nv = fmax(dot(g->n, g->v), 1e-4f), q = 1.0f - vhc, q5 = q * q * q * q * q;
+  const int count = clamp(g->km->count, 0, NF_KURT_MAX_LOBES);
+  float3 f = (float3)(0.0f);
+  float p = 0.0f;
+  for (int j = 0; j < count; ++j) {
+    const NfKurtLobe L = g->km->lobe[j];
+    const float r0 = clamp(L.r0, 0.0f, 1.0f), al = clamp(L.alpha, 0.0f, 1.0f);
+    const float D = nf_kurt_d(hx, hy, hz, nf_kurt_m(L.mx), nf_kurt_m(L.my));
+    f += fmax((float3)(L.ks_r, L.ks_g, L.ks_b), 0.0f) * ((r0 + (1.0f - r0) * q5) * D / (4.0f * vhc * pow(nl * nv, al)));
+    if (vh > 0.0f) p += g->w[1 + j] * D * hz / (4.0f * vh);
+  }
+  *pdf = isfinite(p) ? p / g->ws : 0.0f;
+  f *= nl;
+  return isfinite(f.x + f.y + f.z) ? f : (float3)(0.0f);
+}
+
+/* f_s(l, v) (n.l) of the glossy part. */
+static float3 env_glossy_f_cos(const EnvGlossy* g, float3 l) {
+  if (g->kind == 1) return env_specular_cos(g->n, g->v, l, g->alpha, g->base, g->metallic);
+  float pdf;
+  return env_kurt_lobes(g, l, &pdf);
+}
+
+/* A direction from the glossy part's own density for u in [0, 1)^2; returns p(l) (1/sr), 0 for no
+   sample. GGX: half vectors with density D(h) (n.h), reflected: p(l) = D(h) (n.h) / (4 v.h)
+   (Walter et al. 2007, Eq. 14, 35). Kurt: u.x picks lobe c by w[1 + c] / ws and is rescaled into
+   [0, 1) inside the lobe's interval (so a 2D point set stays stratified), then nf_kurt_sample
+   draws that lobe's half vector (Ward's inversion, Luksch et al. 2014 Eq. 6-7); p = the lobe
+   mixture's density. */
+static float env_glossy_sample(const EnvGlossy* g, float2 u, float3* l) {
+  if (g->kind == 1) {
+    const float3 h = nf_to_world(nf_sample_ggx_h(u.x, u.y, g->alpha), g->n);
+    *l = nf_reflect(g->v, h);
+    const float pdf = nf_pdf_ggx(dot(g->n, h), dot(g->v, h), g->alpha);
+    return pdf > 0.0f && dot(g->n, *l) > 0.0f ? pdf : 0.0f;
+  }
+  const float x = u.x * g->ws;
+  float acc = 0.0f, last_acc = 0.0f;
+  int c = -1, last = -1;
+  for (int j = 0; j < NF_KURT_MAX_LOBES; ++j) {
+    if (!(g->w[1 + j] > 0.0f)) continue;
+    last = j;
+    last_acc = acc;
+    if (x < acc + g->w[1 + j]) {
+      c = j;
+      break;
+    }
+    acc += g->w[1 + j];
+  }
+  if (c < 0) { /* rounding at u.x -> 1: the last non-empty lobe */
+    if (last < 0) return 0.0f;
+    c = last;
+    acc = last_acc;
+  }
+  const float u1 = clamp((x - acc) / g->w[1 + c], 0.0f, NF_ONE_MINUS_ULP);
+  /* the middle of lobe c's interval in the full mixture: nf_kurt_sample picks lobe c */
+  const float u0 = g->w[0] + acc + 0.5f * g->w[1 + c];
+  float pm;
+  *l = nf_kurt_sample(g->km, g->n, g->t, g->v, u0, u1, u.y, &pm);
+  if (!(pm > 0.0f)) return 0.0f;
+  float pdf;
+  env_kurt_lobes(g, *l, &pdf);
+  return pdf;
 }
 
 /* The piece of a normalised CDF (n + 1 entries) holding t, by bisection, and the position inside
@@ -159,10 +342,11 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
                         __global const int4* lv, int levels, float2 rot, __global const float4* sh,
                         __global const float* rows, __global const float* cols, __global const float* puv,
                         int n_samples, float k_bias, uint frame, uint seed, float4 cam_f, float4 cam_r, float4 cam_u,
-                        int2 cam_wh, __global float4* out) {
+                        int2 cam_wh, __global float4* out, __global const float4* fpyr, __global const int4* flv,
+                        int flevels, __global const NfKurtMaterial* kurt, int kurt_count) {
   const int p = get_global_id(0);
   if (p >= count) return;
-  const EnvMap m = {pyr, lv, levels, rot};
+  const EnvMap m = {pyr, lv, levels, rot, fpyr, flv, flevels};
   const NfSurface s = surfaces[p];
   if (!s.valid) {
 #if NF_ENV_BACKGROUND
@@ -177,14 +361,30 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
 #endif
     return;
   }
-  const float3 n = normalize((float3)(s.nx, s.ny, s.nz));
-  float3 v = (float3)(s.vx, s.vy, s.vz);
-  const float3 base = (float3)(s.base_r, s.base_g, s.base_b);
-  const float alpha = fmax(s.roughness * s.roughness, 1e-3f);
-  const int ggx = s.brdf == NF_BRDF_GGX;
+  EnvGlossy g;
+  g.n = normalize((float3)(s.nx, s.ny, s.nz));
+  g.v = (float3)(s.vx, s.vy, s.vz);
+  g.base = (float3)(s.base_r, s.base_g, s.base_b);
+  g.t = (float3)(0.0f);
+  g.alpha = fmax(s.roughness * s.roughness, 1e-3f);
+  g.metallic = s.metallic;
+  g.km = kurt;
+  g.ws = 0.0f;
+  g.kind = s.brdf == NF_BRDF_GGX ? 1 : 0;
+  const float3 n = g.n, v = g.v, base = g.base;
+  const int ggx = g.kind == 1;
   const float inv_n = 1.0f / (float)n_samples;
   /* diffuse weight w_d: diffuse radiance = w_d / pi * E(n) */
   float3 wd = s.brdf == NF_BRDF_LAMBERT ? base : (s.brdf == NF_BRDF_IRRADIANCE ? (float3)(NF_PI) : (float3)(0.0f));
+  if (s.brdf == NF_BRDF_KURT && s.metallic >= 0.0f && s.metallic < (float)kurt_count) {
+    /* shared/surface.h: base = world tangent, metallic = table index; diffuse kd, glossy the lobes */
+    g.km = kurt + (int)s.metallic;
+    g.t = base;
+    wd = fmax((float3)(g.km->kd_r, g.km->kd_g, g.km->kd_b), 0.0f);
+    nf_kurt_weights(g.km, dot(n, v), g.w);
+    g.ws = 1.0f - g.w[0];
+    g.kind = g.ws > 0.0f ? 2 : 0;
+  }
   float3 lo = (float3)(0.0f);
 #if NF_ENV_DIFFUSE == 0
   /* SH: the GGX diffuse lobe (1 - F) (1 - metallic) base / pi with F taken at n.v */
@@ -207,7 +407,7 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
     }
   }
 #endif
-  if (ggx) {
+  if (g.kind != 0) {
 #if NF_ENV_GLOSSY == 1
     /* one Cranley-Patterson shift per frame shared by every pixel (none on frame 0) */
     const float rx = frame ? nf_unit1(nf_hash1(frame * 2u + seed)) : 0.0f;
@@ -218,40 +418,47 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
 #endif
     const int4 l0 = lv[0];
     for (int i = 0; i < n_samples; ++i) {
-#if NF_ENV_GLOSSY == 0 || NF_ENV_GLOSSY == 3
+#if NF_ENV_GLOSSY == 0 || NF_ENV_GLOSSY >= 3
       uint c0 = (uint)p, c1 = frame * (uint)(2 * n_samples) + (uint)i;
       nf_philox(&c0, &c1, seed);
       const float2 u = (float2)(nf_unit1(c0), nf_unit1(c1));
 #else
       const float2 u = nf_rotate01(nf_hammersley((uint)i, (uint)n_samples), rx, ry);
 #endif
-#if NF_ENV_GLOSSY == 3
+#if NF_ENV_GLOSSY >= 3
       /* map-luminance importance sampling: p(l) = puv(texel) / J(v) */
       float3 l;
       float pdf;
       int texel;
       if (!env_sample_map(rows, cols, puv, l0, rot, u, &l, &pdf, &texel)) continue;
+#if NF_ENV_GLOSSY == 3
       const float3 L = pyr[l0.x + texel].xyz;
+#elif NF_ENV_KERNEL == 0
+      /* env-fis, point kernel (Tokuyoshi 2016 Eq. 1): the sample stands for K / (N p) sr */
+      const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf));
 #else
-      /* GGX half vector, reflected: p(l) = D(h) (n.h) / (4 v.h) (Walter et al. 2007, Eq. 14, 35) */
-      const float3 h = nf_to_world(nf_sample_ggx_h(u.x, u.y, alpha), n);
-      const float3 l = nf_reflect(v, h);
-      const float pdf = nf_pdf_ggx(dot(n, h), dot(v, h), alpha);
-      if (!(pdf > 0.0f) || !(dot(n, l) > 0.0f)) continue;
+      /* env-fis, integral kernel (Tokuyoshi 2016 Eq. 3): the lat-long level holding mass K / N,
+         as a solid angle 4^l J(v) / (W H) for the lookup's own parametrisation; the density in
+         the denominator is filtered with the same kernel (Eq. 5): pbar = p_uv(uv, l) / J(v) */
+      const float2 uv = nf_latlong_uv(nf_env_to_map(l, rot));
+      const float lev = env_integral_level(pyr, lv, levels, uv, k_bias * inv_n);
+      const float jl = nf_latlong_jacobian(uv.y);
+      const float3 L = env_filtered(&m, l, exp2(2.0f * lev) * jl / ((float)l0.y * (float)l0.z));
+      pdf = nf_pyr_trilinear(pyr, lv, levels, uv, lev).w / fmax(jl, 1e-20f);
+      if (!(pdf > 0.0f) || !isfinite(pdf)) continue;
+#endif
+#else
+      float3 l;
+      const float pdf = env_glossy_sample(&g, u, &l);
+      if (!(pdf > 0.0f)) continue;
 #if NF_ENV_GLOSSY == 0
       const float3 L = env_l0(&m, l);
 #else
-      /* Krivanek and Colbert 2008, Eq. in §5.1: the sample's solid angle 1/(N p) against a
-         level-0 texel's J / (W H); l = log4(K W H / (N p J)) (docs/environment.md) */
-      const float2 uv = nf_latlong_uv(nf_env_to_map(l, rot));
-      const float jac = fmax(nf_latlong_jacobian(uv.y), 1e-20f);
-      const float ratio = k_bias * (float)l0.y * (float)l0.z / ((float)n_samples * pdf * jac);
-      const float level = 0.5f * log2(fmax(ratio, 1.0f));
-      const float3 L = nf_pyr_trilinear(pyr, lv, levels, uv, level).xyz;
+      /* Krivanek and Colbert 2008 §5.1: the sample stands for the solid angle K / (N p) */
+      const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf));
 #endif
 #endif
-      const float3 f = env_specular_cos(n, v, l, alpha, base, s.metallic);
-      lo += f * L * (inv_n / pdf);
+      lo += env_glossy_f_cos(&g, l) * L * (inv_n / pdf);
     }
   }
   /* no NaN or Inf leaves: a non-finite estimate (never expected) is written as 0 */

@@ -1,11 +1,13 @@
 // The environment contribution's device tables (kernels/environment.cl, docs/environment.md):
-//  - every pyramid level against the 2x2 box average (and the 4x4 (1 3 3 1)/8 gauss4 filter)
-//    computed here in double from level 0 (odd sizes included: taps wrap in u, clamp in v);
+//  - every pyramid level against the 2x2 box average (and the 4x4 (1 3 3 1)/8 gauss4 and 6x6
+//    (1 5 10 10 5 1)/32 gauss6 filters) computed here in double from level 0 (odd sizes included:
+//    taps wrap in u, clamp in v); the .w channel (the map-sampling density) likewise;
 //  - the order-2 SH projection of analytic environments against closed-form coefficients.
 // Deterministic (no sampling): tolerances come from float arithmetic and the midpoint rule.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "environment_support.h"
@@ -15,23 +17,33 @@ namespace {
 using glm::dvec3;
 using nf::envtest::kPi;
 
-void check_pyramid(int w, int h, bool gauss4 = false) {
+// filter: "box", "gauss4" or "gauss6"
+void check_pyramid(int w, int h, const std::string& filter = "box") {
+  const bool gauss4 = filter == "gauss4", gauss6 = filter == "gauss6";
   const auto map = nf::envtest::make_map(w, h, 0.0, [](dvec3 d) {
     return dvec3(1.0 + d.x * d.x + 3.0 * std::max(0.0, d.y), 0.5 + 0.5 * d.z, std::exp(4.0 * (d.x - 1.0)) * 100.0);
   });
   nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
-  if (gauss4) env.set_filter("gauss4");
-  std::vector<dvec3> level = map.texels();
+  env.set_filter(filter);
+  std::vector<glm::dvec4> level;
+  for (std::size_t i = 0; i < map.texels().size(); ++i) level.emplace_back(map.texels()[i], map.texel_density_uv(i));
   int lw = w, lh = h;
   ASSERT_EQ(env.level_size(0), glm::ivec2(w, h));
   for (int k = 0; k < env.levels(); ++k) {
     if (k > 0) {
       const int nw = std::max(1, lw / 2), nh = std::max(1, lh / 2);
-      std::vector<dvec3> next(static_cast<std::size_t>(nw) * nh);
+      std::vector<glm::dvec4> next(static_cast<std::size_t>(nw) * nh);
       for (int y = 0; y < nh; ++y)
         for (int x = 0; x < nw; ++x) {
-          dvec3 s(0.0);
-          if (gauss4) {  // taps 2x - 1 .. 2x + 2, weights (1, 3, 3, 1) / 8 per axis
+          glm::dvec4 s(0.0);
+          if (gauss6) {  // taps 2x - 2 .. 2x + 3, weights (1, 5, 10, 10, 5, 1) / 32 per axis
+            const double wt[6] = {1 / 32.0, 5 / 32.0, 10 / 32.0, 10 / 32.0, 5 / 32.0, 1 / 32.0};
+            for (int b = 0; b < 6; ++b)
+              for (int a = 0; a < 6; ++a) {
+                const int xx = ((2 * x - 2 + a) % lw + lw) % lw, yy = std::clamp(2 * y - 2 + b, 0, lh - 1);
+                s += wt[a] * wt[b] * level[static_cast<std::size_t>(yy) * lw + xx];
+              }
+          } else if (gauss4) {  // taps 2x - 1 .. 2x + 2, weights (1, 3, 3, 1) / 8 per axis
             const double wt[4] = {0.125, 0.375, 0.375, 0.125};
             for (int b = 0; b < 4; ++b)
               for (int a = 0; a < 4; ++a) {
@@ -55,13 +67,13 @@ void check_pyramid(int w, int h, bool gauss4 = false) {
     const auto dev = env.read_level(k);
     ASSERT_EQ(dev.size(), level.size());
     for (std::size_t i = 0; i < dev.size(); ++i)
-      for (int c = 0; c < 3; ++c)
+      for (int c = 0; c < 4; ++c)
         // float: one rounding per add over <= 12 levels of 4-term means: 1e-5 relative is ~80 ulp
         ASSERT_NEAR(dev[i][c], level[i][c], 1e-5 * std::abs(level[i][c]) + 1e-30)
             << "level " << k << " texel " << i << " channel " << c;
   }
   EXPECT_EQ(env.level_size(env.levels() - 1), glm::ivec2(1, 1));
-  if (gauss4) {  // the filter took effect: level 1 differs from the box filter's
+  if (filter != "box") {  // the filter took effect: level 1 differs from the box filter's
     nf::render::EnvironmentContribution box(nf::envtest::runtime(), map);
     const auto a = env.read_level(1), b = box.read_level(1);
     double diff = 0;
@@ -74,8 +86,10 @@ void check_pyramid(int w, int h, bool gauss4 = false) {
 TEST(EnvironmentPyramid, LevelsAreBoxAverages) { check_pyramid(64, 32); }
 TEST(EnvironmentPyramid, OddSizesWrapAndClamp) { check_pyramid(37, 19); }
 TEST(EnvironmentPyramid, TallMap) { check_pyramid(8, 20); }
-TEST(EnvironmentPyramid, Gauss4Levels) { check_pyramid(64, 32, true); }
-TEST(EnvironmentPyramid, Gauss4OddSizes) { check_pyramid(37, 19, true); }
+TEST(EnvironmentPyramid, Gauss4Levels) { check_pyramid(64, 32, "gauss4"); }
+TEST(EnvironmentPyramid, Gauss4OddSizes) { check_pyramid(37, 19, "gauss4"); }
+TEST(EnvironmentPyramid, Gauss6Levels) { check_pyramid(64, 32, "gauss6"); }
+TEST(EnvironmentPyramid, Gauss6OddSizes) { check_pyramid(37, 19, "gauss6"); }
 
 // c_lm for Y_lm as in kernels/common/sh.h
 constexpr double c0 = 0.282094791773878, c1 = 0.488602511902920, c3 = 0.315391565252520, c4 = 0.546274215296040;

@@ -81,6 +81,7 @@ TEST(EnvironmentReference, GgxSphereMatchesReference) {
   nf::render::FrameSettings fs = nf::render::frame_settings(scene.render);
   fs.declared.env_glossy = "fis";
   fs.declared.env_samples = 40;
+  fs.declared.env_k = 1.0;
   r->set_settings(fs);
   r->render_frame();
   const nf::Image fis = r->accumulated();

@@ -3,10 +3,10 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <fmt/format.h>
 #include <system_error>
 
 #include "core/atomic_file.h"
@@ -83,6 +83,14 @@ void write_png(const std::filesystem::path& path, const Image& image) {
   OutputTransaction tx;
   write_png(tx, path, image);
   tx.commit();
+}
+
+std::pair<int, int> read_image_size(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail(fmt::format("{}: image file not found", path.string()));
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) fail(fmt::format("{}: cannot read image: {}", path.string(), OIIO::geterror()));
+  return {in->spec().width, in->spec().height};
 }
 
 Image read_image(const std::filesystem::path& path, ImageAttributes* attributes) {

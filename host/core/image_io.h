@@ -3,6 +3,7 @@
 // is renamed into place, so a failure never leaves a partial image and never destroys the
 // previous file of that name before the new one is complete.
 #include <filesystem>
+#include <utility>
 
 #include "core/image.h"
 
@@ -21,5 +22,7 @@ void write_exr(OutputTransaction& tx, const std::filesystem::path& path, const I
 void write_png(OutputTransaction& tx, const std::filesystem::path& path, const Image& image);
 // Any format OpenImageIO reads, as linear float (no colour conversion). Attributes optional.
 Image read_image(const std::filesystem::path& path, ImageAttributes* attributes = nullptr);
+// Width and height from the file's header only (estimates before loading). Throws nf::Error.
+std::pair<int, int> read_image_size(const std::filesystem::path& path);
 
 }  // namespace nf

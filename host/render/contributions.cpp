@@ -14,7 +14,7 @@ const std::vector<ContributionKind>& contribution_kinds() {
        }},
       {"environment", [](const ContributionContext& c) { return c.scene.environment.has_value(); },
        [](const ContributionContext& c) {
-         return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment);
+         return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment, c.scene.geometry.materials);
        }},
       {"indirect",
        [](const ContributionContext& c) { return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl"; },

@@ -8,6 +8,7 @@
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "render/kurt_table.h"
 
 namespace nf::render {
 namespace {
@@ -40,41 +41,92 @@ int glossy_index(const std::string& s) {
   if (s == "fis") return 1;
   if (s == "fis-rotated") return 2;
   if (s == "env-is") return 3;
-  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is)", s));
+  if (s == "env-fis") return 4;
+  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is | env-fis)", s));
+}
+
+int filter_index(const std::string& s) {
+  if (s == "box") return 0;
+  if (s == "gauss4") return 1;
+  if (s == "gauss6") return 2;
+  fail(fmt::format("env_filter: unknown filter '{}' (box | gauss4 | gauss6)", s));
+}
+
+// Level sizes from (w, h) down to the top: halved (rounded down, at least 1) until 1 x 1 for the
+// lat-long pyramid; for the paraboloid one (2 S, S) with S halved until 1.
+std::vector<glm::ivec2> level_dims(glm::ivec2 d, bool paraboloid) {
+  std::vector<glm::ivec2> dims;
+  for (;;) {
+    dims.push_back(d);
+    if (paraboloid ? d.y == 1 : (d.x == 1 && d.y == 1)) break;
+    d = paraboloid ? glm::ivec2(2 * std::max(1, d.y / 2), std::max(1, d.y / 2))
+                   : glm::ivec2(std::max(1, d.x / 2), std::max(1, d.y / 2));
+  }
+  return dims;
+}
+
+std::size_t texel_count(const std::vector<glm::ivec2>& dims) {
+  std::size_t n = 0;
+  for (const auto& d : dims) n += static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y);
+  return n;
 }
 
 }  // namespace
 
-EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, const scene::Environment& env)
-    : EnvironmentContribution(rt, ref::EnvironmentMap::load(env.file, env.rotation_deg, env.intensity)) {}
+EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, const scene::Environment& env,
+                                                 const std::vector<scene::Material>& materials)
+    : EnvironmentContribution(rt, ref::EnvironmentMap::load(env.file, env.rotation_deg, env.intensity)) {
+  set_kurt_table(kurt_table(materials));
+}
 
 EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, ref::EnvironmentMap map)
     : rt_(rt), map_(std::move(map)) {
   upload();
   build();
+  set_kurt_table({});
+}
+
+void EnvironmentContribution::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
+  kurt_ = upload_vector(rt_, table, "uploading the environment's kurt material table");
+  kurt_count_ = static_cast<int>(table.size());
+}
+
+double EnvironmentContribution::resolved_k(double env_k, const std::string& filter) {
+  if (env_k > 0.0) return env_k;
+  return filter == "box" ? 4.0 : 1.0;
+}
+
+std::size_t EnvironmentContribution::estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels) {
+  const std::size_t w = static_cast<std::size_t>(std::max(width, 1)), h = static_cast<std::size_t>(std::max(height, 1));
+  const auto ll = level_dims(glm::ivec2(static_cast<int>(w), static_cast<int>(h)), false);
+  std::size_t b = texel_count(ll) * 16 + ll.size() * 16;  // lat-long pyramid (float4) and its table
+  b += (h + 1 + h * (w + 1) + w * h) * sizeof(float);     // row CDF, column CDFs, p_uv
+  if (paraboloid) {
+    const auto pl = level_dims(glm::ivec2(2 * static_cast<int>(h), static_cast<int>(h)), true);
+    b += texel_count(pl) * 16 + pl.size() * 16;
+  }
+  return b + pixels * 16 + 9 * 16;  // output radiance, SH coefficients
 }
 
 // Level sizes: (W, H), then halved (rounded down, at least 1) until 1 x 1; all in one buffer.
 void EnvironmentContribution::upload() {
   const int w = map_.width(), h = map_.height();
-  dims_.clear();
+  dims_ = level_dims(glm::ivec2(w, h), false);
   offsets_.clear();
   int off = 0;
-  glm::ivec2 d(w, h);
-  for (;;) {
-    dims_.push_back(d);
+  for (const auto& d : dims_) {
     offsets_.push_back(off);
     off += d.x * d.y;
-    if (d.x == 1 && d.y == 1) break;
-    d = glm::ivec2(std::max(1, d.x / 2), std::max(1, d.y / 2));
   }
   std::vector<cl_int4> lv;
   for (std::size_t k = 0; k < dims_.size(); ++k) lv.push_back(cl_int4{{offsets_[k], dims_[k].x, dims_[k].y, 0}});
   lv_ = upload_vector(rt_, lv, "uploading the environment pyramid levels");
   std::vector<cl_float4> all(static_cast<std::size_t>(off), cl_float4{{0, 0, 0, 0}});
   const auto& tex = map_.texels();
+  // .w: the map-sampling density p_uv (env-fis integral kernel, Tokuyoshi 2016 Eq. 3)
   for (std::size_t i = 0; i < tex.size(); ++i)
-    all[i] = cl_float4{{static_cast<float>(tex[i].x), static_cast<float>(tex[i].y), static_cast<float>(tex[i].z), 0}};
+    all[i] = cl_float4{{static_cast<float>(tex[i].x), static_cast<float>(tex[i].y), static_cast<float>(tex[i].z),
+                        static_cast<float>(map_.texel_density_uv(i))}};
   pyr_ = upload_vector(rt_, all, "uploading the environment map");
   pyr_bytes_ = all.size() * sizeof(cl_float4) + lv.size() * sizeof(cl_int4);
   std::vector<float> rows(map_.row_cdf().begin(), map_.row_cdf().end());
@@ -97,7 +149,8 @@ void EnvironmentContribution::build() {
     down.setArg(0, pyr_);
     down.setArg(1, lv_);
     down.setArg(2, static_cast<int>(k));
-    down.setArg(3, filter_ == "gauss4" ? 1 : 0);
+    down.setArg(3, filter_index(filter_));
+    down.setArg(4, 0);
     const glm::ivec2 d = dims_[k + 1];
     rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
   }
@@ -124,7 +177,81 @@ void EnvironmentContribution::build() {
   for (const auto& s : sh_)
     shf.push_back(cl_float4{{static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z), 0}});
   sh_buf_ = upload_vector(rt_, shf, "uploading the environment SH coefficients");
+  if (param_ == "paraboloid") build_paraboloid();
   build_ms_ = timer.ms();
+}
+
+// The dual-paraboloid pyramid (docs/environment.md, "Paraboloid"): level 0 (2 S) x S with S = H,
+// resampled from the lat-long level 0 (env_paraboloid_base), then env_pyramid_down per level.
+void EnvironmentContribution::build_paraboloid() {
+  ::cl::Kernel base = rt_.kernel("environment.cl", "env_paraboloid_base");
+  ::cl::Kernel down = rt_.kernel("environment.cl", "env_pyramid_down");
+  Timer timer;
+  pdims_ = level_dims(glm::ivec2(2 * map_.height(), map_.height()), true);
+  poffsets_.clear();
+  int off = 0;
+  std::vector<cl_int4> lv;
+  for (const auto& d : pdims_) {
+    poffsets_.push_back(off);
+    lv.push_back(cl_int4{{off, d.x, d.y, 0}});
+    off += d.x * d.y;
+  }
+  plv_ = upload_vector(rt_, lv, "uploading the environment paraboloid levels");
+  cl_call([&] { ppyr_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(off) * 16); },
+          "environment paraboloid pyramid buffer");
+  ppyr_bytes_ = static_cast<std::size_t>(off) * 16 + lv.size() * sizeof(cl_int4);
+  base.setArg(0, pyr_);
+  base.setArg(1, lv_);
+  base.setArg(2, ppyr_);
+  base.setArg(3, plv_);
+  rt_.launch(base, ::cl::NDRange(static_cast<std::size_t>(pdims_[0].x), static_cast<std::size_t>(pdims_[0].y)));
+  for (std::size_t k = 0; k + 1 < pdims_.size(); ++k) {
+    down.setArg(0, ppyr_);
+    down.setArg(1, plv_);
+    down.setArg(2, static_cast<int>(k));
+    down.setArg(3, filter_index(filter_));
+    down.setArg(4, 1);
+    const glm::ivec2 d = pdims_[k + 1];
+    rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
+  }
+  cl_call([&] { rt_.queue().finish(); }, "building the environment paraboloid pyramid");
+  paraboloid_ms_ = timer.ms();
+}
+
+std::vector<glm::vec4> EnvironmentContribution::read_paraboloid_level(int k) {
+  const glm::ivec2 d = paraboloid_level_size(k);
+  std::vector<glm::vec4> out(static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y));
+  cl_call(
+      [&] {
+        rt_.queue().enqueueReadBuffer(ppyr_, CL_TRUE, poffsets_[static_cast<std::size_t>(k)] * sizeof(cl_float4),
+                                      out.size() * sizeof(cl_float4), out.data());
+      },
+      "reading an environment paraboloid level");
+  return out;
+}
+
+std::vector<float> EnvironmentContribution::integral_level_debug(const std::vector<glm::vec2>& uv, float target) {
+  std::vector<float> out(uv.size());
+  if (uv.empty()) return out;
+  ::cl::Buffer in = upload_vector(rt_, uv, "environment debug points"), buf;
+  cl_call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(float)); },
+          "environment level buffer");
+  ::cl::Kernel k = rt_.kernel("environment.cl", "env_integral_debug");
+  cl_call(
+      [&] {
+        k.setArg(0, pyr_);
+        k.setArg(1, lv_);
+        k.setArg(2, levels());
+        k.setArg(3, in);
+        k.setArg(4, static_cast<int>(uv.size()));
+        k.setArg(5, target);
+        k.setArg(6, buf);
+      },
+      "environment level kernel arguments");
+  rt_.launch(k, ::cl::NDRange(out.size()));
+  cl_call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
+          "reading the environment levels");
+  return out;
 }
 
 std::vector<glm::vec4> EnvironmentContribution::read_level(int k) {
@@ -165,20 +292,37 @@ std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std:
 }
 
 void EnvironmentContribution::set_filter(const std::string& filter) {
-  if (filter != "box" && filter != "gauss4")
-    fail(fmt::format("env_filter: unknown filter '{}' (box | gauss4)", filter));
+  filter_index(filter);  // validates
   if (filter == filter_) return;
   filter_ = filter;
   build();
   build_reported_ = false;
 }
 
+void EnvironmentContribution::set_param(const std::string& param) {
+  if (param != "latlong" && param != "paraboloid")
+    fail(fmt::format("env_param: unknown parametrisation '{}' (latlong | paraboloid)", param));
+  if (param == param_) return;
+  param_ = param;
+  if (param_ == "paraboloid") {  // built while in use only
+    build_paraboloid();
+    build_ms_ += paraboloid_ms_;
+    build_reported_ = false;
+  } else {
+    pdims_.clear();
+    ppyr_ = ::cl::Buffer();
+    ppyr_bytes_ = 0;
+  }
+}
+
 void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
-  set_filter(d.env_filter);
+  set_filter(d.env_filter);  // first: a new filter with a new parametrisation builds once
+  set_param(d.env_param);
   const std::string options =
-      fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={}", glossy_index(d.env_glossy),
-                  d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1);
+      fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={}",
+                  glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1,
+                  d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0);
   if (options != options_ || !shade_()) {
     shade_ = rt_.kernel("environment.cl", "env_shade", options);
     options_ = options;
@@ -228,7 +372,7 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
         shade_.setArg(a++, cols_);
         shade_.setArg(a++, puv_);
         shade_.setArg(a++, d.env_samples);
-        shade_.setArg(a++, static_cast<float>(d.env_k));
+        shade_.setArg(a++, static_cast<float>(resolved_k(d.env_k, filter_)));
         shade_.setArg(a++, static_cast<cl_uint>(in.frame));
         shade_.setArg(a++, static_cast<cl_uint>(d.seed));
         shade_.setArg(a++, cf);
@@ -236,6 +380,12 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
         shade_.setArg(a++, cu);
         shade_.setArg(a++, wh);
         shade_.setArg(a++, out_);
+        const bool par = param_ == "paraboloid";
+        shade_.setArg(a++, par ? ppyr_ : pyr_);
+        shade_.setArg(a++, par ? plv_ : lv_);
+        shade_.setArg(a++, par ? paraboloid_levels() : levels());
+        shade_.setArg(a++, kurt_);
+        shade_.setArg(a++, kurt_count_);
       },
       "environment kernel arguments");
   const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
@@ -254,6 +404,9 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
   return f;
 }
 
-std::size_t EnvironmentContribution::device_bytes() const { return pyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16; }
+std::size_t EnvironmentContribution::device_bytes() const {
+  return pyr_bytes_ + ppyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16 +
+         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial);
+}
 
 }  // namespace nf::render

@@ -2,14 +2,16 @@
 // Environment lighting as a contribution of the frame (docs/environment.md): a lat-long map
 // uploaded once, its filtered pyramid and order-2 SH projection built by OpenCL
 // (kernels/environment.cl), and per frame the diffuse (SH or cosine Monte Carlo) and glossy
-// (mc | fis | fis-rotated | env-is) estimates on Step 0's surfaces, plus the background seen by
-// camera rays that miss the geometry.
+// (mc | fis | fis-rotated | env-is | env-fis) estimates on Step 0's surfaces, plus the background
+// seen by camera rays that miss the geometry. The filtered lookups read the lat-long pyramid or a
+// dual-paraboloid one (env_param); Kurt materials read the material table (render/kurt_table.h).
 #include <array>
 #include <vector>
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "kernels/shared/kurt.h"
 #include "reference/environment_map.h"
 #include "render/contribution.h"
 
@@ -17,8 +19,10 @@ namespace nf::render {
 
 class EnvironmentContribution final : public Contribution {
  public:
-  // Loads the scene's map (nf::Error naming the file) and builds the device copy.
-  EnvironmentContribution(cl::Runtime& rt, const scene::Environment& env);
+  // Loads the scene's map (nf::Error naming the file) and builds the device copy; `materials`
+  // give the Kurt material table.
+  EnvironmentContribution(cl::Runtime& rt, const scene::Environment& env,
+                          const std::vector<scene::Material>& materials = {});
   // From a map in memory (tests).
   EnvironmentContribution(cl::Runtime& rt, ref::EnvironmentMap map);
 
@@ -27,35 +31,58 @@ class EnvironmentContribution final : public Contribution {
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
   std::size_t device_bytes() const override;
 
-  // Rebuilds the pyramid with `box` or `gauss4` (docs/environment.md) when it differs; prepare()
-  // calls it with the env_filter setting.
+  // Rebuilds the pyramids with `box`, `gauss4` or `gauss6` (docs/environment.md) when it differs;
+  // prepare() calls it with the env_filter setting.
   void set_filter(const std::string& filter);
+  // `latlong` or `paraboloid`: the pyramid the filtered lookups read (the paraboloid one is built
+  // on first use, and rebuilt with the filter); prepare() calls it with env_param.
+  void set_param(const std::string& param);
+  // The Kurt material table (one entry per scene material, render/kurt_table.h).
+  void set_kurt_table(const std::vector<NfKurtMaterial>& table);
+  // K for a filter: env_k, or when env_k is 0 the per-filter default (box 4, gauss4/gauss6 1).
+  static double resolved_k(double env_k, const std::string& filter);
+  // Device bytes of the environment for a W x H map (both pyramids, tables, `pixels` outputs):
+  // the `render --dry-run` estimate.
+  static std::size_t estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels);
 
   // Introspection (tests, stats).
   int levels() const { return static_cast<int>(dims_.size()); }
   glm::ivec2 level_size(int k) const { return dims_[static_cast<std::size_t>(k)]; }
-  std::vector<glm::vec4> read_level(int k);                    // level k, rows from the top
+  std::vector<glm::vec4> read_level(int k);  // level k, rows from the top (.w = p_uv)
+  int paraboloid_levels() const { return static_cast<int>(pdims_.size()); }
+  glm::ivec2 paraboloid_level_size(int k) const { return pdims_[static_cast<std::size_t>(k)]; }
+  std::vector<glm::vec4> read_paraboloid_level(int k);         // (2 S) x S, half 0 (+y) on the left
   const std::array<glm::dvec3, 9>& sh() const { return sh_; }  // L_lm, RGB (world frame)
   double build_ms() const { return build_ms_; }                // pyramid + SH, device and host
-  double pyramid_ms() const { return pyramid_ms_; }            // the pyramid alone
+  double pyramid_ms() const { return pyramid_ms_; }            // the lat-long pyramid alone
+  double paraboloid_ms() const { return paraboloid_ms_; }      // the paraboloid pyramid alone
   const ref::EnvironmentMap& map() const { return map_; }
   // `count` env-is map samples (direction xyz, pdf w) from Philox streams (seed, i) (tests).
   std::vector<glm::vec4> sample_map_debug(int count, std::uint32_t seed);
+  // The env-fis integral kernel's lat-long level (Tokuyoshi 2016 Eq. 3) at each uv for the
+  // probability mass `target` = K / N, as the shading kernel computes it (tests).
+  std::vector<float> integral_level_debug(const std::vector<glm::vec2>& uv, float target);
 
  private:
   void upload();
   void build();
+  void build_paraboloid();
   cl::Runtime& rt_;
   ref::EnvironmentMap map_;
   std::vector<glm::ivec2> dims_;
   std::vector<int> offsets_;
   ::cl::Buffer pyr_, lv_, sh_buf_, rows_, cols_, puv_, out_;
-  std::size_t pyr_bytes_ = 0, table_bytes_ = 0, out_bytes_ = 0;
+  std::vector<glm::ivec2> pdims_;  // paraboloid levels (2 S_k, S_k); empty until used
+  std::vector<int> poffsets_;
+  ::cl::Buffer ppyr_, plv_, kurt_;
+  int kurt_count_ = 0;
+  std::size_t pyr_bytes_ = 0, table_bytes_ = 0, out_bytes_ = 0, ppyr_bytes_ = 0;
   std::array<glm::dvec3, 9> sh_{};
-  double build_ms_ = 0.0, pyramid_ms_ = 0.0;
+  double build_ms_ = 0.0, pyramid_ms_ = 0.0, paraboloid_ms_ = 0.0;
   bool build_reported_ = false;
   std::string options_;
   std::string filter_ = "box";
+  std::string param_ = "latlong";
   ::cl::Kernel shade_;
 };
 

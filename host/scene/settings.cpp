@@ -79,6 +79,16 @@ Setting positive_real(std::string name, std::string path, double hi, std::string
   return s;
 }
 
+// A real in [0, hi] (0 has a meaning of its own, stated in the doc).
+template <typename Ref>
+Setting nonnegative_real(std::string name, std::string path, double hi, std::string contribution, SettingEffect effect,
+                         std::string doc, Ref ref) {
+  Setting s = positive_real(std::move(name), std::move(path), hi, std::move(contribution), effect, std::move(doc), ref);
+  s.lo_open = false;
+  s.set = [ref, hi](RenderSettings& r, const json& v, const JsonWhere& w) { ref(r) = json_number(v, w, 0.0, hi); };
+  return s;
+}
+
 std::vector<Setting> declare() {
   constexpr auto R = SettingEffect::restart;
   constexpr auto S0 = SettingEffect::step0;
@@ -136,20 +146,30 @@ std::vector<Setting> declare() {
           "MiB of device memory for A_m(p) kept across progressive frames (0 = recompute every frame)",
           [](auto& r) -> auto& { return r.pixel_cache; }),
       choice(
-          "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is"}, "environment", R,
-          "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling",
+          "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is", "env-fis"}, "environment", R,
+          "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling, "
+          "filtered map sampling",
           [](auto& r) -> auto& { return r.env_glossy; }),
       integer(
           "env_samples", "env_samples", 1, 4096, "environment", R,
           "N: environment directions per pixel per frame (glossy, and diffuse with env_diffuse mc)",
           [](auto& r) -> auto& { return r.env_samples; }),
-      positive_real(
-          "env_k", "env_k", 1e6, "environment", R, "K: level bias of the filtered lookup, l = log4(K W H / (N p J))",
+      nonnegative_real(
+          "env_k", "env_k", 1e6, "environment", R,
+          "K: level bias of the filtered lookup, l = log4(K W H / (N p J)); 0 = per filter (box 4, gauss 1)",
           [](auto& r) -> auto& { return r.env_k; }),
       choice(
-          "env_filter", "env_filter", {"box", "gauss4"}, "environment", R,
-          "filter of the environment pyramid: 2x2 box or 4x4 (1 3 3 1)/8 binomial",
+          "env_kernel", "env_kernel", {"point", "integral"}, "environment", R,
+          "env-fis kernel size: point density (Tokuyoshi Eq. 1) or integrated density by bisection (Eq. 3)",
+          [](auto& r) -> auto& { return r.env_kernel; }),
+      choice(
+          "env_filter", "env_filter", {"box", "gauss4", "gauss6"}, "environment", R,
+          "filter of the environment pyramid: 2x2 box, 4x4 (1 3 3 1)/8 or 6x6 (1 5 10 10 5 1)/32 binomial",
           [](auto& r) -> auto& { return r.env_filter; }),
+      choice(
+          "env_param", "env_param", {"latlong", "paraboloid"}, "environment", R,
+          "parametrisation of the filtered pyramid: the map's lat-long grid or a dual paraboloid about +-y",
+          [](auto& r) -> auto& { return r.env_param; }),
       choice(
           "env_diffuse", "env_diffuse", {"sh", "mc"}, "environment", R,
           "environment diffuse term: order-2 SH irradiance or cosine-sampled Monte Carlo",
@@ -242,7 +262,7 @@ std::string Setting::range_text() const {
   if (type == SettingType::choice) return join_names(choices);
   if (type == SettingType::integer)
     return fmt::format("{}..{}", static_cast<long long>(lo), static_cast<long long>(hi));
-  return fmt::format("> {}, <= {}", lo, hi);
+  return fmt::format("{} {}, <= {}", lo_open ? ">" : ">=", lo, hi);
 }
 
 const std::vector<Setting>& settings_table() {

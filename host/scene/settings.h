@@ -35,10 +35,12 @@ struct RenderSettings {
   int pixel_cache = 1024;                 // MiB for A_m(p) kept across progressive frames; 0 = off
   TonemapParams tonemap;                  // exposure, gamma
   // environment (docs/environment.md)
-  std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is
+  std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis
   int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame
-  double env_k = 1.0;                   // K, the filtered lookup's level bias (Krivanek and Colbert 2008)
-  std::string env_filter = "box";       // box | gauss4 (pyramid filter)
+  double env_k = 0.0;                   // K, the filtered lookup's level bias; 0 = per filter (box 4, else 1)
+  std::string env_kernel = "point";     // point | integral (env-fis kernel size, Tokuyoshi 2016 Eq. 1 / 3)
+  std::string env_filter = "box";       // box | gauss4 | gauss6 (pyramid filter)
+  std::string env_param = "latlong";    // latlong | paraboloid (filtered pyramid's parametrisation)
   std::string env_diffuse = "sh";       // sh | mc
   std::string env_background = "show";  // show | hide
   // one-bounce indirect light (docs/indirect.md)
@@ -65,6 +67,7 @@ struct Setting {
   SettingType type = SettingType::integer;
   std::vector<std::string> choices;  // type choice
   double lo = 0.0, hi = 0.0;         // inclusive range (integer, real)
+  bool lo_open = true;               // real: lo itself is refused (> lo) unless false (>= lo)
   std::string doc;                   // one line for --help, the viewer and docs/settings.md
   std::string contribution;          // "luminaires", "frame", "display"
   SettingEffect effect = SettingEffect::restart;

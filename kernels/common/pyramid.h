@@ -70,4 +70,65 @@ NF_INLINE float4 nf_pyr_trilinear(__global const float4* pyr, __global const int
   return mix(a, nf_pyr_bilinear(pyr, lv, k1, uv), t);
 }
 
+/* ------------------------------------------------ dual paraboloid (docs/environment.md) ------ */
+/* Two square halves side by side in one level: level k is (2 S_k) x S_k texels, half 0 (columns
+   0 .. S_k - 1) about +y, half 1 about -y. A map-frame direction w in half h (sigma = +1 for h = 0,
+   -1 for h = 1) sits at
+     (s, t) = (w_x, w_z) / (b (1 + sigma w_y)),   local (u, v) = ((s + 1) / 2, (t + 1) / 2) in [0, 1]^2,
+   b = NF_PARABOLOID_B = 1.2 (Krivanek and Colbert 2008, §5.1), so each half reaches ~100 degrees
+   from its pole and holds a rim of the other hemisphere. Solid angle per unit local (u, v) area:
+     J = 4 b^2 (1 + sigma w_y)^2.
+   Lookups pick the half by the sign of w_y and clamp inside the half (no tap crosses halves). */
+#define NF_PARABOLOID_B 1.2f
+
+NF_INLINE float nf_paraboloid_jacobian(float sigma_wy) {
+  const float a = 1.0f + sigma_wy;
+  return 4.0f * NF_PARABOLOID_B * NF_PARABOLOID_B * a * a;
+}
+
+/* The half (*hf: 0 for w_y >= 0, else 1) and the local (u, v) of the map-frame unit direction w. */
+NF_INLINE float2 nf_paraboloid_uv(float3 w, int* hf) {
+  *hf = w.y >= 0.0f ? 0 : 1;
+  const float k = 1.0f / (NF_PARABOLOID_B * (1.0f + fabs(w.y)));
+  return clamp((float2)(0.5f + 0.5f * w.x * k, 0.5f + 0.5f * w.z * k), 0.0f, 1.0f);
+}
+
+/* The map-frame direction at local (u, v) of a half (any (u, v) in the square is a direction). */
+NF_INLINE float3 nf_paraboloid_dir(float2 uv, int hf) {
+  const float s = (2.0f * uv.x - 1.0f) * NF_PARABOLOID_B, t = (2.0f * uv.y - 1.0f) * NF_PARABOLOID_B;
+  const float r2 = s * s + t * t, k = 1.0f / (1.0f + r2);
+  const float y = (1.0f - r2) * k;
+  return (float3)(2.0f * s * k, hf ? -y : y, 2.0f * t * k);
+}
+
+/* Texel (x, y) of a half of level k, both clamped into the half. */
+NF_INLINE float4 nf_par_texel(__global const float4* pyr, __global const int4* lv, int k, int hf, int x, int y) {
+  const int4 l = lv[k];
+  const int s = l.z; /* side of a hf */
+  x = clamp(x, 0, s - 1);
+  y = clamp(y, 0, s - 1);
+  return pyr[l.x + y * l.y + hf * s + x];
+}
+
+NF_INLINE float4 nf_par_bilinear(__global const float4* pyr, __global const int4* lv, int k, int hf, float2 uv) {
+  const float s = (float)lv[k].z;
+  const float x = uv.x * s - 0.5f, y = uv.y * s - 0.5f;
+  const float x0 = floor(x), y0 = floor(y);
+  const float fx = x - x0, fy = y - y0;
+  const int ix = (int)x0, iy = (int)y0;
+  const float4 a = nf_par_texel(pyr, lv, k, hf, ix, iy), b = nf_par_texel(pyr, lv, k, hf, ix + 1, iy);
+  const float4 c = nf_par_texel(pyr, lv, k, hf, ix, iy + 1), d = nf_par_texel(pyr, lv, k, hf, ix + 1, iy + 1);
+  return mix(mix(a, b, fx), mix(c, d, fx), fy);
+}
+
+NF_INLINE float4 nf_par_trilinear(__global const float4* pyr, __global const int4* lv, int levels, int hf, float2 uv,
+                                  float l) {
+  l = clamp(l, 0.0f, (float)(levels - 1));
+  const int k0 = min((int)l, levels - 1), k1 = min(k0 + 1, levels - 1);
+  const float t = l - (float)k0;
+  const float4 a = nf_par_bilinear(pyr, lv, k0, hf, uv);
+  if (t <= 0.0f || k1 == k0) return a;
+  return mix(a, nf_par_bilinear(pyr, lv, k1, hf, uv), t);
+}
+
 #endif
