@@ -8,18 +8,23 @@
    Options:  NF_ENV_GLOSSY     0 mc | 1 fis | 2 fis-rotated | 3 env-is
              NF_ENV_DIFFUSE    0 sh | 1 mc
              NF_ENV_BACKGROUND 0 hide | 1 show
+             NF_ENV_VIS        0 none | 1 sh: SH visibility (common/env_vis.h, docs/env_visibility.md)
    The pyramid filter (env_filter: box or gauss4) is an argument of env_pyramid_down.          */
 #define NF_LANES 1
 #include "common/brdf.h"
 #include "common/pyramid.h"
 #include "common/random.h"
 #include "common/sh.h"
+#include "common/env_vis.h"
 
 #ifndef NF_ENV_GLOSSY
 #define NF_ENV_GLOSSY 1
 #endif
 #ifndef NF_ENV_DIFFUSE
 #define NF_ENV_DIFFUSE 0
+#endif
+#ifndef NF_ENV_VIS
+#define NF_ENV_VIS 0
 #endif
 #ifndef NF_ENV_BACKGROUND
 #define NF_ENV_BACKGROUND 1
@@ -159,7 +164,8 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
                         __global const int4* lv, int levels, float2 rot, __global const float4* sh,
                         __global const float* rows, __global const float* cols, __global const float* puv,
                         int n_samples, float k_bias, uint frame, uint seed, float4 cam_f, float4 cam_r, float4 cam_u,
-                        int2 cam_wh, __global float4* out) {
+                        int2 cam_wh, __global float4* out, __global const float4* vis16,
+                        __global const float4* lsh16) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const EnvMap m = {pyr, lv, levels, rot};
@@ -189,7 +195,12 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
 #if NF_ENV_DIFFUSE == 0
   /* SH: the GGX diffuse lobe (1 - F) (1 - metallic) base / pi with F taken at n.v */
   if (ggx) wd = (1.0f - env_fresnel(base, s.metallic, dot(n, v))) * (1.0f - s.metallic) * base;
+#if NF_ENV_VIS
+  /* sum_k L_k (V cos)_k, clamped to [0, E(n)] */
+  lo += wd * (1.0f / NF_PI) * nf_env_vis_irradiance(lsh16, vis16 + 4 * p, nf_sh9_irradiance(sh, n));
+#else
   lo += wd * (1.0f / NF_PI) * fmax(nf_sh9_irradiance(sh, n), (float3)(0.0f));
+#endif
 #else
   /* cosine sampling, p = (n.l) / pi: f_d (n.l) / p = w_d (with F at v.h for GGX) */
   if (ggx || any(wd != 0.0f)) {
@@ -203,6 +214,9 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
         const float3 h = normalize(l + v);
         w = (1.0f - env_fresnel(base, s.metallic, dot(v, h))) * (1.0f - s.metallic) * base;
       }
+#if NF_ENV_VIS
+      w *= nf_env_vis_factor(vis16 + 4 * p, l, dot(n, l));
+#endif
       lo += w * env_l0(&m, l) * inv_n;
     }
   }
@@ -250,7 +264,13 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       const float3 L = nf_pyr_trilinear(pyr, lv, levels, uv, level).xyz;
 #endif
 #endif
+#if NF_ENV_VIS
+      /* the fitted (V cos)(l), clamped to [0, n.l], in place of n.l */
+      const float3 f =
+          env_specular_cos(n, v, l, alpha, base, s.metallic) * nf_env_vis_factor(vis16 + 4 * p, l, dot(n, l));
+#else
       const float3 f = env_specular_cos(n, v, l, alpha, base, s.metallic);
+#endif
       lo += f * L * (inv_n / pdf);
     }
   }

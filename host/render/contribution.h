@@ -21,6 +21,10 @@
 #include "render/sampler.h"
 #include "scene/scene.h"
 
+namespace nf::gl {
+class SceneGpu;
+}
+
 namespace nf::render {
 
 // What a contribution gets each frame: Step 0's surfaces of the current view (one NfSurface per
@@ -37,6 +41,10 @@ struct FrameInputs {
   // The camera of the surfaces (pixel p = (p mod width, p / width)); the environment shows itself
   // through the pixels without a surface. nullptr: no background.
   const scene::Camera* camera = nullptr;
+  // The scene's geometry, on the GPU (GL context current) and on the host: the environment's
+  // shadow maps (env_visibility sh). nullptr: not available.
+  const gl::SceneGpu* scene_gpu = nullptr;
+  const scene::Geometry* geometry = nullptr;
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

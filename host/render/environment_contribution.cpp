@@ -49,7 +49,7 @@ EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, const scene::E
     : EnvironmentContribution(rt, ref::EnvironmentMap::load(env.file, env.rotation_deg, env.intensity)) {}
 
 EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, ref::EnvironmentMap map)
-    : rt_(rt), map_(std::move(map)) {
+    : rt_(rt), map_(std::move(map)), vis_(rt) {
   upload();
   build();
 }
@@ -176,9 +176,9 @@ void EnvironmentContribution::set_filter(const std::string& filter) {
 void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   set_filter(d.env_filter);
-  const std::string options =
-      fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={}", glossy_index(d.env_glossy),
-                  d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1);
+  const std::string options = fmt::format(
+      "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_VIS={}", glossy_index(d.env_glossy),
+      d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1, d.env_visibility == "sh" ? 1 : 0);
   if (options != options_ || !shade_()) {
     shade_ = rt_.kernel("environment.cl", "env_shade", options);
     options_ = options;
@@ -194,6 +194,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     build_reported_ = true;
   }
   Timer wall;
+  const EnvVisibility::Frame vis = vis_.run(in, map_, pyr_, lv_);  // dummies unless env_visibility sh
+  f.step1_ms += vis.build_ms + vis.fit_ms;
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
   if (out_bytes_ != n * sizeof(cl_float4)) {
     cl_call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4)); },
@@ -236,6 +238,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
         shade_.setArg(a++, cu);
         shade_.setArg(a++, wh);
         shade_.setArg(a++, out_);
+        shade_.setArg(a++, *vis.coeffs);
+        shade_.setArg(a++, *vis.lsh);
       },
       "environment kernel arguments");
   const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
@@ -254,6 +258,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
   return f;
 }
 
-std::size_t EnvironmentContribution::device_bytes() const { return pyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16; }
+std::size_t EnvironmentContribution::device_bytes() const {
+  return pyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16 + vis_.device_bytes();
+}
 
 }  // namespace nf::render

@@ -12,6 +12,7 @@
 
 #include "reference/environment_map.h"
 #include "render/contribution.h"
+#include "render/env_visibility.h"
 
 namespace nf::render {
 
@@ -41,6 +42,7 @@ class EnvironmentContribution final : public Contribution {
   const ref::EnvironmentMap& map() const { return map_; }
   // `count` env-is map samples (direction xyz, pdf w) from Philox streams (seed, i) (tests).
   std::vector<glm::vec4> sample_map_debug(int count, std::uint32_t seed);
+  EnvVisibility& visibility() { return vis_; }  // env_visibility sh (docs/env_visibility.md)
 
  private:
   void upload();
@@ -57,6 +59,7 @@ class EnvironmentContribution final : public Contribution {
   std::string options_;
   std::string filter_ = "box";
   ::cl::Kernel shade_;
+  EnvVisibility vis_;
 };
 
 }  // namespace nf::render

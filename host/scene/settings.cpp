@@ -154,6 +154,14 @@ std::vector<Setting> declare() {
           "env_background", "env_background", {"show", "hide"}, "environment", R,
           "camera rays that miss the geometry see the environment (show) or black (hide)",
           [](auto& r) -> auto& { return r.env_background; }),
+      choice(
+          "env_visibility", "env_visibility", {"none", "sh"}, "environment", R,
+          "environment visibility: none or order-4 SH of V cos fitted to N_v shadow maps",
+          [](auto& r) -> auto& { return r.env_visibility; }),
+      integer(
+          "env_visibility_samples", "env_visibility_samples", 1, 256, "environment", R,
+          "N_v: shadow-map directions (env-map importance sampled) of the SH visibility",
+          [](auto& r) -> auto& { return r.env_visibility_samples; }),
       positive_real(
           "exposure", "tonemap/exposure", 1e300, "display", D, "tone mapping exposure (> 0)",
           [](auto& r) -> auto& { return r.tonemap.exposure; }),

@@ -40,6 +40,8 @@ struct RenderSettings {
   std::string env_filter = "box";       // box | gauss4 (pyramid filter)
   std::string env_diffuse = "sh";       // sh | mc
   std::string env_background = "show";  // show | hide
+  std::string env_visibility = "none";  // none | sh (Krivanek and Colbert 2008 §5.2, docs/env_visibility.md)
+  int env_visibility_samples = 16;      // N_v, shadow-map directions of the SH visibility, 1..256
 };
 
 // What a change of a setting invalidates, in increasing order: `display` only re-tone-maps the
