@@ -45,6 +45,9 @@ struct FrameInputs {
   // shadow maps (env_visibility sh). nullptr: not available.
   const gl::SceneGpu* scene_gpu = nullptr;
   const scene::Geometry* geometry = nullptr;
+  // Changes whenever `surfaces` gets new contents (0: unknown, assume it changed every frame), so
+  // per-view work can be kept across the frames of one accumulation.
+  std::uint64_t surfaces_version = 0;
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

@@ -107,6 +107,12 @@ void EnvVisibility::project(const ref::EnvironmentMap& map, const ::cl::Buffer& 
   projected_ = true;
 }
 
+void EnvVisibility::prepare(const FrameInputs& in) {
+  if (in.settings.declared.env_visibility != "sh") return;
+  if (!fit_()) fit_ = rt_.kernel("env_visibility.cl", "env_vis_fit");
+  if (!projected_) (void)rt_.kernel("env_visibility.cl", "env_sh16_rows");
+}
+
 EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::EnvironmentMap& map, const ::cl::Buffer& pyr,
                                         const ::cl::Buffer& lv) {
   Frame f;
@@ -152,8 +158,14 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
     bytes_ = maps_->maps().size() * sizeof(float) + frames.size() * sizeof(cl_float4) + p.size() * sizeof(float) +
              16 * sizeof(cl_float4);
     built = true;
+    fitted_ = false;
   }
   if (built) f.build_ms = build.ms();
+  f.coeffs = &coeffs_;
+  f.lsh = &lsh_buf_;
+  f.on = true;
+  if (fitted_ && in.surfaces_version != 0 && in.surfaces_version == fitted_version_ && in.count == fitted_count_)
+    return f;  // same surfaces, same maps: the coefficients are still valid
   if (!fit_()) fit_ = rt_.kernel("env_visibility.cl", "env_vis_fit");
   const std::size_t count = static_cast<std::size_t>(std::max(in.count, 1));
   if (coeff_bytes_ != count * 4 * sizeof(cl_float4)) {
@@ -182,9 +194,9 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
   const ::cl::Event ev = rt_.launch(fit_, ::cl::NDRange(count));
   cl_call([&] { ev.wait(); }, "environment visibility fit");
   f.fit_ms = cl::Runtime::event_ms(ev);
-  f.coeffs = &coeffs_;
-  f.lsh = &lsh_buf_;
-  f.on = true;
+  fitted_ = true;
+  fitted_version_ = in.surfaces_version;
+  fitted_count_ = in.count;
   return f;
 }
 

@@ -43,9 +43,12 @@ class EnvVisibility {
     double fit_ms = 0.0;                   // the fit kernel (device time)
     bool on = false;
   };
+  // Compiles the kernels when env_visibility is sh (before frames are timed).
+  void prepare(const FrameInputs& in);
   // Does nothing but hand out dummies unless in.settings.declared.env_visibility == "sh"; then
   // (re)builds what changed (needs in.scene_gpu and in.geometry, and the GL context current) and
-  // runs the fit on in.surfaces. `pyr`, `lv`: the environment's level-0 texels and level table.
+  // runs the fit on in.surfaces unless they, the count and the maps are those of the last fit
+  // (in.surfaces_version, 0 = always refit). `pyr`, `lv`: the environment's level-0 texels and level table.
   Frame run(const FrameInputs& in, const ref::EnvironmentMap& map, const ::cl::Buffer& pyr, const ::cl::Buffer& lv);
 
   // L_env's order-4 projection (lsh()), done by run() on first use; `pyr` holds at least the
@@ -70,6 +73,9 @@ class EnvVisibility {
   bool projected_ = false;
   ::cl::Buffer maps_buf_, frames_buf_, pinv_buf_, lsh_buf_, coeffs_, dummy_;
   std::size_t coeff_bytes_ = 0, bytes_ = 0;
+  std::uint64_t fitted_version_ = 0;
+  int fitted_count_ = -1;
+  bool fitted_ = false;
   ::cl::Kernel fit_;
 };
 

@@ -183,6 +183,7 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
     shade_ = rt_.kernel("environment.cl", "env_shade", options);
     options_ = options;
   }
+  vis_.prepare(in);
 }
 
 // One launch of env_shade over every surface; docs/environment.md has the estimators.

@@ -262,6 +262,7 @@ void Renderer::update_view(StepTimes& t) {
     cl::check(e.err(), "uploading the surfaces");
   }
   t.surfaces_upload_ms += timer.ms();
+  ++surfaces_version_;
   view_dirty_ = false;
 }
 
@@ -340,7 +341,8 @@ const StepTimes& Renderer::render_frame() {
                        ls,
                        &camera_,
                        &step0_->scene_gpu(),
-                       &scene_.geometry};
+                       &scene_.geometry,
+                       surfaces_version_};
   context_->make_current();  // contributions may draw (the environment's shadow maps)
   frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
   contribution_frames_.clear();

@@ -172,6 +172,7 @@ class Renderer {
   LuminaireView view_;
   ::cl::Buffer surfaces_buf_;
   std::size_t surfaces_bytes_ = 0;
+  std::uint64_t surfaces_version_ = 0;  // FrameInputs::surfaces_version: bumped on each upload
   std::vector<::cl::Buffer> vis_bufs_;
   std::vector<std::size_t> vis_sizes_;
 
