@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "gl/shader.h"
 
 namespace nf::gl {
@@ -76,13 +77,16 @@ void EnvShadowMaps::render(const SceneGpu& scene) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, size_, size_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  Progress progress("environment shadow maps", frames_.size());  // silent unless over a second
   for (int k = 0; k < count(); ++k) {
     glUseProgram(program_);
     glClear(GL_DEPTH_BUFFER_BIT);
     scene.draw(clip(k), false, true);
     glGetTextureImage(depth_, 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(texels * sizeof(float)),
                       maps_.data() + texels * static_cast<std::size_t>(k));
+    progress.advance();
   }
+  progress.finish();
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
