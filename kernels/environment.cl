@@ -10,6 +10,7 @@
              NF_ENV_PARAM      0 latlong | 1 paraboloid (the pyramid the filtered lookups read)
              NF_ENV_DIFFUSE    0 sh | 1 mc
              NF_ENV_BACKGROUND 0 hide | 1 show
+             NF_ENV_VIS        0 none | 1 sh: SH visibility (common/env_vis.h, docs/env_visibility.md)
    The pyramid filter (env_filter: box, gauss4 or gauss6) is an argument of env_pyramid_down.
    The lat-long pyramid carries the map-sampling density p_uv in .w (its filtered levels are the
    density pyramid of Tokuyoshi 2016 Eq. 3).                                                   */
@@ -18,6 +19,7 @@
 #include "common/pyramid.h"
 #include "common/random.h"
 #include "common/sh.h"
+#include "common/env_vis.h"
 
 #ifndef NF_ENV_GLOSSY
 #define NF_ENV_GLOSSY 1
@@ -30,6 +32,9 @@
 #endif
 #ifndef NF_ENV_DIFFUSE
 #define NF_ENV_DIFFUSE 0
+#endif
+#ifndef NF_ENV_VIS
+#define NF_ENV_VIS 0
 #endif
 #ifndef NF_ENV_BACKGROUND
 #define NF_ENV_BACKGROUND 1
@@ -343,7 +348,8 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
                         __global const float* rows, __global const float* cols, __global const float* puv,
                         int n_samples, float k_bias, uint frame, uint seed, float4 cam_f, float4 cam_r, float4 cam_u,
                         int2 cam_wh, __global float4* out, __global const float4* fpyr, __global const int4* flv,
-                        int flevels, __global const NfKurtMaterial* kurt, int kurt_count) {
+                        int flevels, __global const NfKurtMaterial* kurt, int kurt_count,
+                        __global const float4* vis16, __global const float4* lsh16) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const EnvMap m = {pyr, lv, levels, rot, fpyr, flv, flevels};
@@ -389,7 +395,12 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
 #if NF_ENV_DIFFUSE == 0
   /* SH: the GGX diffuse lobe (1 - F) (1 - metallic) base / pi with F taken at n.v */
   if (ggx) wd = (1.0f - env_fresnel(base, s.metallic, dot(n, v))) * (1.0f - s.metallic) * base;
+#if NF_ENV_VIS
+  /* sum_k L_k (V cos)_k, clamped to [0, E(n)] */
+  lo += wd * (1.0f / NF_PI) * nf_env_vis_irradiance(lsh16, vis16 + 4 * p, nf_sh9_irradiance(sh, n));
+#else
   lo += wd * (1.0f / NF_PI) * fmax(nf_sh9_irradiance(sh, n), (float3)(0.0f));
+#endif
 #else
   /* cosine sampling, p = (n.l) / pi: f_d (n.l) / p = w_d (with F at v.h for GGX) */
   if (ggx || any(wd != 0.0f)) {
@@ -403,6 +414,9 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
         const float3 h = normalize(l + v);
         w = (1.0f - env_fresnel(base, s.metallic, dot(v, h))) * (1.0f - s.metallic) * base;
       }
+#if NF_ENV_VIS
+      w *= nf_env_vis_factor(vis16 + 4 * p, l, dot(n, l));
+#endif
       lo += w * env_l0(&m, l) * inv_n;
     }
   }
@@ -458,7 +472,13 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf));
 #endif
 #endif
-      lo += env_glossy_f_cos(&g, l) * L * (inv_n / pdf);
+#if NF_ENV_VIS
+      /* the fitted (V cos)(l), clamped to [0, n.l], in place of n.l */
+      const float3 f = env_glossy_f_cos(&g, l) * nf_env_vis_factor(vis16 + 4 * p, l, dot(g.n, l));
+#else
+      const float3 f = env_glossy_f_cos(&g, l);
+#endif
+      lo += f * L * (inv_n / pdf);
     }
   }
   /* no NaN or Inf leaves: a non-finite estimate (never expected) is written as 0 */

@@ -21,6 +21,10 @@
 #include "render/sampler.h"
 #include "scene/scene.h"
 
+namespace nf::gl {
+class SceneGpu;
+}
+
 namespace nf::render {
 
 // What a contribution gets each frame: Step 0's surfaces of the current view (one NfSurface per
@@ -37,8 +41,13 @@ struct FrameInputs {
   // The camera of the surfaces (pixel p = (p mod width, p / width)); the environment shows itself
   // through the pixels without a surface. nullptr: no background.
   const scene::Camera* camera = nullptr;
-  // Changes whenever `surfaces` get new contents (camera, Step 0); 0 = unknown. Contributions may
-  // keep per-pixel state across frames with the same version (docs/sampling.md "Pixel cache").
+  // The scene's geometry, on the GPU (GL context current) and on the host: the environment's
+  // shadow maps (env_visibility sh). nullptr: not available.
+  const gl::SceneGpu* scene_gpu = nullptr;
+  const scene::Geometry* geometry = nullptr;
+  // Changes whenever `surfaces` get new contents (camera, Step 0); 0 = unknown (assume it changed
+  // every frame). Contributions may keep per-view state across the frames of one accumulation
+  // (the luminaires' pixel cache, docs/sampling.md; the environment's visibility fit).
   std::uint64_t view_version = 0;
 };
 

@@ -80,7 +80,7 @@ EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, const scene::E
 }
 
 EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, ref::EnvironmentMap map)
-    : rt_(rt), map_(std::move(map)) {
+    : rt_(rt), map_(std::move(map)), vis_(rt) {
   upload();
   build();
   set_kurt_table({});
@@ -319,14 +319,16 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   set_filter(d.env_filter);  // first: a new filter with a new parametrisation builds once
   set_param(d.env_param);
-  const std::string options =
-      fmt::format("-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={}",
-                  glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1,
-                  d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0);
+  const std::string options = fmt::format(
+      "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
+      "-DNF_ENV_VIS={}",
+      glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1,
+      d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0, d.env_visibility == "sh" ? 1 : 0);
   if (options != options_ || !shade_()) {
     shade_ = rt_.kernel("environment.cl", "env_shade", options);
     options_ = options;
   }
+  vis_.prepare(in);
 }
 
 // One launch of env_shade over every surface; docs/environment.md has the estimators.
@@ -338,6 +340,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     build_reported_ = true;
   }
   Timer wall;
+  const EnvVisibility::Frame vis = vis_.run(in, map_, pyr_, lv_);  // dummies unless env_visibility sh
+  f.step1_ms += vis.build_ms + vis.fit_ms;
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
   if (out_bytes_ != n * sizeof(cl_float4)) {
     cl_call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4)); },
@@ -386,6 +390,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
         shade_.setArg(a++, par ? paraboloid_levels() : levels());
         shade_.setArg(a++, kurt_);
         shade_.setArg(a++, kurt_count_);
+        shade_.setArg(a++, *vis.coeffs);
+        shade_.setArg(a++, *vis.lsh);
       },
       "environment kernel arguments");
   const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
@@ -406,7 +412,7 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
 
 std::size_t EnvironmentContribution::device_bytes() const {
   return pyr_bytes_ + ppyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16 +
-         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial);
+         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial) + vis_.device_bytes();
 }
 
 }  // namespace nf::render

@@ -14,6 +14,7 @@
 #include "kernels/shared/kurt.h"
 #include "reference/environment_map.h"
 #include "render/contribution.h"
+#include "render/env_visibility.h"
 
 namespace nf::render {
 
@@ -62,6 +63,7 @@ class EnvironmentContribution final : public Contribution {
   // The env-fis integral kernel's lat-long level (Tokuyoshi 2016 Eq. 3) at each uv for the
   // probability mass `target` = K / N, as the shading kernel computes it (tests).
   std::vector<float> integral_level_debug(const std::vector<glm::vec2>& uv, float target);
+  EnvVisibility& visibility() { return vis_; }  // env_visibility sh (docs/env_visibility.md)
 
  private:
   void upload();
@@ -84,6 +86,7 @@ class EnvironmentContribution final : public Contribution {
   std::string filter_ = "box";
   std::string param_ = "latlong";
   ::cl::Kernel shade_;
+  EnvVisibility vis_;
 };
 
 }  // namespace nf::render

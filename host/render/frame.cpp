@@ -333,7 +333,8 @@ void Renderer::warm_up() {
       ls[i].vis_words = step0_->words_per_pixel(i);
     }
   }
-  const FrameInputs in{*rt_, one, 1, settings_, settings_.sampling.frame, ls, &camera_};
+  const FrameInputs in{
+      *rt_, one, 1, settings_, settings_.sampling.frame, ls, &camera_, &step0_->scene_gpu(), &scene_.geometry};
   for (auto& c : contributions_) c->prepare(in);
   warm_ = true;
 }
@@ -353,9 +354,17 @@ const StepTimes& Renderer::render_frame() {
   // Steps 1-2: every contribution adds its radiance into this frame's
   const int count = static_cast<int>(pixel_count(camera_));
   const auto ls = lights();
-  const FrameInputs in{
-      *rt_, surfaces_buf_, count, settings_, settings_.sampling.frame + static_cast<std::uint32_t>(frames_),
-      ls,   &camera_,       view_version_};
+  const FrameInputs in{*rt_,
+                       surfaces_buf_,
+                       count,
+                       settings_,
+                       settings_.sampling.frame + static_cast<std::uint32_t>(frames_),
+                       ls,
+                       &camera_,
+                       &step0_->scene_gpu(),
+                       &scene_.geometry,
+                       view_version_};
+  context_->make_current();  // contributions may draw (the environment's shadow maps)
   frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
   contribution_frames_.clear();
   for (auto& c : contributions_) {

@@ -179,6 +179,14 @@ std::vector<Setting> declare() {
           "camera rays that miss the geometry see the environment (show) or black (hide)",
           [](auto& r) -> auto& { return r.env_background; }),
       choice(
+          "env_visibility", "env_visibility", {"none", "sh"}, "environment", R,
+          "environment visibility: none or order-4 SH of V cos fitted to N_v shadow maps",
+          [](auto& r) -> auto& { return r.env_visibility; }),
+      integer(
+          "env_visibility_samples", "env_visibility_samples", 1, 256, "environment", R,
+          "N_v: shadow-map directions (env-map importance sampled) of the SH visibility",
+          [](auto& r) -> auto& { return r.env_visibility_samples; }),
+      choice(
           "indirect", "indirect", {"none", "vsgl"}, "indirect", R,
           "one-bounce indirect light from the luminaires: none or VSGLs (Tokuyoshi 2016)",
           [](auto& r) -> auto& { return r.indirect; }),

@@ -43,6 +43,8 @@ struct RenderSettings {
   std::string env_param = "latlong";    // latlong | paraboloid (filtered pyramid's parametrisation)
   std::string env_diffuse = "sh";       // sh | mc
   std::string env_background = "show";  // show | hide
+  std::string env_visibility = "none";  // none | sh (Krivanek and Colbert 2008 §5.2, docs/env_visibility.md)
+  int env_visibility_samples = 16;      // N_v, shadow-map directions of the SH visibility, 1..256
   // one-bounce indirect light (docs/indirect.md)
   std::string indirect = "none";          // none | vsgl
   int rsm_size = 256;                     // RSM texels per side, a power of two 16..4096
