@@ -15,6 +15,6 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARFIELD_FUZZ=ON \
   -DNEARFIELD_BUILD_TESTS=OFF -DNEARFIELD_BUILD_BENCH=OFF -DNF_FUZZ_SECONDS="$seconds" \
   -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 "${launcher[@]}"
-cmake --build "$build" --parallel "$jobs" --target fuzz_manifest fuzz_luminaire_exr fuzz_scene fuzz_gltf fuzz_seeds
+cmake --build "$build" --parallel "$jobs" --target fuzz_all
 cd "$build"
 exec ctest -L fuzz --output-on-failure --timeout $((seconds + 600))
