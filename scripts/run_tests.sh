@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds in build/ (or $NEARFIELD_BUILD_DIR) and runs the whole test
-# suite through ctest. Window tests get a virtual display from Xvfb. Then the sanitizer steps
-# (docs/robustness.md): the "sanitize-ci" subset of the suite under AddressSanitizer +
-# UndefinedBehaviorSanitizer (build-asan/) and a short fuzz run of every loader (build-fuzz/).
+# suite through ctest. Window tests get a virtual display from Xvfb. Then the sanitizer step
+# (docs/robustness.md): the loaders' tests (tests/sanitize/ci_tests.txt) under AddressSanitizer +
+# UndefinedBehaviorSanitizer and a short fuzz run of every loader, both in build-fuzz/.
 #   scripts/run_tests.sh              everything (what CI runs)
 #   scripts/run_tests.sh ARGS...      only the normal suite, ARGS passed to ctest (e.g. -R Scene)
 #   NEARFIELD_CI_SANITIZERS=0 scripts/run_tests.sh   the normal suite without the sanitizer steps
@@ -22,7 +22,5 @@ cmake --build "$build" --parallel "$(nproc)"
 if [ $# -gt 0 ] || [ "${NEARFIELD_CI_SANITIZERS:-1}" = 0 ]; then
   exit 0
 fi
-echo "run_tests: ASan + UBSan subset (ctest -L sanitize-ci in build-asan/)"
-"$here/scripts/run_sanitized_tests.sh" --ci
-echo "run_tests: short fuzz run of every loader (ctest -L fuzz in build-fuzz/)"
+echo "run_tests: the loaders' tests under ASan + UBSan and a short fuzz run of every loader (build-fuzz/)"
 "$here/scripts/run_fuzz.sh" "${NEARFIELD_FUZZ_SECONDS:-20}"
