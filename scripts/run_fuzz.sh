@@ -19,4 +19,4 @@ cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARFI
   -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 "${launcher[@]}"
 cmake --build "$build" --parallel "$jobs" --target fuzz_all sanitize_ci
 cd "$build"
-exec ctest -L 'sanitize-ci|fuzz' --output-on-failure --timeout $((seconds + 600))
+exec ctest -L 'sanitize-ci|fuzz' --output-on-failure --parallel "$jobs" --timeout $((seconds + 600))
