@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (tests/fuzz) with clang-14 + ASan + UBSan in build-fuzz/ (or
-# $NEARFIELD_FUZZ_BUILD_DIR), writes the seed corpus, and fuzzes each loader for SECONDS
-# (default 20) through ctest's "fuzz" label. Findings (crash-*, leak-*, timeout-*) land in the
+# $NEARFIELD_FUZZ_BUILD_DIR), with the loaders' tests of tests/sanitize/ci_tests.txt under the same
+# sanitizers; runs those tests (ctest label "sanitize-ci"), writes the seed corpus and fuzzes each
+# loader for SECONDS (default 20, label "fuzz"). Findings (crash-*, leak-*, timeout-*) land in the
 # build directory; the corpus grown so far is kept in build-fuzz/fuzz-corpus/ between runs.
+# scripts/run_tests.sh runs this after the normal suite (docs/robustness.md).
 #   scripts/run_fuzz.sh [SECONDS]       e.g. scripts/run_fuzz.sh 3600 for the long run (docs/robustness.md)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -15,6 +17,6 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARFIELD_FUZZ=ON \
   -DNEARFIELD_BUILD_TESTS=OFF -DNEARFIELD_BUILD_BENCH=OFF -DNF_FUZZ_SECONDS="$seconds" \
   -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 "${launcher[@]}"
-cmake --build "$build" --parallel "$jobs" --target fuzz_manifest fuzz_luminaire_exr fuzz_scene fuzz_gltf fuzz_seeds
+cmake --build "$build" --parallel "$jobs" --target fuzz_all sanitize_ci
 cd "$build"
-exec ctest -L fuzz --output-on-failure --timeout $((seconds + 600))
+exec ctest -L 'sanitize-ci|fuzz' --output-on-failure --parallel "$jobs" --timeout $((seconds + 600))

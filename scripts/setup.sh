@@ -9,6 +9,7 @@ PKGS=(
   libtinygltf-dev nlohmann-json3-dev libimgui-dev libcli11-dev libembree-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   xvfb xauth python3-matplotlib python3-numpy
+  clang-14 libclang-rt-14-dev
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -92,7 +92,8 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
   }
   if (sym == 4) count = nc / 4 + 1;
   if (first + count > nc) fail(fmt::format("{}: {} C planes do not fit symmetry {}", file, nc, sym));
-  if (!(lamp_flux > 0)) fail(fmt::format("{}: line 26c (total luminous flux of lamps) sums to {}", file, lamp_flux));
+  if (!(lamp_flux > 0 && std::isfinite(lamp_flux)))
+    fail(fmt::format("{}: line 26c (total luminous flux of lamps) sums to {}", file, lamp_flux));
   const double scale = lamp_flux / 1000.0 * (conversion > 0 ? conversion : 1.0);
   for (std::size_t k = 0; k < count; ++k) {
     g.c.push_back(sym == 1 ? 0.0 : c_all[first + k]);
@@ -103,6 +104,7 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
     }
   }
   g.stated_lumens = lamp_flux * lor / 100.0;
+  validate_table(g, file);
   static const char* names[] = {"none", "rotational", "bilateral 0-180", "bilateral 90-270", "quadrilateral"};
   g.symmetry = names[sym];
   expand_symmetry(g, file);

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <thread>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/progress.h"
 #include "luminaire/basis.h"
 #include "luminaire/geometry.h"
@@ -315,13 +318,44 @@ std::string preset_summary(const std::string& name) {
 
 PanelSpec panel_spec() { return {}; }
 
-Luminaire generate_preset(const std::string& name, const GenOptions& options) {
+namespace {
+
+Spec scaled_spec(const std::string& name, const GenOptions& options) {
   Spec s = find_spec(name);
   if (!(options.resolution_scale > 0.0 && options.resolution_scale <= 16.0))
     fail(fmt::format("luminaire gen: resolution scale {} out of range (0, 16]", options.resolution_scale));
   for (int a = 0; a < 2; ++a)
     s.image.resolution[a] =
         std::max(1, static_cast<int>(std::lround(s.image.resolution[a] * options.resolution_scale)));
+  return s;
+}
+
+}  // namespace
+
+// W H images of nx ny pixels x channels floats (kept until written), one more image for the
+// writer's conversion buffer (half or float) or the panel's template image, and the acquisition
+// tables: per term and axis count x pixels doubles (acquire_axis), per thread one row of doubles.
+std::uint64_t generate_memory(const std::string& name, const GenOptions& options) {
+  const Spec s = scaled_spec(name, options);
+  const auto nx = static_cast<std::uint64_t>(s.image.resolution[0]);
+  const auto ny = static_cast<std::uint64_t>(s.image.resolution[1]);
+  const auto ch = static_cast<std::uint64_t>(s.channels);
+  const auto images = static_cast<std::uint64_t>(s.basis.count[0]) * static_cast<std::uint64_t>(s.basis.count[1]);
+  const std::uint64_t image = mul_sat(mul_sat(nx, ny), ch * 4);
+  std::uint64_t need = mul_sat(add_sat(images, 1), image);
+  const std::uint64_t tables = mul_sat(
+      s.terms.size(),
+      (static_cast<std::uint64_t>(s.basis.count[0]) * nx + static_cast<std::uint64_t>(s.basis.count[1]) * ny) * 8);
+  const std::uint64_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  return add_sat(add_sat(need, tables), mul_sat(threads, nx * ch * 8));
+}
+
+Luminaire generate_preset(const std::string& name, const GenOptions& options) {
+  Spec s = scaled_spec(name, options);
+  check_memory(fmt::format("luminaire gen --preset {}", name),
+               fmt::format("generating {} x {} images of {} x {} {} pixels", s.basis.count[0], s.basis.count[1],
+                           s.image.resolution[0], s.image.resolution[1], s.channels == 3 ? "RGB" : "Y"),
+               generate_memory(name, options), available_host_memory());
   Luminaire l;
   l.name = s.name;
   l.description = s.description;

@@ -16,6 +16,7 @@
 // + kappa) (a lens that aims rays by position), so the acquisition integrals are products of 1D
 // integrals; every 1D factor is piecewise polynomial and is integrated exactly by Gauss-Legendre
 // between its breakpoints (basis knots, aperture ramps, beam support ends, the beam cut-off).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -30,8 +31,13 @@ struct GenOptions {
 
 std::vector<std::string> preset_names();  // bike car1 car2 led-rgb panel
 std::string preset_summary(const std::string& name);
-// Throws nf::Error for an unknown name (listing the known ones).
+// Throws nf::Error for an unknown name (listing the known ones), and before allocating anything
+// when generate_memory() exceeds the host memory available (docs/robustness.md).
 Luminaire generate_preset(const std::string& name, const GenOptions& options = {});
+
+// Bytes of host memory generating and writing the preset takes (images, the writer's buffer,
+// acquisition tables), from its grid and the resolution scale alone.
+std::uint64_t generate_memory(const std::string& name, const GenOptions& options = {});
 
 // The panel preset's parameters (used by closed-form tests): radiance L0 on R = [lo, hi]^2.
 struct PanelSpec {

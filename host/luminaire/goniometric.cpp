@@ -69,6 +69,31 @@ double Goniometric::lumens() const {
   return total;
 }
 
+void validate_table(const Goniometric& g, const std::string& where) {
+  auto ascending = [&](const std::vector<double>& v, double hi, const char* what) {
+    if (v.empty()) fail(fmt::format("{}: no {} angles", where, what));
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      if (!(v[k] >= 0.0 && v[k] <= hi))
+        fail(fmt::format("{}: {} angle {} (index {}) is outside 0..{} degrees", where, what, v[k], k, hi));
+      if (k > 0 && !(v[k] > v[k - 1]))
+        fail(fmt::format("{}: {} angles are not ascending at index {} ({} after {})", where, what, k, v[k], v[k - 1]));
+    }
+  };
+  ascending(g.gamma, 180.0, "gamma");
+  ascending(g.c, 360.0, "C");
+  if (g.cd.size() != g.c.size() * g.gamma.size())
+    fail(fmt::format("{}: {} intensities for {} C planes x {} gamma angles", where, g.cd.size(), g.c.size(),
+                     g.gamma.size()));
+  for (std::size_t k = 0; k < g.cd.size(); ++k)
+    if (!(g.cd[k] >= 0.0 && g.cd[k] <= kMaxCandela))
+      fail(
+          fmt::format("{}: intensity {} cd (index {}, after the file's multipliers) is outside the supported range "
+                      "[0, {:g}] cd",
+                      where, g.cd[k], k, kMaxCandela));
+  if (!std::isfinite(g.stated_lumens))
+    fail(fmt::format("{}: the stated luminous flux is not finite ({})", where, g.stated_lumens));
+}
+
 void expand_symmetry(Goniometric& g, const std::string& where) {
   const std::size_t ng = g.gamma.size();
   if (g.symmetry == "rotational") {

@@ -1,8 +1,8 @@
 #pragma once
 // Far-field goniometric photometry (docs/photometry.md): an intensity table I(C, gamma) in cd
 // on the type C system (gamma = 0 along the luminaire's axis, C the azimuth about it), read from
-// IES LM-63 or EULUMDAT files and expanded to the full sphere by the file's symmetry. Lookups are bilinear in C and gamma; lumens integrate that bilinear surface
-// exactly (piecewise linear in C; linear in gamma against sin(gamma)).
+// IES LM-63 or EULUMDAT files and expanded to the full sphere by the file's symmetry. Lookups are bilinear in C and
+// gamma; lumens integrate that bilinear surface exactly (piecewise linear in C; linear in gamma against sin(gamma)).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -28,6 +28,15 @@ Goniometric read_eulumdat(const std::filesystem::path& file);
 
 // Writes LM-63-2002 (absolute photometry, type C, full 0..360 table) through a temporary file.
 void write_ies(const std::filesystem::path& file, const Goniometric& g, const std::string& description);
+
+// Largest intensity accepted after the file's multipliers (docs/photometry.md): far above any
+// luminaire, and small enough that lumens (<= 4 pi x this) and renders stay finite.
+constexpr double kMaxCandela = 1e30;
+
+// The checks both readers apply before expand_symmetry: gamma strictly ascending within [0, 180],
+// C strictly ascending within [0, 360], |cd| = |C| |gamma|, every cd finite within
+// [0, kMaxCandela], a finite stated flux. Errors name `where`.
+void validate_table(const Goniometric& g, const std::string& where);
 
 // Expands a table given on part of the C range by a symmetry: "none" (0 .. <360 or 0 .. 360),
 // "rotational" (one plane), "bilateral 0-180" (C in [0, 180]), "bilateral 90-270" (C in

@@ -31,6 +31,7 @@ Goniometric read_ies(const std::filesystem::path& path) {
         g.stated_lumens = std::stod(line.substr(17));
       } catch (...) {
       }
+      if (!(std::isfinite(g.stated_lumens) && g.stated_lumens >= 0)) g.stated_lumens = -1.0;  // optional: ignored
     }
     if (line.rfind("TILT=", 0) == 0 || line.rfind("TILT =", 0) == 0) {
       tilt = line.substr(line.find('=') + 1);
@@ -127,6 +128,7 @@ Goniometric read_ies(const std::filesystem::path& path) {
   if (lumens_per_lamp > 0 && g.stated_lumens < 0)
     g.stated_lumens = -1;  // relative photometry: lamp lumens are not the luminaire's
   (void)lamps;
+  validate_table(g, file);
   expand_symmetry(g, file);
   return g;
 }

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "luminaire/basis.h"
@@ -175,6 +177,11 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
       hi[a] += 0.5e-3 * extent0;
     }
   const double pix = std::max(hi.x - lo.x, hi.y - lo.y) / o.resolution;
+  if (!(std::isfinite(pix) && pix > 0.0))
+    fail(
+        fmt::format("{}: the rays cross the emission plane over [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m, too wide "
+                    "to hold in a light field (supported lengths: [{:g}, {:g}] m)",
+                    where, lo.x, hi.x, lo.y, hi.y, kMinLength, kMaxLength));
   const int nx = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / pix - 1e-9)));
   const int ny = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / pix - 1e-9)));
   const glm::dvec2 centre = 0.5 * (lo + hi);
@@ -194,7 +201,15 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
     if (inner < 1)
       fail(fmt::format("{}: --grid needs at least {} basis functions per axis for {}", where, n, to_string(o.basis)));
     const double need = (a == 0 ? nx : ny) * pix + 2.0 * delta * rep.tan_max + pix;
-    kcell[a] = std::max(1, static_cast<int>(std::ceil(need / inner / pix)));
+    // A cell of more than 1e6 pixels: the basis must span rays so oblique (|tan theta| up to
+    // tan_max) or a delta so long that the etendue table would not fit any memory.
+    const double cells = std::ceil(need / inner / pix);
+    if (!(cells <= 1e6))
+      fail(
+          fmt::format("{}: the basis would need cells of {:.3g} pixels to cover rays up to |tan theta| = {:.4g} "
+                      "at delta = {:.4g} m; lower --coverage or --delta, or give --axis",
+                      where, cells, rep.tan_max, delta));
+    kcell[a] = std::max(1, static_cast<int>(cells));
     b.cell[a] = kcell[a] * pix;
     const double ideal = centre[a] - 0.5 * (n - 1 + o.grid[a]) * b.cell[a];
     b.origin[a] = s0[a] + pix * std::round((ideal - s0[a]) / pix);
@@ -202,23 +217,47 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   const glm::dvec2 pou_lo = b.origin + (n - 1.0) * b.cell;
   const glm::dvec2 pou_hi = b.origin + glm::dvec2(o.grid[0], o.grid[1]) * b.cell;
 
+  {  // the written luminaire must be readable: lengths and origins within the manifest's ranges
+    Luminaire geometry;
+    geometry.delta = delta;
+    geometry.basis = b;
+    geometry.image.origin = s0;
+    geometry.image.size = {nx * pix, ny * pix};
+    geometry.image.resolution = {nx, ny};
+    validate_geometry(geometry, where + " (the light field it would write)");
+  }
+
   const int W = o.grid[0], H = o.grid[1], M = W * H;
   const std::size_t npix = static_cast<std::size_t>(nx) * ny;
   if (static_cast<double>(M) * static_cast<double>(npix) > 4e7)
     fail(fmt::format("{}: {} images of {} x {} pixels is too large (over 4e7 pixels); lower --grid or --resolution",
                      where, M, nx, ny));
 
-  // ---- binning: numerator sum flux Phi_m(u), and its square for the noise estimate.
-  std::vector<double> num(static_cast<std::size_t>(M) * npix, 0.0), sq(num.size(), 0.0);
   const long long ax0 = std::llround((s0.x - b.origin.x) / pix), ay0 = std::llround((s0.y - b.origin.y) / pix);
   const long long qx_min = ax0 - static_cast<long long>(W - 1) * kcell[0],
                   qy_min = ay0 - static_cast<long long>(H - 1) * kcell[1];
   const long long tw = ax0 + nx - qx_min, th = ay0 + ny - qy_min;  // table size
+
+  // ---- memory, before allocating (docs/robustness.md): per pixel-basis pair the binned sum and
+  // square (2 doubles), the image float and at most one noise double; per etendue-table offset a
+  // flag and a double; one more image for the writer's conversion buffer.
+  const auto pairs = static_cast<std::uint64_t>(M) * npix;
+  const std::uint64_t need =
+      add_sat(add_sat(mul_sat(pairs, 8 + 8 + 4 + 8),
+                      mul_sat(static_cast<std::uint64_t>(tw), static_cast<std::uint64_t>(th) * 9)),
+              static_cast<std::uint64_t>(npix) * 4);
+  check_memory(where,
+               fmt::format("importing into {} x {} images of {} x {} pixels ({} etendue offsets)", W, H, nx, ny,
+                           static_cast<std::uint64_t>(tw) * static_cast<std::uint64_t>(th)),
+               need, available_host_memory());
+
+  // ---- binning: numerator sum flux Phi_m(u), and its square for the noise estimate.
+  std::vector<double> num(static_cast<std::size_t>(M) * npix, 0.0), sq(num.size(), 0.0);
   std::vector<char> needed(static_cast<std::size_t>(tw * th), 0);
   for (const auto& l : fwd) {
-    const int a = static_cast<int>(std::floor((l.s.x - s0.x) / pix));
-    const int rb = static_cast<int>(std::floor((l.s.y - s0.y) / pix));  // from the bottom
-    if (a < 0 || a >= nx || rb < 0 || rb >= ny) continue;
+    const double fa = std::floor((l.s.x - s0.x) / pix), frb = std::floor((l.s.y - s0.y) / pix);
+    if (!(fa >= 0.0 && fa < nx && frb >= 0.0 && frb < ny)) continue;  // (before the casts: s may be huge)
+    const int a = static_cast<int>(fa), rb = static_cast<int>(frb);   // rb counts from the bottom
     const glm::dvec2 u = l.s - delta * l.t;
     if (!(u.x >= pou_lo.x && u.x < pou_hi.x && u.y >= pou_lo.y && u.y < pou_hi.y)) continue;
     const int r = ny - 1 - rb;

@@ -1,13 +1,17 @@
 #include "luminaire/rayset_lighttools.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <istream>
 #include <sstream>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/memory.h"
 
 namespace nf::lum {
 
@@ -20,12 +24,30 @@ std::string trim(const std::string& s) {
   return s.substr(a, b - a + 1);
 }
 
+// Newlines in the stream (+1 for a last line without one), then back to the start.
+std::uint64_t count_lines(std::istream& in) {
+  std::uint64_t n = 1;
+  char buf[1 << 16];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    const auto got = static_cast<std::size_t>(in.gcount());
+    for (std::size_t k = 0; k < got; ++k) n += buf[k] == '\n';
+  }
+  in.clear();
+  in.seekg(0);
+  return n;
+}
+
 }  // namespace
 
 RaySet read_lighttools_ascii(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::ifstream in(path);
   if (!in) fail(fmt::format("{}: cannot open the LightTools ray file", file));
+  // Memory before reading (docs/robustness.md): at most one ray per line, 56 bytes each (position
+  // and direction as 3 doubles, the flux as one); the columns are reserved at that size.
+  const std::uint64_t lines = count_lines(in);
+  check_memory(file, fmt::format("reading up to {} rays (one per line)", lines), mul_sat(lines, 56),
+               available_host_memory());
   RaySet rs;
   rs.source = file;
   rs.format = "LightTools ASCII";
@@ -92,6 +114,9 @@ RaySet read_lighttools_ascii(const std::filesystem::path& path) {
   if (!kind_known) fail(fmt::format("{}: header field 'lt_datatype' is missing", file));
   if (has_wavelength) rs.notes.push_back("skipped the wavelength column (lt_color_info: wavelength)");
   const int cols = has_wavelength ? 8 : 7;
+  rs.position.reserve(lines);
+  rs.direction.reserve(lines);
+  rs.flux.reserve(lines);
   while (std::getline(in, line)) {
     ++line_no;
     const std::string t = trim(line);
@@ -107,14 +132,22 @@ RaySet read_lighttools_ascii(const std::filesystem::path& path) {
                        has_wavelength ? " wavelength" : "", t));
     for (int c = 0; c < cols; ++c)
       if (!std::isfinite(x[c])) fail(fmt::format("{}:{}: non-finite value in column {}", file, line_no, c + 1));
-    const glm::dvec3 k(x[3], x[4], x[5]);
+    // Direction scaled by its largest component before squaring, so any finite non-zero vector
+    // normalises (components of 1e200 or 1e-200 neither overflow nor underflow).
+    const double big = std::max({std::abs(x[3]), std::abs(x[4]), std::abs(x[5])});
+    if (!(big > 0.0)) fail(fmt::format("{}:{}: zero direction vector", file, line_no));
+    const glm::dvec3 k = glm::dvec3(x[3], x[4], x[5]) / big;
     const double len = std::sqrt(k.x * k.x + k.y * k.y + k.z * k.z);
-    if (!(len > 1e-6)) fail(fmt::format("{}:{}: zero direction vector", file, line_no));
     if (!(x[6] >= 0.0)) fail(fmt::format("{}:{}: flux {} is negative", file, line_no, x[6]));
-    rs.add((glm::dvec3(x[0], x[1], x[2]) + origin) * unit, k / len, x[6]);
+    const glm::dvec3 p = (glm::dvec3(x[0], x[1], x[2]) + origin) * unit;
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
+      fail(fmt::format("{}:{}: the position plus lt_data_origin overflows (beyond 1.8e308 m)", file, line_no));
+    rs.add(p, k / len, x[6]);
   }
   if (rs.size() == 0) fail(fmt::format("{}: no rays after lt_startofdata", file));
   const double total = rs.total_flux();
+  if (!std::isfinite(total))
+    fail(fmt::format("{}: the rays' flux sums beyond the largest double (1.8e308 {})", file, flux_unit(rs.kind)));
   if (rs.header_flux >= 0.0 && std::abs(total - rs.header_flux) > 1e-3 * std::max(total, rs.header_flux))
     rs.notes.push_back(
         fmt::format("the header states a total of {:.6g} {} but the rays sum to {:.6g} {}: using the rays",

@@ -1,5 +1,6 @@
 #include "luminaire/rayset_tm25.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/memory.h"
 
 namespace nf::lum {
 
@@ -63,6 +65,22 @@ RaySet read_tm25(const std::filesystem::path& path) {
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(fmt::format("{}: cannot open the TM-25 ray file", file));
+    // Memory before reading (docs/robustness.md): the file's bytes, then 56 bytes per ray (position
+    // and direction as 3 doubles each, the flux as one); a row has at least 7 floats (28 bytes), so
+    // the file holds at most size / 28 rays whatever its header claims.
+    std::error_code ec;
+    const std::uint64_t size = std::filesystem::file_size(path, ec);
+    unsigned char head[28] = {};
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    if (!ec && in.gcount() == static_cast<std::streamsize>(sizeof head)) {
+      std::uint64_t claimed = 0;
+      std::memcpy(&claimed, head + 20, 8);
+      const std::uint64_t rays = std::min(claimed, size / 28);
+      check_memory(file, fmt::format("reading {} rays", rays), add_sat(size, mul_sat(rays, 56)),
+                   available_host_memory());
+    }
+    in.clear();
+    in.seekg(0);
     b.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
   const Reader r(b, file);

@@ -1,21 +1,90 @@
-// Writes the fuzzers' seed corpus with the project's own writers: fuzz_seeds OUT_DIR [SCENES_DIR]
+// Writes the fuzzers' seed corpus with the project's own writers:
+//   fuzz_seeds OUT_DIR [SCENES_DIR [DATA_DIR]]
 //   OUT_DIR/manifest/       manifests (small luminaire, every generator preset at a small scale)
 //   OUT_DIR/luminaire_exr/  2 x 2 x (8 x 8) luminaire EXRs: float and half, RGB and Y
 //   OUT_DIR/scene/          SCENES_DIR/*.json and a scene naming small.json / small.gltf
 //   OUT_DIR/gltf/           a small .gltf (data URI) and .glb
+//   OUT_DIR/tm25/           ray sets through write_tm25 (radiant, luminous); real TM-25 files of
+//                           DATA_DIR/raysets cut to 200 rays
+//   OUT_DIR/lighttools/     LightTools ASCII variants; real .ray files of DATA_DIR/raysets cut to 200 rays
+//   OUT_DIR/ies/            LM-63 text for every symmetry, TILT=INCLUDE, write_ies output; DATA_DIR/photometry/ies
+//   OUT_DIR/eulumdat/       EULUMDAT for symmetry indicators 0..4; DATA_DIR/photometry/ldt
+// Every ray-set and photometry seed is read back through its reader: a seed the reader refuses
+// fails this program (the corpus would start from nothing).
+#include <fmt/format.h>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
-#include <fmt/format.h>
+#include <stdexcept>
+#include <string>
 
+#include "fuzz/fuzz_checks.h"
+#include "fuzz/fuzz_seed_files.h"
 #include "fuzz/fuzz_support.h"
 #include "luminaire/generator.h"
+#include "luminaire/goniometric.h"
 #include "luminaire/io.h"
+#include "luminaire/rayset_lighttools.h"
+#include "luminaire/rayset_tm25.h"
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// Seeds for the readers added with the measured-data formats; real files from `data` when present.
+void write_measured_seeds(const fs::path& out, const fs::path& data) {
+  for (const char* d : {"tm25", "lighttools", "ies", "eulumdat"}) fs::create_directories(out / d);
+  nf::lum::write_tm25(out / "tm25" / "small_radiant.tm25ray", nf::fuzz::small_rayset(40, nf::lum::FluxKind::radiant));
+  nf::lum::write_tm25(out / "tm25" / "small_luminous.tm25ray", nf::fuzz::small_rayset(40, nf::lum::FluxKind::luminous));
+  nf::fuzz::write_file(out / "lighttools" / "plain.ray", nf::fuzz::small_lighttools(40, false, false, false));
+  nf::fuzz::write_file(out / "lighttools" / "wavelength_origin_end.ray",
+                       nf::fuzz::small_lighttools(40, true, true, true));
+  for (const char* sym : {"rotational", "bilateral 0-180", "bilateral 90-270", "quadrilateral", "none"}) {
+    std::string name = sym;
+    for (char& ch : name)
+      if (ch == ' ' || ch == '-') ch = '_';
+    nf::fuzz::write_file(out / "ies" / (name + ".ies"), nf::fuzz::small_ies(sym, false));
+  }
+  nf::fuzz::write_file(out / "ies" / "tilt_include.ies", nf::fuzz::small_ies("quadrilateral", true));
+  nf::lum::write_ies(out / "ies" / "written.ies", nf::lum::read_ies(out / "ies" / "bilateral_0_180.ies"), "seed");
+  for (int sym = 0; sym <= 4; ++sym)
+    nf::fuzz::write_file(out / "eulumdat" / fmt::format("symmetry{}.ldt", sym), nf::fuzz::small_eulumdat(sym));
+
+  if (data.empty() || !fs::is_directory(data)) {
+    std::printf("fuzz_seeds: no shared data directory: the real ray and photometry files are not seeds\n");
+  } else {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(data / "raysets", ec)) {
+      const fs::path p = e.path();
+      std::string ext = p.extension().string();
+      for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (ext == ".tm25ray") {
+        if (!nf::fuzz::trimmed_tm25(p, out / "tm25" / ("real_" + p.filename().string()), 200))
+          throw std::runtime_error(p.string() + ": cannot locate its ray rows to trim it");
+      } else if (ext == ".ray") {
+        nf::fuzz::trimmed_lighttools(p, out / "lighttools" / ("real_" + p.filename().string()), 200);
+      }
+    }
+    for (const auto& [sub, dir] : {std::pair{"ies", "photometry/ies"}, std::pair{"eulumdat", "photometry/ldt"}})
+      for (const auto& e : fs::directory_iterator(data / dir, ec))
+        if (e.path().extension() == ".ies" || e.path().extension() == ".ldt")
+          fs::copy_file(e.path(), out / sub / ("real_" + e.path().filename().string()),
+                        fs::copy_options::overwrite_existing);
+  }
+  // Read every seed back (and check what the harnesses check).
+  for (const auto& e : fs::directory_iterator(out / "tm25")) nf::fuzz::check_rayset(nf::lum::read_tm25(e.path()));
+  for (const auto& e : fs::directory_iterator(out / "lighttools"))
+    nf::fuzz::check_rayset(nf::lum::read_lighttools_ascii(e.path()));
+  for (const auto& e : fs::directory_iterator(out / "ies")) nf::fuzz::check_goniometric(nf::lum::read_ies(e.path()));
+  for (const auto& e : fs::directory_iterator(out / "eulumdat"))
+    nf::fuzz::check_goniometric(nf::lum::read_eulumdat(e.path()));
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: fuzz_seeds OUT_DIR [SCENES_DIR]\n");
+    std::fprintf(stderr, "usage: fuzz_seeds OUT_DIR [SCENES_DIR [DATA_DIR]]\n");
     return 2;
   }
   try {
@@ -60,6 +129,7 @@ int main(int argc, char** argv) {
 )");
     nf::fuzz::write_file(out / "gltf" / "square.gltf", nf::fuzz::small_gltf());
     nf::fuzz::write_file(out / "gltf" / "square.glb", nf::fuzz::small_glb());
+    write_measured_seeds(out, argc > 3 ? fs::path(argv[3]) : fs::path());
     std::printf("seed corpus written to %s\n", out.string().c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fuzz_seeds: %s\n", e.what());
