@@ -72,7 +72,7 @@ std::vector<glm::dvec3> env_visibility_directions(const ref::EnvironmentMap& map
 
 EnvVisibility::EnvVisibility(cl::Runtime& rt) : rt_(rt) {
   const std::vector<cl_float4> zeros(16, cl_float4{{0, 0, 0, 0}});
-  dummy_ = upload(rt_, zeros, "environment visibility placeholder buffer");
+  off_args_ = upload(rt_, zeros, "environment visibility: arguments when off");
 }
 
 EnvVisibility::~EnvVisibility() = default;
@@ -116,7 +116,7 @@ void EnvVisibility::prepare(const FrameInputs& in) {
 EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::EnvironmentMap& map, const ::cl::Buffer& pyr,
                                         const ::cl::Buffer& lv) {
   Frame f;
-  f.coeffs = f.lsh = &dummy_;
+  f.coeffs = f.lsh = &off_args_;
   const auto& d = in.settings.declared;
   if (d.env_visibility != "sh") return f;
   if (!in.scene_gpu || !in.geometry)

@@ -37,8 +37,8 @@ class EnvVisibility {
   EnvVisibility& operator=(const EnvVisibility&) = delete;
 
   struct Frame {
-    const ::cl::Buffer* coeffs = nullptr;  // 4 float4 per surface (dummy when off)
-    const ::cl::Buffer* lsh = nullptr;     // 16 float4: L_env's order-4 RGB coefficients (dummy when off)
+    const ::cl::Buffer* coeffs = nullptr;  // 4 float4 per surface (a zero buffer when off)
+    const ::cl::Buffer* lsh = nullptr;     // 16 float4: L_env's order-4 RGB coefficients (a zero buffer when off)
     double build_ms = 0.0;                 // shadow maps + pseudoinverse + upload, when rebuilt this frame
     double fit_ms = 0.0;                   // the fit kernel (device time)
     bool on = false;
@@ -71,7 +71,7 @@ class EnvVisibility {
   ShPseudoinverse pinv_;
   std::array<glm::dvec3, kSh16> lsh_{};
   bool projected_ = false;
-  ::cl::Buffer maps_buf_, frames_buf_, pinv_buf_, lsh_buf_, coeffs_, dummy_;
+  ::cl::Buffer maps_buf_, frames_buf_, pinv_buf_, lsh_buf_, coeffs_, off_args_;
   std::size_t coeff_bytes_ = 0, bytes_ = 0;
   std::uint64_t fitted_version_ = 0;
   int fitted_count_ = -1;
