@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "render/stats.h"
+#include "scene/settings.h"
 
 namespace nf::app {
 namespace {
@@ -84,6 +85,8 @@ struct Panel {
   void draw();
   bool section(const char* title, const char* name, bool open_by_default);
   void combo(const char* label, const char* key, const std::string& current, const std::vector<std::string>& names);
+  void choice(const char* label, const char* key, const std::string& current);
+  void environment(const scene::RenderSettings& d);
   void header();
   void rendering();
   void display();
@@ -157,6 +160,36 @@ void Panel::combo(const char* label, const char* key, const std::string& current
   ImGui::EndCombo();
 }
 
+// A choice setting's combo with the values the registry declares (scene/settings.h).
+void Panel::choice(const char* label, const char* key, const std::string& current) {
+  const scene::Setting* setting = scene::find_setting(key);
+  if (setting) combo(label, key, current, setting->choices);
+}
+
+// The environment's settings (docs/environment.md), shown when the scene has one.
+void Panel::environment(const scene::RenderSettings& d) {
+  ImGui::Separator();
+  ImGui::TextUnformatted("environment");
+  choice("env glossy", "env_glossy", d.env_glossy);
+  int n = d.env_samples;
+  if (ImGui::InputInt("env samples N", &n, 1, 16)) a.set("env_samples", std::to_string(std::clamp(n, 1, 4096)));
+  float k = static_cast<float>(d.env_k);
+  if (ImGui::InputFloat("env K (0: per filter)", &k, 0.25f, 1.0f, "%.3g"))
+    a.set("env_k", fmt::format("{}", std::clamp(k, 0.0f, 1e6f)));
+  if (d.env_glossy == "env-fis") choice("env kernel", "env_kernel", d.env_kernel);
+  choice("env filter", "env_filter", d.env_filter);
+  choice("env param", "env_param", d.env_param);
+  choice("env diffuse", "env_diffuse", d.env_diffuse);
+  choice("env visibility", "env_visibility", d.env_visibility);
+  if (d.env_visibility == "sh") {
+    int nv = d.env_visibility_samples;
+    if (ImGui::InputInt("env visibility N_v", &nv, 1, 8))
+      a.set("env_visibility_samples", std::to_string(std::clamp(nv, 1, 256)));
+  }
+  choice("env background", "env_background", d.env_background);
+  ImGui::Separator();
+}
+
 void Panel::rendering() {
   const render::FrameSettings& f = s.settings.frame;
   const render::SamplingSettings& p = f.sampling;
@@ -180,6 +213,7 @@ void Panel::rendering() {
     a.set("shadow_map_size", std::to_string(std::clamp(sms, 16, 4096)));
   int seed = static_cast<int>(p.seed);
   if (ImGui::InputInt("seed", &seed)) a.set("seed", std::to_string(std::max(seed, 0)));
+  if (r.contribution("environment")) environment(f.declared);
   // one-bounce indirect light (docs/indirect.md); the other vsgl_* settings: `set NAME VALUE`
   combo("indirect", "indirect", f.declared.indirect, {"none", "vsgl"});
   if (f.declared.indirect == "vsgl") {
