@@ -120,6 +120,12 @@ TEST(VsglRender, FrameAddsIndirectLightAndReportsIt) {
       row = true;
       EXPECT_GT(c.samples, 0u);
       EXPECT_GT(c.device_bytes, 0u);
+      // the build's stages are reported and make up its step-1 time
+      ASSERT_EQ(c.parts_ms.size(), 4u);
+      double parts = 0.0;
+      for (const auto& [name, ms] : c.parts_ms) parts += ms;
+      EXPECT_NEAR(parts, c.step1_ms, 1e-9 * (1.0 + c.step1_ms));
+      EXPECT_GT(c.step1_ms, 0.0);
     }
   EXPECT_TRUE(row);
   for (const float x : with.pixels) ASSERT_TRUE(std::isfinite(x));
@@ -221,8 +227,11 @@ TEST(VsglRender, VsglsMatchTheVplsTheyCluster) {
       sum_vpl += 0.5 / kPi * l;  // grey 0.5
       sum_sg += 0.5 / kPi * lsg;
       for (int c = 0; c < 3; ++c)
-        sum_vsgl += (with.pixels[3 * p + static_cast<std::size_t>(c)] - without.pixels[3 * p + static_cast<std::size_t>(c)]) *
-                    (c == 0 ? 0.2126 : c == 1 ? 0.7152 : 0.0722);
+        sum_vsgl +=
+            (with.pixels[3 * p + static_cast<std::size_t>(c)] - without.pixels[3 * p + static_cast<std::size_t>(c)]) *
+            (c == 0   ? 0.2126
+             : c == 1 ? 0.7152
+                      : 0.0722);
     }
     std::printf("%s: wall pixels %d, VSGL / VPL total on the wall = %.4f (cosine lobes), %.4f (SG lobes)\n",
                 kernel.c_str(), wall_pixels, sum_vsgl / sum_vpl, sum_vsgl / sum_sg);

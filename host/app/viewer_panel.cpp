@@ -332,6 +332,32 @@ void Panel::statistics() {
     breakdown_row("total", b.total(), b.total());
     ImGui::EndTable();
   }
+  if (ImGui::BeginTable("contributions", 4, ImGuiTableFlags_BordersInnerH | ImGuiTableFlags_SizingStretchProp)) {
+    ImGui::TableSetupColumn("contribution");
+    ImGui::TableSetupColumn("build/A ms");
+    ImGui::TableSetupColumn("shade ms");
+    ImGui::TableSetupColumn("readback ms");
+    ImGui::TableHeadersRow();
+    for (const auto& [name, f] : r.contribution_rows()) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%.2f", f.step1_ms);
+      ImGui::TableNextColumn();
+      ImGui::Text("%.2f", f.step2_ms);
+      ImGui::TableNextColumn();
+      ImGui::Text("%.2f", f.readback_ms);
+      for (const auto& [part, ms] : f.parts_ms) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::Text("  %s", part.c_str());
+        ImGui::TableNextColumn();
+        ImGui::Text("%.2f", ms);
+      }
+    }
+    ImGui::EndTable();
+  }
   ImGui::Text("mean over %d frames: %.1f ms\n  (est. A %.1f, sampling + shading %.1f, shadow %.1f)", r.frames(),
               m.total() / frames, m.a_estimation / frames, m.sampling_shading / frames, m.shadow / frames);
   const auto mem = r.memory();

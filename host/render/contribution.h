@@ -12,6 +12,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -58,6 +59,9 @@ struct ContributionFrame {
   double wall_ms = 0.0;      // host wall clock of the kernels' launches and waits
   double readback_ms = 0.0;  // reading the radiance (and counts) back and adding it into the frame
   std::uint64_t samples = 0;
+  // The contribution's own stages when it rebuilt something this frame (name, ms), e.g. the
+  // indirect light's RSM, RSM lighting, pyramid and VSGL generation; part of step1_ms.
+  std::vector<std::pair<std::string, double>> parts_ms;
 };
 
 class Contribution {

@@ -393,6 +393,14 @@ const StepTimes& Renderer::render_frame() {
   return last_;
 }
 
+std::vector<std::pair<std::string, ContributionFrame>> Renderer::contribution_rows() const {
+  std::vector<std::pair<std::string, ContributionFrame>> rows;
+  for (std::size_t i = 0; i < contributions_.size(); ++i)
+    rows.emplace_back(contributions_[i]->name(),
+                      i < contribution_frames_.size() ? contribution_frames_[i] : ContributionFrame{});
+  return rows;
+}
+
 // ---------------------------------------------------------------- images ---------------------
 
 namespace {
@@ -526,6 +534,7 @@ RenderStats Renderer::stats() {
       c.wall_ms = f.wall_ms;
       c.readback_ms = f.readback_ms;
       c.samples = f.samples;
+      c.parts_ms = f.parts_ms;
     }
     s.contributions.push_back(c);
   }

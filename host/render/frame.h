@@ -129,6 +129,8 @@ class Renderer {
   const gl::Step0* step0() const { return step0_.get(); }
   // The contribution called `name` ("luminaires", "environment", "indirect"), nullptr if not built.
   Contribution* contribution(const std::string& name) const;
+  // The last frame of each contribution with its name, in registration order (the viewer's rows).
+  std::vector<std::pair<std::string, ContributionFrame>> contribution_rows() const;
   cl::Runtime& runtime() { return *rt_; }
   std::string gl_renderer() const { return gl_renderer_; }
   const scene::Scene& scene() const { return scene_; }

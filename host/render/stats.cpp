@@ -116,14 +116,18 @@ std::string to_json(const RenderStats& s, const std::vector<std::pair<std::strin
                     {"device_bytes", l.device_bytes}});
   j["luminaires"] = lums;
   json contribs = json::array();
-  for (const auto& c : s.contributions)
+  for (const auto& c : s.contributions) {
+    json parts = json::object();
+    for (const auto& [name, ms] : c.parts_ms) parts[name] = round3(ms);
     contribs.push_back({{"name", c.name},
                         {"step1_ms", c.step1_ms},
                         {"step2_ms", c.step2_ms},
                         {"wall_ms", c.wall_ms},
                         {"readback_ms", c.readback_ms},
                         {"samples", c.samples},
-                        {"device_bytes", c.device_bytes}});
+                        {"device_bytes", c.device_bytes},
+                        {"parts_ms", parts}});
+  }
   j["contributions"] = contribs;
   j["pixels"] = {{"total", s.pixels.total},
                  {"surface", s.pixels.surface},

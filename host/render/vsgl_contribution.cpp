@@ -105,8 +105,7 @@ RsmView rsm_view(const NfLuminaire& lum, const NfInstance& in) {
   return v;
 }
 
-VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene)
-    : rt_(rt), scene_(scene), sampler_(rt) {
+VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene) : rt_(rt), scene_(scene), sampler_(rt) {
   kurt_ = kurt_table(scene.geometry.materials);
   kurt_buf_ = upload(rt_, kurt_, "uploading the Kurt material table (indirect)");
 }
@@ -217,7 +216,8 @@ bool VsglContribution::build(const FrameInputs& in) {
   SamplingSettings ss = in.settings.sampling;  // fixed frame index: the VSGLs do not flicker by themselves
   std::string key = fmt::format("{} {} {} {} {} | {} | {}", vs.rsm_size, vs.count, vs.kernel, vs.k, vs.points,
                                 ss.describe(), ss.frame);
-  for (const auto& l : in.lights) key += instance_bytes(l.instance) + fmt::format("{}", static_cast<const void*>(l.luminaire));
+  for (const auto& l : in.lights)
+    key += instance_bytes(l.instance) + fmt::format("{}", static_cast<const void*>(l.luminaire));
   if (key == key_) return false;
   times_ = {};
   const int size = vs.rsm_size;
@@ -297,10 +297,10 @@ std::vector<glm::vec4> VsglContribution::read_irradiance(int i) {
 std::vector<glm::vec4> VsglContribution::read_level(int i, int level, int q) {
   const Rsm& r = rsms_.at(static_cast<std::size_t>(i));
   const int size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(r.surfaces.size())))) >> level;
-  const auto all = download<glm::vec4>(rt_, r.pyr, static_cast<std::size_t>(size) * size * NF_VSGL_QUANTITIES,
-                                       static_cast<std::size_t>(r.offsets.at(static_cast<std::size_t>(level))) *
-                                           NF_VSGL_QUANTITIES,
-                                       "reading a VSGL pyramid level");
+  const auto all =
+      download<glm::vec4>(rt_, r.pyr, static_cast<std::size_t>(size) * size * NF_VSGL_QUANTITIES,
+                          static_cast<std::size_t>(r.offsets.at(static_cast<std::size_t>(level))) * NF_VSGL_QUANTITIES,
+                          "reading a VSGL pyramid level");
   std::vector<glm::vec4> out(static_cast<std::size_t>(size) * size);
   for (std::size_t t = 0; t < out.size(); ++t) out[t] = all[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(q)];
   return out;
@@ -376,7 +376,13 @@ void VsglContribution::prepare(const FrameInputs& in) {
 ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
   ContributionFrame f;
   Timer wall;
-  if (build(in)) f.step1_ms = times_.total();  // the build shows in the frame that did it
+  if (build(in)) {  // the build shows in the frame that did it
+    f.step1_ms = times_.total();
+    f.parts_ms = {{"rsm", times_.rsm_ms},
+                  {"rsm_lighting", times_.light_ms},
+                  {"pyramid", times_.pyramid_ms},
+                  {"generation", times_.generate_ms}};
+  }
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
   if (out_bytes_ != n * sizeof(cl_float4)) {
     out_ = make_buffer(rt_, CL_MEM_READ_WRITE, n * sizeof(cl_float4), nullptr, "VSGL output buffer");
@@ -387,8 +393,8 @@ ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::
   f.step2_ms = shade_timer.ms();
   f.wall_ms = wall.ms();
   Timer readback;
-  const auto rgb = download<glm::vec4>(rt_, out_, static_cast<std::size_t>(std::max(in.count, 0)), 0,
-                                       "reading the VSGL radiance");
+  const auto rgb =
+      download<glm::vec4>(rt_, out_, static_cast<std::size_t>(std::max(in.count, 0)), 0, "reading the VSGL radiance");
   radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
   for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
   f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) * vsgls_.size();
