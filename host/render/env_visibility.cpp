@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -12,29 +13,6 @@
 
 namespace nf::render {
 namespace {
-
-template <typename F>
-void cl_call(F&& f, const std::string& what) {
-  try {
-    f();
-  } catch (const ::cl::Error& e) {
-    cl::check(e.err(), what);
-  }
-}
-
-template <typename T>
-::cl::Buffer upload(cl::Runtime& rt, const std::vector<T>& v, const std::string& what) {
-  ::cl::Buffer b;
-  const std::vector<T> one(1, T{});
-  const auto& src = v.empty() ? one : v;
-  cl_call(
-      [&] {
-        b = ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, src.size() * sizeof(T),
-                         const_cast<T*>(src.data()));
-      },
-      what);
-  return b;
-}
 
 double radical_inverse2(std::uint32_t i) {
   i = (i << 16u) | (i >> 16u);
@@ -72,7 +50,7 @@ std::vector<glm::dvec3> env_visibility_directions(const ref::EnvironmentMap& map
 
 EnvVisibility::EnvVisibility(cl::Runtime& rt) : rt_(rt) {
   const std::vector<cl_float4> zeros(16, cl_float4{{0, 0, 0, 0}});
-  off_args_ = upload(rt_, zeros, "environment visibility: arguments when off");
+  off_args_ = cl::upload(rt_, zeros, "environment visibility: arguments when off");
 }
 
 EnvVisibility::~EnvVisibility() = default;
@@ -82,10 +60,10 @@ void EnvVisibility::project(const ref::EnvironmentMap& map, const ::cl::Buffer& 
   const int h = map.height();
   ::cl::Kernel k = rt_.kernel("env_visibility.cl", "env_sh16_rows");
   ::cl::Buffer rows;
-  cl_call(
+  cl::call(
       [&] { rows = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, sizeof(float) * 48 * static_cast<std::size_t>(h)); },
       "environment order-4 SH buffer");
-  cl_call(
+  cl::call(
       [&] {
         k.setArg(0, pyr);
         k.setArg(1, lv);
@@ -95,15 +73,15 @@ void EnvVisibility::project(const ref::EnvironmentMap& map, const ::cl::Buffer& 
       "environment order-4 SH arguments");
   rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(h)));
   std::vector<float> part(48 * static_cast<std::size_t>(h));
-  cl_call([&] { rt_.queue().enqueueReadBuffer(rows, CL_TRUE, 0, part.size() * sizeof(float), part.data()); },
-          "reading the environment order-4 SH rows");
+  cl::call([&] { rt_.queue().enqueueReadBuffer(rows, CL_TRUE, 0, part.size() * sizeof(float), part.data()); },
+           "reading the environment order-4 SH rows");
   lsh_.fill(glm::dvec3(0.0));
   for (std::size_t r = 0; r < static_cast<std::size_t>(h); ++r)
     for (std::size_t j = 0; j < 16; ++j)
       for (int c = 0; c < 3; ++c) lsh_[j][c] += part[48 * r + 3 * j + static_cast<std::size_t>(c)];
   std::vector<cl_float4> l4;
   for (const auto& v : lsh_) l4.push_back(f4(v));
-  lsh_buf_ = upload(rt_, l4, "uploading the environment order-4 SH");
+  lsh_buf_ = cl::upload(rt_, l4, "uploading the environment order-4 SH");
   projected_ = true;
 }
 
@@ -142,16 +120,16 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
     in.geometry->bounds(lo, hi);
     maps_ = std::make_unique<gl::EnvShadowMaps>(dirs_, lo, hi, size);
     maps_->render(*in.scene_gpu);
-    maps_buf_ = upload(rt_, maps_->maps(), "uploading the environment shadow maps");
+    maps_buf_ = cl::upload(rt_, maps_->maps(), "uploading the environment shadow maps");
     std::vector<cl_float4> frames;
     for (const auto& fr : maps_->frames()) {
       frames.push_back(f4(fr.e1));
       frames.push_back(f4(fr.e2));
       frames.push_back(f4(fr.w));
     }
-    frames_buf_ = upload(rt_, frames, "uploading the environment shadow-map frames");
+    frames_buf_ = cl::upload(rt_, frames, "uploading the environment shadow-map frames");
     std::vector<float> p(pinv_.p.begin(), pinv_.p.end());
-    pinv_buf_ = upload(rt_, p, "uploading the SH pseudoinverse");
+    pinv_buf_ = cl::upload(rt_, p, "uploading the SH pseudoinverse");
     built_for_ = in.scene_gpu;
     built_n_ = n;
     built_size_ = size;
@@ -169,14 +147,14 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
   if (!fit_()) fit_ = rt_.kernel("env_visibility.cl", "env_vis_fit");
   const std::size_t count = static_cast<std::size_t>(std::max(in.count, 1));
   if (coeff_bytes_ != count * 4 * sizeof(cl_float4)) {
-    cl_call([&] { coeffs_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, count * 4 * sizeof(cl_float4)); },
-            "environment visibility coefficients buffer");
+    cl::call([&] { coeffs_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, count * 4 * sizeof(cl_float4)); },
+             "environment visibility coefficients buffer");
     coeff_bytes_ = count * 4 * sizeof(cl_float4);
   }
   // Biases (docs/env_visibility.md): normal offset 1.5 texels, depth bias 1 texel; a texel is 2R/size
   // metres, and one metre is 1/(2R) in depth units, so a texel is 1/size there.
   const double r = maps_->radius(), texel = 2.0 * r / size;
-  cl_call(
+  cl::call(
       [&] {
         int a = 0;
         fit_.setArg(a++, in.surfaces);
@@ -192,7 +170,7 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
       },
       "environment visibility fit arguments");
   const ::cl::Event ev = rt_.launch(fit_, ::cl::NDRange(count));
-  cl_call([&] { ev.wait(); }, "environment visibility fit");
+  cl::call([&] { ev.wait(); }, "environment visibility fit");
   f.fit_ms = cl::Runtime::event_ms(ev);
   fitted_ = true;
   fitted_version_ = in.view_version;
@@ -203,8 +181,8 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
 std::vector<glm::vec4> EnvVisibility::read_coeffs(int count) {
   std::vector<glm::vec4> out(4 * static_cast<std::size_t>(std::max(count, 0)));
   if (out.empty() || coeff_bytes_ < out.size() * sizeof(glm::vec4)) return {};
-  cl_call([&] { rt_.queue().enqueueReadBuffer(coeffs_, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data()); },
-          "reading the environment visibility coefficients");
+  cl::call([&] { rt_.queue().enqueueReadBuffer(coeffs_, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data()); },
+           "reading the environment visibility coefficients");
   return out;
 }
 

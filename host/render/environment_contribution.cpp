@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -12,29 +13,6 @@
 
 namespace nf::render {
 namespace {
-
-template <typename F>
-void cl_call(F&& f, const std::string& what) {
-  try {
-    f();
-  } catch (const ::cl::Error& e) {
-    cl::check(e.err(), what);
-  }
-}
-
-template <typename T>
-::cl::Buffer upload_vector(cl::Runtime& rt, const std::vector<T>& v, const std::string& what) {
-  ::cl::Buffer b;
-  const std::vector<T> one(1, T{});
-  const auto& src = v.empty() ? one : v;
-  cl_call(
-      [&] {
-        b = ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, src.size() * sizeof(T),
-                         const_cast<T*>(src.data()));
-      },
-      what);
-  return b;
-}
 
 int glossy_index(const std::string& s) {
   if (s == "mc") return 0;
@@ -87,7 +65,7 @@ EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, ref::Environme
 }
 
 void EnvironmentContribution::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
-  kurt_ = upload_vector(rt_, table, "uploading the environment's kurt material table");
+  kurt_ = cl::upload(rt_, table, "uploading the environment's kurt material table");
   kurt_count_ = static_cast<int>(table.size());
 }
 
@@ -120,22 +98,22 @@ void EnvironmentContribution::upload() {
   }
   std::vector<cl_int4> lv;
   for (std::size_t k = 0; k < dims_.size(); ++k) lv.push_back(cl_int4{{offsets_[k], dims_[k].x, dims_[k].y, 0}});
-  lv_ = upload_vector(rt_, lv, "uploading the environment pyramid levels");
+  lv_ = cl::upload(rt_, lv, "uploading the environment pyramid levels");
   std::vector<cl_float4> all(static_cast<std::size_t>(off), cl_float4{{0, 0, 0, 0}});
   const auto& tex = map_.texels();
   // .w: the map-sampling density p_uv (env-fis integral kernel, Tokuyoshi 2016 Eq. 3)
   for (std::size_t i = 0; i < tex.size(); ++i)
     all[i] = cl_float4{{static_cast<float>(tex[i].x), static_cast<float>(tex[i].y), static_cast<float>(tex[i].z),
                         static_cast<float>(map_.texel_density_uv(i))}};
-  pyr_ = upload_vector(rt_, all, "uploading the environment map");
+  pyr_ = cl::upload(rt_, all, "uploading the environment map");
   pyr_bytes_ = all.size() * sizeof(cl_float4) + lv.size() * sizeof(cl_int4);
   std::vector<float> rows(map_.row_cdf().begin(), map_.row_cdf().end());
   std::vector<float> cols(map_.col_cdf().begin(), map_.col_cdf().end());
   std::vector<float> puv(tex.size());
   for (std::size_t i = 0; i < tex.size(); ++i) puv[i] = static_cast<float>(map_.texel_density_uv(i));
-  rows_ = upload_vector(rt_, rows, "uploading the environment row CDF");
-  cols_ = upload_vector(rt_, cols, "uploading the environment column CDFs");
-  puv_ = upload_vector(rt_, puv, "uploading the environment sampling density");
+  rows_ = cl::upload(rt_, rows, "uploading the environment row CDF");
+  cols_ = cl::upload(rt_, cols, "uploading the environment column CDFs");
+  puv_ = cl::upload(rt_, puv, "uploading the environment sampling density");
   table_bytes_ = (rows.size() + cols.size() + puv.size()) * sizeof(float);
 }
 
@@ -154,20 +132,20 @@ void EnvironmentContribution::build() {
     const glm::ivec2 d = dims_[k + 1];
     rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
   }
-  cl_call([&] { rt_.queue().finish(); }, "building the environment pyramid");
+  cl::call([&] { rt_.queue().finish(); }, "building the environment pyramid");
   pyramid_ms_ = timer.ms();
   const int h = map_.height();
   ::cl::Buffer rows_out;
-  cl_call([&] { rows_out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, sizeof(float) * 27 * h); },
-          "environment SH buffer");
+  cl::call([&] { rows_out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, sizeof(float) * 27 * h); },
+           "environment SH buffer");
   shk.setArg(0, pyr_);
   shk.setArg(1, lv_);
   shk.setArg(2, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
   shk.setArg(3, rows_out);
   rt_.launch(shk, ::cl::NDRange(static_cast<std::size_t>(h)));
   std::vector<float> part(static_cast<std::size_t>(27 * h));
-  cl_call([&] { rt_.queue().enqueueReadBuffer(rows_out, CL_TRUE, 0, part.size() * sizeof(float), part.data()); },
-          "reading the environment SH rows");
+  cl::call([&] { rt_.queue().enqueueReadBuffer(rows_out, CL_TRUE, 0, part.size() * sizeof(float), part.data()); },
+           "reading the environment SH rows");
   sh_.fill(glm::dvec3(0.0));
   for (int r = 0; r < h; ++r)
     for (int k = 0; k < 9; ++k)
@@ -176,7 +154,7 @@ void EnvironmentContribution::build() {
   std::vector<cl_float4> shf;
   for (const auto& s : sh_)
     shf.push_back(cl_float4{{static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z), 0}});
-  sh_buf_ = upload_vector(rt_, shf, "uploading the environment SH coefficients");
+  sh_buf_ = cl::upload(rt_, shf, "uploading the environment SH coefficients");
   if (param_ == "paraboloid") build_paraboloid();
   build_ms_ = timer.ms();
 }
@@ -196,9 +174,9 @@ void EnvironmentContribution::build_paraboloid() {
     lv.push_back(cl_int4{{off, d.x, d.y, 0}});
     off += d.x * d.y;
   }
-  plv_ = upload_vector(rt_, lv, "uploading the environment paraboloid levels");
-  cl_call([&] { ppyr_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(off) * 16); },
-          "environment paraboloid pyramid buffer");
+  plv_ = cl::upload(rt_, lv, "uploading the environment paraboloid levels");
+  cl::call([&] { ppyr_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(off) * 16); },
+           "environment paraboloid pyramid buffer");
   ppyr_bytes_ = static_cast<std::size_t>(off) * 16 + lv.size() * sizeof(cl_int4);
   base.setArg(0, pyr_);
   base.setArg(1, lv_);
@@ -214,14 +192,14 @@ void EnvironmentContribution::build_paraboloid() {
     const glm::ivec2 d = pdims_[k + 1];
     rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
   }
-  cl_call([&] { rt_.queue().finish(); }, "building the environment paraboloid pyramid");
+  cl::call([&] { rt_.queue().finish(); }, "building the environment paraboloid pyramid");
   paraboloid_ms_ = timer.ms();
 }
 
 std::vector<glm::vec4> EnvironmentContribution::read_paraboloid_level(int k) {
   const glm::ivec2 d = paraboloid_level_size(k);
   std::vector<glm::vec4> out(static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y));
-  cl_call(
+  cl::call(
       [&] {
         rt_.queue().enqueueReadBuffer(ppyr_, CL_TRUE, poffsets_[static_cast<std::size_t>(k)] * sizeof(cl_float4),
                                       out.size() * sizeof(cl_float4), out.data());
@@ -233,11 +211,11 @@ std::vector<glm::vec4> EnvironmentContribution::read_paraboloid_level(int k) {
 std::vector<float> EnvironmentContribution::integral_level_debug(const std::vector<glm::vec2>& uv, float target) {
   std::vector<float> out(uv.size());
   if (uv.empty()) return out;
-  ::cl::Buffer in = upload_vector(rt_, uv, "environment debug points"), buf;
-  cl_call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(float)); },
-          "environment level buffer");
+  ::cl::Buffer in = cl::upload(rt_, uv, "environment debug points"), buf;
+  cl::call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(float)); },
+           "environment level buffer");
   ::cl::Kernel k = rt_.kernel("environment.cl", "env_integral_debug");
-  cl_call(
+  cl::call(
       [&] {
         k.setArg(0, pyr_);
         k.setArg(1, lv_);
@@ -249,15 +227,15 @@ std::vector<float> EnvironmentContribution::integral_level_debug(const std::vect
       },
       "environment level kernel arguments");
   rt_.launch(k, ::cl::NDRange(out.size()));
-  cl_call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
-          "reading the environment levels");
+  cl::call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
+           "reading the environment levels");
   return out;
 }
 
 std::vector<glm::vec4> EnvironmentContribution::read_level(int k) {
   const glm::ivec2 d = level_size(k);
   std::vector<glm::vec4> out(static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y));
-  cl_call(
+  cl::call(
       [&] {
         rt_.queue().enqueueReadBuffer(pyr_, CL_TRUE, offsets_[static_cast<std::size_t>(k)] * sizeof(cl_float4),
                                       out.size() * sizeof(cl_float4), out.data());
@@ -270,10 +248,10 @@ std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std:
   std::vector<glm::vec4> out(static_cast<std::size_t>(std::max(count, 0)));
   if (out.empty()) return out;
   ::cl::Buffer buf;
-  cl_call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(cl_float4)); },
-          "environment sample buffer");
+  cl::call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(cl_float4)); },
+           "environment sample buffer");
   ::cl::Kernel k = rt_.kernel("environment.cl", "env_sample_debug");
-  cl_call(
+  cl::call(
       [&] {
         k.setArg(0, rows_);
         k.setArg(1, cols_);
@@ -286,8 +264,8 @@ std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std:
       },
       "environment sample kernel arguments");
   rt_.launch(k, ::cl::NDRange(out.size()));
-  cl_call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data()); },
-          "reading the environment samples");
+  cl::call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data()); },
+           "reading the environment samples");
   return out;
 }
 
@@ -344,8 +322,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
   f.step1_ms += vis.build_ms + vis.fit_ms;
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
   if (out_bytes_ != n * sizeof(cl_float4)) {
-    cl_call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4)); },
-            "environment output buffer");
+    cl::call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4)); },
+             "environment output buffer");
     out_bytes_ = n * sizeof(cl_float4);
   }
   const auto& d = in.settings.declared;
@@ -361,7 +339,7 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     cu = cl_float4{{static_cast<float>(up.x), static_cast<float>(up.y), static_cast<float>(up.z), 0}};
     wh = cl_int2{{c.width, c.height}};
   }
-  cl_call(
+  cl::call(
       [&] {
         int a = 0;
         shade_.setArg(a++, in.surfaces);
@@ -395,14 +373,14 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
       },
       "environment kernel arguments");
   const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
-  cl_call([&] { ev.wait(); }, "environment kernel");
+  cl::call([&] { ev.wait(); }, "environment kernel");
   f.step2_ms = cl::Runtime::event_ms(ev);
   f.wall_ms = wall.ms();
   Timer readback;
   std::vector<glm::vec4> rgb(static_cast<std::size_t>(in.count));
   if (in.count > 0)
-    cl_call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
-            "reading the environment radiance");
+    cl::call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
+             "reading the environment radiance");
   radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
   for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
   f.samples = static_cast<std::uint64_t>(in.count) * static_cast<std::uint64_t>(d.env_samples);

@@ -10,6 +10,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -80,15 +81,6 @@ nf_uint group_multiplier(std::size_t groups) {
   return static_cast<nf_uint>(m % groups);
 }
 
-template <typename F>
-void cl_call(F&& f, const char* what) {
-  try {
-    f();
-  } catch (const ::cl::Error& e) {
-    cl::check(e.err(), what);
-  }
-}
-
 }  // namespace
 
 NfInstance make_instance(const glm::dmat4& w2l, double intensity) {
@@ -113,7 +105,7 @@ NfInstance identity_instance(double intensity) { return make_instance(glm::dmat4
   const std::vector<NfSurface> one(1, NfSurface{});
   const auto& v = surfaces.empty() ? one : surfaces;
   ::cl::Buffer b;
-  cl_call(
+  cl::call(
       [&] {
         b = ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(NfSurface),
                          const_cast<NfSurface*>(v.data()));
@@ -124,7 +116,7 @@ NfInstance identity_instance(double intensity) { return make_instance(glm::dmat4
 
 Sampler::Sampler(cl::Runtime& rt) : rt_(rt) {
   const auto t3 = halton3_table();
-  cl_call(
+  cl::call(
       [&] {
         halton3_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t3.size() * sizeof(float),
                                 const_cast<float*>(t3.data()));
@@ -140,7 +132,7 @@ Sampler::Sampler(cl::Runtime& rt) : rt_(rt) {
 void Sampler::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
   const std::vector<NfKurtMaterial> one(1, NfKurtMaterial{});
   const auto& v = table.empty() ? one : table;
-  cl_call(
+  cl::call(
       [&] {
         kurt_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(NfKurtMaterial),
                              const_cast<NfKurtMaterial*>(v.data()));
@@ -189,7 +181,7 @@ void Sampler::ensure(int count) {
   count_ = count;
   if (count <= capacity_) return;
   const int cap = std::max(count, 1);
-  cl_call(
+  cl::call(
       [&] {
         rgb_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(cap) * 4 * sizeof(float));
         a_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(cap) * sizeof(float));
@@ -281,7 +273,7 @@ int Sampler::bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, 
     const std::size_t need = static_cast<std::size_t>(images) * static_cast<std::size_t>(stride) * sizeof(float);
     if (c.bytes != need) {
       c = PixelCache{};
-      cl_call([&] { c.am = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, need); }, "Sampler: pixel cache buffer");
+      cl::call([&] { c.am = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, need); }, "Sampler: pixel cache buffer");
       c.bytes = need;
     }
     mode = c.key == key ? kCacheRead : kCacheWrite;
@@ -308,7 +300,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
   if (count == 0) return st;
   auto& q = rt_.queue();
   std::vector<::cl::Event> clears, step1, step2;
-  cl_call(
+  cl::call(
       [&] {
         const float zf = 0.0f;
         const nf_uint zu = 0;
@@ -356,7 +348,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     }
     ::cl::Buffer& A = several ? a_inst_ : a_;
     if (several) {
-      cl_call(
+      cl::call(
           [&] {
             clears.emplace_back();
             q.enqueueFillBuffer(a_inst_, 0.0f, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr,
@@ -392,7 +384,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
       clears.push_back(rt_.launch(ka, global1, local_range(ka)));
     }
   }
-  cl_call([&] { q.finish(); }, "Sampler: waiting for the device");
+  cl::call([&] { q.finish(); }, "Sampler: waiting for the device");
   for (auto& c : cache_)
     if (!c.pending.empty()) c.key = std::exchange(c.pending, std::string());
   for (const auto& e : step1) st.step1_ms += cl::Runtime::event_ms(e);
@@ -406,24 +398,24 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
 std::vector<glm::vec4> Sampler::read_radiance() {
   std::vector<glm::vec4> out(count_);
   if (count_ > 0)
-    cl_call([&] { rt_.queue().enqueueReadBuffer(rgb_, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data()); },
-            "Sampler: reading radiance");
+    cl::call([&] { rt_.queue().enqueueReadBuffer(rgb_, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data()); },
+             "Sampler: reading radiance");
   return out;
 }
 
 std::vector<float> Sampler::read_a() {
   std::vector<float> out(count_);
   if (count_ > 0)
-    cl_call([&] { rt_.queue().enqueueReadBuffer(a_, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
-            "Sampler: reading A");
+    cl::call([&] { rt_.queue().enqueueReadBuffer(a_, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
+             "Sampler: reading A");
   return out;
 }
 
 std::vector<std::uint32_t> Sampler::read_k() {
   std::vector<std::uint32_t> out(count_);
   if (count_ > 0)
-    cl_call([&] { rt_.queue().enqueueReadBuffer(k_, CL_TRUE, 0, out.size() * sizeof(std::uint32_t), out.data()); },
-            "Sampler: reading K");
+    cl::call([&] { rt_.queue().enqueueReadBuffer(k_, CL_TRUE, 0, out.size() * sizeof(std::uint32_t), out.data()); },
+             "Sampler: reading K");
   return out;
 }
 
@@ -445,7 +437,7 @@ std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, co
   p.block = static_cast<nf_uint>(n);
   ::cl::Buffer surf = upload_surfaces(rt_, {surface});
   ::cl::Buffer out;
-  cl_call(
+  cl::call(
       [&] {
         out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, static_cast<std::size_t>(n) * sizeof(NfSampleDebug));
       },
@@ -459,8 +451,8 @@ std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, co
   k.setArg(kSpecificArgs + 1, n);
   rt_.launch(k, global_range(n, 1), local_range(k));
   std::vector<NfSampleDebug> v(n);
-  cl_call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(NfSampleDebug), v.data()); },
-          "debug_samples: reading");
+  cl::call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(NfSampleDebug), v.data()); },
+           "debug_samples: reading");
   return v;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -21,25 +22,17 @@ static_assert(offsetof(NfVsgl, cs_r) == 48 && offsetof(NfVsgl, level) == 80, "Nf
 
 namespace {
 
-template <typename F>
-void cl_call(F&& f, const std::string& what) {
-  try {
-    f();
-  } catch (const ::cl::Error& e) {
-    cl::check(e.err(), what);
-  }
-}
-
 ::cl::Buffer make_buffer(cl::Runtime& rt, cl_mem_flags flags, std::size_t bytes, const void* data,
                          const std::string& what) {
   ::cl::Buffer b;
-  cl_call([&] { b = ::cl::Buffer(rt.context(), flags, std::max<std::size_t>(bytes, 16), const_cast<void*>(data)); },
-          what);
+  cl::call([&] { b = ::cl::Buffer(rt.context(), flags, std::max<std::size_t>(bytes, 16), const_cast<void*>(data)); },
+           what);
   return b;
 }
 
 template <typename T>
-::cl::Buffer upload(cl::Runtime& rt, const std::vector<T>& v, const std::string& what) {
+// A read-write device copy of v (kernels and copies write into these buffers later).
+::cl::Buffer upload_rw(cl::Runtime& rt, const std::vector<T>& v, const std::string& what) {
   if (v.empty()) return make_buffer(rt, CL_MEM_READ_WRITE, 16, nullptr, what);
   return make_buffer(rt, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data(), what);
 }
@@ -49,7 +42,7 @@ std::vector<T> download(cl::Runtime& rt, const ::cl::Buffer& b, std::size_t coun
                         const std::string& what) {
   std::vector<T> out(count);
   if (count > 0)
-    cl_call([&] { rt.queue().enqueueReadBuffer(b, CL_TRUE, first * sizeof(T), count * sizeof(T), out.data()); }, what);
+    cl::call([&] { rt.queue().enqueueReadBuffer(b, CL_TRUE, first * sizeof(T), count * sizeof(T), out.data()); }, what);
   return out;
 }
 
@@ -107,7 +100,7 @@ RsmView rsm_view(const NfLuminaire& lum, const NfInstance& in) {
 
 VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene) : rt_(rt), scene_(scene), sampler_(rt) {
   kurt_ = kurt_table(scene.geometry.materials);
-  kurt_buf_ = upload(rt_, kurt_, "uploading the Kurt material table (indirect)");
+  kurt_buf_ = upload_rw(rt_, kurt_, "uploading the Kurt material table (indirect)");
 }
 
 VsglContribution::~VsglContribution() = default;
@@ -136,7 +129,7 @@ void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& 
                                   const RsmView& view, const ::cl::Buffer& pyr) {
   ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_texels");
   const float pix = static_cast<float>(2.0 * view.tan_half / size);
-  cl_call(
+  cl::call(
       [&] {
         k.setArg(0, surf);
         k.setArg(1, irradiance);
@@ -158,7 +151,7 @@ std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size
   for (int s = size; s > 1; s /= 2) {
     const int src = off.back(), dst = src + s * s;
     off.push_back(dst);
-    cl_call(
+    cl::call(
         [&] {
           k.setArg(0, pyr);
           k.setArg(1, src);
@@ -174,8 +167,8 @@ std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size
 void VsglContribution::run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size,
                                     glm::dvec3 origin, const VsglSettings& s, const ::cl::Buffer& out) {
   ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_generate");
-  const ::cl::Buffer off = upload(rt_, offsets, "VSGL pyramid offsets");
-  cl_call(
+  const ::cl::Buffer off = upload_rw(rt_, offsets, "VSGL pyramid offsets");
+  cl::call(
       [&] {
         k.setArg(0, pyr);
         k.setArg(1, off);
@@ -190,13 +183,13 @@ void VsglContribution::run_generate(const ::cl::Buffer& pyr, const std::vector<i
       },
       "VSGL generation kernel arguments");
   rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(s.count)));
-  cl_call([&] { rt_.queue().finish(); }, "VSGL generation");
+  cl::call([&] { rt_.queue().finish(); }, "VSGL generation");
 }
 
 void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const ::cl::Buffer& vsgls, int nv,
                                  const ::cl::Buffer& out) {
   ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_shade");
-  cl_call(
+  cl::call(
       [&] {
         k.setArg(0, surfaces);
         k.setArg(1, count);
@@ -208,7 +201,7 @@ void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const 
       },
       "VSGL shading kernel arguments");
   const ::cl::Event ev = rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(std::max(count, 1))));
-  cl_call([&] { ev.wait(); }, "VSGL shading kernel");
+  cl::call([&] { ev.wait(); }, "VSGL shading kernel");
 }
 
 bool VsglContribution::build(const FrameInputs& in) {
@@ -241,8 +234,8 @@ bool VsglContribution::build(const FrameInputs& in) {
     r.surfaces = gbuffer_->read_surfaces(scene_.geometry.materials, cam);
     std::vector<NfSurface> irr = r.surfaces;
     for (auto& s : irr) s.brdf = NF_BRDF_IRRADIANCE;
-    r.surf_buf = upload(rt_, r.surfaces, "uploading an RSM");
-    r.irr_buf = upload(rt_, irr, "uploading an RSM");
+    r.surf_buf = upload_rw(rt_, r.surfaces, "uploading an RSM");
+    r.irr_buf = upload_rw(rt_, irr, "uploading an RSM");
     times_.rsm_ms += timer.ms();
     // 2. E(y_j) by the light-field estimator (no visibility: the RSM holds what the luminaire's
     //    centre sees)
@@ -257,12 +250,12 @@ bool VsglContribution::build(const FrameInputs& in) {
     r.pyr = pyramid_buffer(size);
     run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr);
     r.offsets = run_pyramid(r.pyr, size);
-    cl_call([&] { rt_.queue().finish(); }, "VSGL pyramid");
+    cl::call([&] { rt_.queue().finish(); }, "VSGL pyramid");
     times_.pyramid_ms += timer.ms();
     // keep E for introspection (the sampler's buffer is reused by the next instance)
     r.irr_buf = make_buffer(rt_, CL_MEM_READ_WRITE, texels * sizeof(cl_float4), nullptr, "RSM irradiance copy");
-    cl_call([&] { rt_.queue().enqueueCopyBuffer(sampler_.radiance(), r.irr_buf, 0, 0, texels * sizeof(cl_float4)); },
-            "copying the RSM irradiance");
+    cl::call([&] { rt_.queue().enqueueCopyBuffer(sampler_.radiance(), r.irr_buf, 0, 0, texels * sizeof(cl_float4)); },
+             "copying the RSM irradiance");
   }
   // 4. VSGLs of every instance, one buffer
   Timer timer;
@@ -277,7 +270,7 @@ bool VsglContribution::build(const FrameInputs& in) {
     vsgls_.insert(vsgls_.end(), v.begin(), v.end());
   }
   if (!vsgls_.empty())
-    cl_call(
+    cl::call(
         [&] { rt_.queue().enqueueWriteBuffer(vsgl_buf_, CL_TRUE, 0, vsgls_.size() * sizeof(NfVsgl), vsgls_.data()); },
         "uploading the VSGLs");
   times_.generate_ms = timer.ms();
@@ -312,8 +305,8 @@ std::vector<NfVsgl> VsglContribution::generate(const std::vector<glm::vec4>& lev
   if (size < 1 || (size & (size - 1)) != 0 || level0.size() != texels * NF_VSGL_QUANTITIES)
     fail(fmt::format("VSGL generation: {} quantities for a {}^2 RSM", level0.size(), size));
   const ::cl::Buffer pyr = pyramid_buffer(size);
-  cl_call([&] { rt_.queue().enqueueWriteBuffer(pyr, CL_TRUE, 0, level0.size() * sizeof(cl_float4), level0.data()); },
-          "uploading RSM quantities");
+  cl::call([&] { rt_.queue().enqueueWriteBuffer(pyr, CL_TRUE, 0, level0.size() * sizeof(cl_float4), level0.data()); },
+           "uploading RSM quantities");
   const std::vector<int> off = run_pyramid(pyr, size);
   if (levels_out) {
     levels_out->clear();
@@ -336,8 +329,8 @@ std::vector<glm::vec4> VsglContribution::texel_quantities(const std::vector<NfSu
   const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   if (surfaces.size() != texels || e.size() != texels)
     fail(fmt::format("VSGL texels: {} surfaces and {} irradiances for a {}^2 RSM", surfaces.size(), e.size(), size));
-  const ::cl::Buffer sb = upload(rt_, surfaces, "uploading RSM texels");
-  const ::cl::Buffer eb = upload(rt_, e, "uploading RSM irradiance");
+  const ::cl::Buffer sb = upload_rw(rt_, surfaces, "uploading RSM texels");
+  const ::cl::Buffer eb = upload_rw(rt_, e, "uploading RSM irradiance");
   const ::cl::Buffer pyr = pyramid_buffer(size);
   run_texels(sb, eb, size, view, pyr);
   return download<glm::vec4>(rt_, pyr, texels * NF_VSGL_QUANTITIES, 0, "reading RSM quantities");
@@ -345,8 +338,8 @@ std::vector<glm::vec4> VsglContribution::texel_quantities(const std::vector<NfSu
 
 std::vector<glm::vec4> VsglContribution::shade(const std::vector<NfSurface>& surfaces,
                                                const std::vector<NfVsgl>& vsgls) {
-  const ::cl::Buffer sb = upload(rt_, surfaces, "uploading surfaces");
-  const ::cl::Buffer vb = upload(rt_, vsgls, "uploading VSGLs");
+  const ::cl::Buffer sb = upload_rw(rt_, surfaces, "uploading surfaces");
+  const ::cl::Buffer vb = upload_rw(rt_, vsgls, "uploading VSGLs");
   const ::cl::Buffer out =
       make_buffer(rt_, CL_MEM_READ_WRITE, std::max<std::size_t>(surfaces.size(), 1) * sizeof(cl_float4), nullptr,
                   "VSGL output buffer");
