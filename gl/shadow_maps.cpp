@@ -199,6 +199,18 @@ std::vector<float> ShadowMaps::read_depth(int cell) const {
   return out;
 }
 
+std::vector<float> ShadowMaps::read_maps() const {
+  const std::size_t texels = static_cast<std::size_t>(spec_.size) * static_cast<std::size_t>(spec_.size);
+  std::vector<float> out(texels * static_cast<std::size_t>(cells()));
+  for (int first = 0; first < cells(); first += maps_per_buffer_) {
+    const std::size_t n = static_cast<std::size_t>(std::min(maps_per_buffer_, cells() - first));
+    glGetNamedBufferSubData(maps_ssbo_[static_cast<std::size_t>(first / maps_per_buffer_)], 0,
+                            static_cast<GLsizeiptr>(n * texels * sizeof(float)),
+                            out.data() + static_cast<std::size_t>(first) * texels);
+  }
+  return out;
+}
+
 std::vector<MemoryItem> ShadowMaps::memory() const {
   std::vector<MemoryItem> m{{fmt::format("shadow maps ({} x {}^2 float)", cells(), spec_.size), maps_bytes_},
                             {fmt::format("shadow depth target ({}^2 D32F)", spec_.size),

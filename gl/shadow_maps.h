@@ -87,6 +87,9 @@ class ShadowMaps {
   // Reads back the depth map of one cell as linear distance along +z (metres; +inf where empty),
   // rows from the top (+y up in the map). For tests and debugging.
   std::vector<float> read_depth(int cell) const;
+  // Reads back every map as stored (reversed-Z depth near / z, 0 = empty): map c at c * size^2,
+  // rows bottom up. The OpenCL visibility pass (render/cl_shadow_visibility.h) uploads this.
+  std::vector<float> read_maps() const;
   std::vector<MemoryItem> memory() const;
 
  private:

@@ -21,6 +21,7 @@ Step0::~Step0() = default;
 
 void Step0::run(const scene::Camera& camera) {
   timings_ = {};
+  maps_rendered_ = false;
   if (!gbuffer_ || gbuffer_->width() != camera.width || gbuffer_->height() != camera.height)
     gbuffer_ = std::make_unique<GBuffer>(camera.width, camera.height);
   Timer t;
@@ -30,14 +31,17 @@ void Step0::run(const scene::Camera& camera) {
   t.reset();
   surfaces_ = gbuffer_->read_surfaces(materials_, camera);
   timings_.gbuffer_readback_ms = t.ms();
+  if (!gl_visibility_)
+    for (auto& v : visibility_) v.clear();
   if (!shadow_maps_valid_ && !shadow_maps_.empty()) {
     t.reset();
     for (auto& sm : shadow_maps_) sm->render(*scene_);
     glFinish();
     timings_.shadow_maps_ms = t.ms();
     shadow_maps_valid_ = true;
+    maps_rendered_ = true;
   }
-  if (!shadow_maps_.empty()) {
+  if (!shadow_maps_.empty() && gl_visibility_) {
     t.reset();
     for (std::size_t i = 0; i < shadow_maps_.size(); ++i) visibility_[i] = shadow_maps_[i]->visibility(*gbuffer_);
     timings_.visibility_ms = t.ms();

@@ -32,8 +32,15 @@ class Step0 {
   Step0& operator=(const Step0&) = delete;
 
   // Renders the G-buffer from `camera` (resizing it to the camera's resolution when needed),
-  // the shadow maps if invalid, the visibility bitmasks, and reads everything back.
+  // the shadow maps if invalid, the visibility bitmasks (unless the GL visibility pass is off),
+  // and reads everything back.
   void run(const scene::Camera& camera);
+  // Off: run() leaves visibility() empty and the caller computes the bitmasks from the maps
+  // (render/cl_shadow_visibility.h, the `visibility_pass` setting). On by default.
+  void set_gl_visibility(bool on) { gl_visibility_ = on; }
+  bool gl_visibility() const { return gl_visibility_; }
+  // Whether the last run() rendered the shadow maps (they were invalid).
+  bool shadow_maps_rendered() const { return maps_rendered_; }
   void invalidate_shadow_maps() { shadow_maps_valid_ = false; }
 
   bool has_shadow_maps() const { return !shadow_maps_.empty(); }
@@ -56,6 +63,7 @@ class Step0 {
   std::unique_ptr<GBuffer> gbuffer_;
   std::vector<std::unique_ptr<ShadowMaps>> shadow_maps_;
   bool shadow_maps_valid_ = false;
+  bool gl_visibility_ = true, maps_rendered_ = false;
   std::vector<NfSurface> surfaces_;
   std::vector<std::vector<std::uint32_t>> visibility_;
   Step0Timings timings_;

@@ -14,6 +14,7 @@
 #include "gl/shadow_maps.h"
 #include "gl/step0.h"
 #include "gl/tonemap.h"
+#include "render/cl_shadow_visibility.h"
 #include "render/contributions.h"
 #include "render/luminaire_contribution.h"
 #include "render/sampler.h"
@@ -203,6 +204,10 @@ void Renderer::build_step0() {
       specs.push_back(gl::make_shadow_map_spec(pc.params, pc.ref_lights, inst.to_world, settings_.shadow_map_size));
     }
   step0_ = std::make_unique<gl::Step0>(scene_, std::move(specs));
+  step0_->set_gl_visibility(gl_visibility_pass());
+  cl_vis_.clear();
+  if (!gl_visibility_pass() && step0_->has_shadow_maps())
+    for (std::size_t i = 0; i < instances_.size(); ++i) cl_vis_.push_back(std::make_unique<ClShadowVisibility>(*rt_));
   camera_dirty_ = shadows_dirty_ = true;
   warm_ = false;  // the kernels' visibility option may change
 }
@@ -223,7 +228,29 @@ void Renderer::run_step0(StepTimes& t) {
   if (s.shadow_maps_ms > 0.0) t.shadow_map_runs += 1;
   camera_dirty_ = shadows_dirty_ = false;
   view_dirty_ = true;
-  upload_visibility(t);
+  if (gl_visibility_pass()) {
+    upload_visibility(t);
+    return;
+  }
+  if (step0_->shadow_maps_rendered()) {  // the maps to the device, once per rendering
+    Timer timer;
+    for (std::size_t i = 0; i < cl_vis_.size(); ++i) cl_vis_[i]->upload(*step0_->shadow_maps(i));
+    t.visibility_upload_ms += timer.ms();
+  }
+  cl_vis_dirty_ = !cl_vis_.empty();
+}
+
+// visibility_pass = opencl: the bitmasks of the uploaded surfaces, on the device (the GL pass's
+// test, kernels/shadow_visibility.cl); timed as the visibility pass.
+void Renderer::cl_visibility(StepTimes& t) {
+  Timer timer;
+  vis_bufs_.resize(cl_vis_.size());
+  vis_sizes_.resize(cl_vis_.size(), 0);
+  const int count = static_cast<int>(pixel_count(camera_));
+  for (std::size_t i = 0; i < cl_vis_.size(); ++i)
+    cl_vis_[i]->run(surfaces_buf_, count, *step0_->shadow_maps(i), vis_bufs_[i], vis_sizes_[i]);
+  t.visibility_ms += timer.ms();
+  cl_vis_dirty_ = false;
 }
 
 void Renderer::upload_visibility(StepTimes& t) {
@@ -333,6 +360,7 @@ void Renderer::warm_up() {
       ls[i].vis_words = step0_->words_per_pixel(i);
     }
   }
+  if (!cl_vis_.empty()) (void)rt_->kernel("shadow_visibility.cl", "shadow_visibility");
   const FrameInputs in{
       *rt_, one, 1, settings_, settings_.sampling.frame, ls, &camera_, &step0_->scene_gpu(), &scene_.geometry};
   for (auto& c : contributions_) c->prepare(in);
@@ -349,6 +377,7 @@ const StepTimes& Renderer::render_frame() {
   Timer wall;
   if (camera_dirty_ || shadows_dirty_) run_step0(t);
   if (view_dirty_) update_view(t);
+  if (cl_vis_dirty_) cl_visibility(t);
   stage();
 
   // Steps 1-2: every contribution adds its radiance into this frame's
@@ -503,6 +532,8 @@ std::vector<gl::MemoryItem> Renderer::memory() const {
   m.push_back({"CL surfaces (NfSurface)", n * sizeof(NfSurface)});
   for (std::size_t i = 0; i < vis_sizes_.size(); ++i)
     m.push_back({fmt::format("CL visibility bitmask, luminaire {}", i), vis_sizes_[i]});
+  for (std::size_t i = 0; i < cl_vis_.size(); ++i)
+    m.push_back({fmt::format("CL shadow maps, luminaire {}", i), cl_vis_[i]->device_bytes()});
   for (const auto& c : contributions_) m.push_back({"CL contribution outputs: " + c->name(), c->device_bytes()});
   if (!surfaces_.empty())
     m.push_back({"host surfaces with luminaire pixels masked", surfaces_.size() * sizeof(NfSurface)});

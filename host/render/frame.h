@@ -46,6 +46,7 @@ class Tonemapper;
 namespace nf::render {
 
 class LuminaireContribution;
+class ClShadowVisibility;
 
 struct RendererOptions {
   // The GL context to render with (made current before any GL work; it must outlive the
@@ -147,6 +148,8 @@ class Renderer {
   void run_step0(StepTimes& t);
   void update_view(StepTimes& t);
   void upload_visibility(StepTimes& t);
+  void cl_visibility(StepTimes& t);
+  bool gl_visibility_pass() const { return settings_.declared.visibility_pass == "gl"; }
   void resize(int width, int height);
   void stage() const;
   void make_contributions_now();
@@ -180,6 +183,10 @@ class Renderer {
   std::size_t surfaces_bytes_ = 0;
   std::vector<::cl::Buffer> vis_bufs_;
   std::vector<std::size_t> vis_sizes_;
+  // visibility_pass = opencl: per instance, its maps on the device; the bitmasks are computed
+  // after the surfaces' upload whenever Step 0 ran (cl_vis_dirty_).
+  std::vector<std::unique_ptr<ClShadowVisibility>> cl_vis_;
+  bool cl_vis_dirty_ = false;
 
   int frames_ = 0;
   std::vector<double> sum_;       // 3 per pixel: sum of the frames' radiance

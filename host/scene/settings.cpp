@@ -131,6 +131,10 @@ std::vector<Setting> declare() {
       integer(
           "shadow_map_size", "shadow_map_size", 16, 4096, "frame", S0, "pixels per side of each shadow map",
           [](auto& r) -> auto& { return r.shadow_map_size; }),
+      choice(
+          "visibility_pass", "visibility_pass", {"opencl", "gl"}, "frame", S0,
+          "where the shadow maps are tested per pixel: an OpenCL kernel or the GL compute pass (same test)",
+          [](auto& r) -> auto& { return r.visibility_pass; }),
       integer(
           "seed", "seed", 0, 2147483647, "luminaires", R, "seed of the random and scrambled sequences",
           [](auto& r) -> auto& { return r.seed; }),
@@ -209,8 +213,7 @@ std::vector<Setting> declare() {
           [](auto& r) -> auto& { return r.vsgl_k; }),
       choice(
           "vsgl_points", "vsgl_points", {"hammersley", "fibonacci"}, "indirect", R,
-          "stratified point set warped to the VSGL centres",
-          [](auto& r) -> auto& { return r.vsgl_points; }),
+          "stratified point set warped to the VSGL centres", [](auto& r) -> auto& { return r.vsgl_points; }),
       integer(
           "vsgl_shadowed", "vsgl_shadowed", 0, 4096, "indirect", R,
           "VSGLs with shadow maps; only 0 (unshadowed) is implemented, others are refused",

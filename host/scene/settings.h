@@ -30,10 +30,12 @@ struct RenderSettings {
   std::string structure = "fused";        // per-image | fused (Step 1/2 passes)
   std::string visibility = "shadowmaps";  // none | shadowmaps
   int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
-  std::uint32_t seed = 1;                 // sampler seed (random, halton-scrambled)
-  int lanes = 0;                          // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
-  int pixel_cache = 1024;                 // MiB for A_m(p) kept across progressive frames; 0 = off
-  TonemapParams tonemap;                  // exposure, gamma
+  // opencl | gl: where Step 0's visibility bitmask is computed (the same test)
+  std::string visibility_pass = "opencl";
+  std::uint32_t seed = 1;  // sampler seed (random, halton-scrambled)
+  int lanes = 0;           // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
+  int pixel_cache = 1024;  // MiB for A_m(p) kept across progressive frames; 0 = off
+  TonemapParams tonemap;   // exposure, gamma
   // environment (docs/environment.md)
   std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis
   int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame
@@ -46,13 +48,13 @@ struct RenderSettings {
   std::string env_visibility = "none";  // none | sh (Krivanek and Colbert 2008 §5.2, docs/env_visibility.md)
   int env_visibility_samples = 16;      // N_v, shadow-map directions of the SH visibility, 1..256
   // one-bounce indirect light (docs/indirect.md)
-  std::string indirect = "none";          // none | vsgl
-  int rsm_size = 256;                     // RSM texels per side, a power of two 16..4096
-  int vsgl_count = 256;                   // N_v, VSGLs per luminaire instance, 64..4096
-  std::string vsgl_kernel = "integral";   // point (Eq. 1, 4) | integral (Eq. 3, 5)
-  double vsgl_k = 1.0;                    // K of Eq. 3 (integral kernels)
+  std::string indirect = "none";           // none | vsgl
+  int rsm_size = 256;                      // RSM texels per side, a power of two 16..4096
+  int vsgl_count = 256;                    // N_v, VSGLs per luminaire instance, 64..4096
+  std::string vsgl_kernel = "integral";    // point (Eq. 1, 4) | integral (Eq. 3, 5)
+  double vsgl_k = 1.0;                     // K of Eq. 3 (integral kernels)
   std::string vsgl_points = "hammersley";  // hammersley | fibonacci (stratified centres)
-  int vsgl_shadowed = 0;                  // VSGLs with shadow maps (only 0 is implemented: unshadowed)
+  int vsgl_shadowed = 0;                   // VSGLs with shadow maps (only 0 is implemented: unshadowed)
 };
 
 // What a change of a setting invalidates, in increasing order: `display` only re-tone-maps the
