@@ -6,6 +6,9 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -35,6 +38,55 @@ std::uint64_t fnv1a(const std::string& s) {
   return h;
 }
 
+// FNV-1a continued over raw bytes.
+template <typename T>
+void mix(std::uint64_t& h, const std::vector<T>& v) {
+  const auto* b = reinterpret_cast<const unsigned char*>(v.data());
+  for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+}
+
+std::string matrix(const glm::dmat4& m) {
+  std::string s;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) s += fmt::format(" {:.17g}", m[c][r]);
+  return s;
+}
+
+// What the scene holds after loading (a scene parsed from a string has no file text to hash, and a
+// loaded scene may have been changed in code): meshes, instances, materials, textures,
+// environment and luminaire instances.
+std::string content_description(const scene::Scene& scene) {
+  const auto& g = scene.geometry;
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (const auto& m : g.meshes) {
+    mix(h, m.positions);
+    mix(h, m.normals);
+    mix(h, m.uvs);
+    mix(h, m.indices);
+  }
+  for (const auto& t : g.textures) mix(h, t.rgba8);
+  std::string d = fmt::format("content meshes {} textures {} hash {:016x}\n", g.meshes.size(), g.textures.size(), h);
+  for (const auto& i : g.instances)
+    d += fmt::format("instance {} {} {} {}{}\n", i.mesh, i.material, i.planar, i.casts_shadows, matrix(i.to_world));
+  for (const auto& m : g.materials) {
+    d += fmt::format("material {} {} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {} {} {:.9g} {:.9g} {:.9g}\n", m.name,
+                     static_cast<int>(m.kind), m.base_color.x, m.base_color.y, m.base_color.z, m.metallic, m.roughness,
+                     m.base_color_texture, m.metallic_roughness_texture, m.tangent.x, m.tangent.y, m.tangent.z);
+    for (const auto& l : m.kurt_lobes)
+      d += fmt::format(" lobe {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}\n", l.ks.x, l.ks.y, l.ks.z, l.r0, l.mx,
+                       l.my, l.alpha);
+  }
+  if (scene.environment) {
+    const auto& e = *scene.environment;
+    d += fmt::format("environment {:.17g} {:.17g} ", e.rotation_deg, e.intensity) + file_stamp(e.file);
+  }
+  for (const auto& l : scene.luminaires) {
+    d += fmt::format("luminaire instance {:.17g}{}\n", l.intensity, matrix(l.to_world));
+    if (!l.manifest.empty()) d += file_stamp(l.manifest);
+  }
+  return d;
+}
+
 }  // namespace
 
 std::string cache_description(const scene::Scene& scene, const ReferenceSettings& settings) {
@@ -51,7 +103,7 @@ std::string cache_description(const scene::Scene& scene, const ReferenceSettings
   }
   for (const auto& l : scene.luminaires)
     d += fmt::format("luminaire {} {} {}\n", l.name, l.preset, l.manifest.string());
-  return d;
+  return d + content_description(scene);
 }
 
 std::string cache_key(const scene::Scene& scene, const ReferenceSettings& settings) {
