@@ -11,6 +11,7 @@
    of the whole pyramid holds NF_VSGL_QUANTITIES float4 at pyr[NF_VSGL_QUANTITIES t + q]. */
 #define NF_LANES 1
 #include "common/brdf.h"
+#include "common/point_shadow.h"
 #include "common/random.h"
 #include "common/sg.h"
 #include "shared/vsgl.h"
@@ -395,19 +396,44 @@ NF_INLINE float3 nf_vsgl_shade_one(const NfVsglPixel* px, __global const NfVsgl*
   return o;
 }
 
-/* Reflected radiance (W m^-2 sr^-1) of every surface from the `nv` VSGLs, unshadowed. */
+/* Reflected radiance (W m^-2 sr^-1) of every surface from the `nv` VSGLs. VSGL j with
+   shadow[j] = m >= 0 is multiplied by its binary visibility from its cube maps (maps + 6 m size^2,
+   light position origins[m].xyz; common/point_shadow.h); shadow[j] = -1: unshadowed. */
 __kernel void vsgl_shade(__global const NfSurface* surf, const int count, __global const NfVsgl* vsgl, const int nv,
-                         __global const NfKurtMaterial* kurt, const int kurt_count, __global float4* out) {
+                         __global const NfKurtMaterial* kurt, const int kurt_count, __global float4* out,
+                         __global const int* shadow, __global const float* maps, __global const float4* origins,
+                         const int map_size, const float map_near, const float4 bias) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const NfSurface s = surf[p];
   float3 sum = (float3)(0.0f);
   if (s.valid) {
     const NfVsglPixel px = nf_vsgl_pixel(s, kurt, kurt_count);
-    for (int j = 0; j < nv; ++j) sum += nf_vsgl_shade_one(&px, vsgl + j);
+    const size_t face_texels = 6 * (size_t)map_size * (size_t)map_size;
+    for (int j = 0; j < nv; ++j) {
+      float3 c = nf_vsgl_shade_one(&px, vsgl + j);
+      const int m = shadow[j];
+      if (m >= 0 && (c.x > 0.0f || c.y > 0.0f || c.z > 0.0f))
+        c *= nf_point_shadow_lit(maps + (size_t)m * face_texels, map_size, map_near, origins[m].xyz, px.p, px.n, bias);
+      sum += c;
+    }
   }
   if (!all(isfinite(sum))) sum = (float3)(0.0f);
   out[p] = (float4)(sum, 0.0f);
+}
+
+/* Test kernel: visibility of point i (points[i].xyz, normal normals[i].xyz) from light
+   light[i] (a map index) by common/point_shadow.h. */
+__kernel void vsgl_shadow_lookup(__global const float4* points, __global const float4* normals,
+                                 __global const int* light, const int count, __global const float* maps,
+                                 __global const float4* origins, const int map_size, const float map_near,
+                                 const float4 bias, __global float* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const int m = light[i];
+  const size_t face_texels = 6 * (size_t)map_size * (size_t)map_size;
+  out[i] = nf_point_shadow_lit(maps + (size_t)m * face_texels, map_size, map_near, origins[m].xyz, points[i].xyz,
+                               normals[i].xyz, bias);
 }
 
 /* Test kernel: the closed forms of common/sg.h per case. in[3 i .. 3 i + 2] = (a, la), (b, lb),
