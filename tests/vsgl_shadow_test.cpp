@@ -310,6 +310,51 @@ TEST(VsglShadow, OccluderErrorFallsWithShadowedVsgls) {
   EXPECT_GE(err[1], err[2] * 0.98);
 }
 
+// Where the shadowed VSGLs' lights sit (render::vsgl_shadow_origin): a ball (r = 0.3 m) lies on
+// the lit floor under the panel, so clusters on the ball have their mean inside it. Checked: every
+// valid RSM texel's own position projects back onto that texel (the projection the choice uses),
+// and every light is outside the ball's true sphere and above the floor (exact geometry, the
+// tessellated ball is inscribed in that sphere: its surface plus the 1 cm lift lies outside).
+TEST(VsglShadow, LightsSitOutsideTheCasters) {
+  const std::string ball =
+      R"(, { "type": "sphere", "radius": 0.3, "material": "grey", "transform": { "translate": [0.2, 0.3, 0.1] } })";
+  std::string json = wall_scene(false, 64, 256);
+  const std::string floor_end = R"("material": "white" })";
+  json.insert(json.find(floor_end) + floor_end.size(), ball);
+  auto r = make_renderer(render_test::parse(json), kScale);
+  vsgl_image(*r, 256);
+  auto* v = dynamic_cast<render::VsglContribution*>(r->contribution("indirect"));
+  ASSERT_NE(v, nullptr);
+  const auto& rsm = v->rsm_surfaces(0);
+  long valid = 0;
+  for (int row = 0; row < 64; ++row)
+    for (int col = 0; col < 64; ++col) {
+      const NfSurface& s = rsm[static_cast<std::size_t>(row * 64 + col)];
+      if (!s.valid) continue;
+      ++valid;
+      int c = -1, rr = -1;
+      ASSERT_TRUE(render::rsm_texel_of(v->rsm(0), 64, glm::dvec3(s.px, s.py, s.pz), c, rr));
+      EXPECT_EQ(c, col);
+      EXPECT_EQ(rr, row);
+    }
+  EXPECT_GT(valid, 1000);
+  const glm::dvec3 centre(0.2, 0.3, 0.1);
+  int inside_mu = 0, lights = 0;
+  const auto& idx = v->shadows().index_host();
+  for (std::size_t j = 0; j < idx.size(); ++j) {
+    if (idx[j] < 0) continue;
+    ++lights;
+    const NfVsgl& g = v->vsgls()[j];
+    if (glm::length(glm::dvec3(g.mu_x, g.mu_y, g.mu_z) - centre) < 0.3) ++inside_mu;
+    const glm::dvec3 o = v->shadows().origins_host()[static_cast<std::size_t>(idx[j])];
+    EXPECT_GT(glm::length(o - centre), 0.3) << "VSGL " << j;
+    EXPECT_GT(o.y, 0.0) << "VSGL " << j;
+  }
+  std::printf("  %d shadowed VSGLs, %d with their mean inside the ball\n", lights, inside_mu);
+  EXPECT_GT(lights, 200);
+  EXPECT_GT(inside_mu, 0);  // the case is exercised
+}
+
 // A luminaire that lights nothing in its RSM (the panel 5 m up, above the 2 m wall, facing up into
 // the void): every
 // VSGL is empty (power 0), none gets a map, and the frame stays finite and black in its indirect

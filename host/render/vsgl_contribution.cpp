@@ -98,6 +98,31 @@ RsmView rsm_view(const NfLuminaire& lum, const NfInstance& in) {
   return v;
 }
 
+scene::Camera rsm_camera(const RsmView& view, int size) {
+  scene::Camera cam;
+  cam.position = view.origin;
+  cam.target = view.origin + view.forward;
+  cam.up = view.up;
+  cam.fov_y_deg = 2.0 * std::atan(view.tan_half) * 180.0 / 3.14159265358979323846;
+  cam.width = cam.height = size;
+  cam.near = 0.01;
+  return cam;
+}
+
+bool rsm_texel_of(const RsmView& view, int size, const glm::dvec3& p, int& column, int& row) {
+  const scene::Camera cam = rsm_camera(view, size);
+  const glm::dvec3 d = p - cam.position;
+  const double z = glm::dot(d, cam.forward());
+  if (!(z > 0.0)) return false;
+  const double t = cam.tan_half_fov_y();
+  const double x = glm::dot(d, cam.right()) / (z * t), y = glm::dot(d, cam.true_up()) / (z * t);
+  const double c = std::floor(0.5 * (x + 1.0) * size), r = std::floor(0.5 * (1.0 - y) * size);
+  if (!(c >= 0.0 && c < size && r >= 0.0 && r < size)) return false;
+  column = static_cast<int>(c);
+  row = static_cast<int>(r);
+  return true;
+}
+
 VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene)
     : rt_(rt), scene_(scene), sampler_(rt), shadows_(std::make_unique<VsglShadows>(rt)) {
   kurt_ = kurt_table(scene.geometry.materials);
@@ -230,13 +255,7 @@ bool VsglContribution::build(const FrameInputs& in) {
     Timer timer;
     r.view = rsm_view(li.luminaire->params(), li.instance);
     ensure_gl(size);
-    scene::Camera cam;
-    cam.position = r.view.origin;
-    cam.target = r.view.origin + r.view.forward;
-    cam.up = r.view.up;
-    cam.fov_y_deg = 2.0 * std::atan(r.view.tan_half) * 180.0 / 3.14159265358979323846;
-    cam.width = cam.height = size;
-    cam.near = 0.01;
+    const scene::Camera cam = rsm_camera(r.view, size);
     gbuffer_->render(*scene_gpu_, cam);
     r.surfaces = gbuffer_->read_surfaces(scene_.geometry.materials, cam);
     std::vector<NfSurface> irr = r.surfaces;
@@ -284,7 +303,11 @@ bool VsglContribution::build(const FrameInputs& in) {
   // 5. shadow maps of the vsgl_shadowed strongest VSGLs of each instance
   timer.reset();
   if (vs.shadowed > 0 && !vsgls_.empty()) ensure_gl(size);
-  if (scene_gpu_) shadows_->build(*scene_gpu_, vsgls_, vs.count, vs.shadowed);
+  if (scene_gpu_) {
+    std::vector<VsglRsmRef> refs;
+    for (const auto& r : rsms_) refs.push_back({&r.view, &r.surfaces, size});
+    shadows_->build(*scene_gpu_, vsgls_, vs.count, vs.shadowed, refs);
+  }
   times_.shadow_ms = timer.ms();
   pyr_bytes_ = 0;
   for (int s = size; s >= 1; s /= 2)

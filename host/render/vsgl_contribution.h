@@ -20,6 +20,7 @@
 #include "kernels/shared/vsgl.h"
 #include "render/contribution.h"
 #include "render/vsgl_shadows.h"
+#include "scene/geometry.h"
 
 namespace nf::gl {
 class GBuffer;
@@ -56,6 +57,11 @@ struct RsmView {
   double tan_half = 1.0;
 };
 RsmView rsm_view(const NfLuminaire& luminaire, const NfInstance& instance);
+// The square G-buffer camera of an RSM of size^2 texels.
+scene::Camera rsm_camera(const RsmView& view, int size);
+// The RSM texel (column, row from the top) that world point p falls in; false when p is behind
+// the RSM origin or outside its square.
+bool rsm_texel_of(const RsmView& view, int size, const glm::dvec3& p, int& column, int& row);
 
 class VsglContribution final : public Contribution {
  public:

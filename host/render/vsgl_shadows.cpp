@@ -1,6 +1,7 @@
 #include "render/vsgl_shadows.h"
 
 #include <fmt/format.h>
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "gl/point_shadow_maps.h"
+#include "render/vsgl_contribution.h"
 
 namespace nf::render {
 
@@ -30,10 +32,22 @@ std::vector<int> strongest_vsgls(const std::vector<NfVsgl>& vsgls, int per_insta
   return index;
 }
 
-glm::dvec3 vsgl_shadow_origin(const NfVsgl& g, double lift) {
+glm::dvec3 vsgl_shadow_origin(const NfVsgl& g, const VsglRsmRef& rsm, double lift) {
   const glm::dvec3 mu(g.mu_x, g.mu_y, g.mu_z);
+  if (rsm.view && rsm.surfaces && rsm.size > 0 &&
+      rsm.surfaces->size() == static_cast<std::size_t>(rsm.size) * static_cast<std::size_t>(rsm.size)) {
+    int c = 0, r = 0;
+    if (rsm_texel_of(*rsm.view, rsm.size, mu, c, r)) {
+      const NfSurface& s = (*rsm.surfaces)[static_cast<std::size_t>(r) * static_cast<std::size_t>(rsm.size) +
+                                           static_cast<std::size_t>(c)];
+      const glm::dvec3 y(s.px, s.py, s.pz), n(s.nx, s.ny, s.nz);
+      const double dy = glm::length(y - rsm.view->origin), dmu = glm::length(mu - rsm.view->origin);
+      const double len = glm::length(n);
+      if (s.valid && len > 1e-6 && std::isfinite(len) && dmu > dy + 1e-3 + 1e-3 * dy) return y + n * (lift / len);
+    }
+  }
   const glm::dvec3 n(g.xd_x, g.xd_y, g.xd_z);
-  const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  const double len = glm::length(n);
   if (!(len > 1e-6) || !std::isfinite(len)) return mu;
   return mu + n * (lift / len);
 }
@@ -73,7 +87,8 @@ void VsglShadows::build_at(const gl::SceneGpu& scene, const std::vector<glm::dve
   upload(gl_->maps());
 }
 
-void VsglShadows::build(const gl::SceneGpu& scene, const std::vector<NfVsgl>& vsgls, int per_instance, int k) {
+void VsglShadows::build(const gl::SceneGpu& scene, const std::vector<NfVsgl>& vsgls, int per_instance, int k,
+                        const std::vector<VsglRsmRef>& rsms) {
   const int instances = per_instance > 0
                             ? static_cast<int>((vsgls.size() + static_cast<std::size_t>(per_instance) - 1) /
                                                static_cast<std::size_t>(per_instance))
@@ -95,7 +110,9 @@ void VsglShadows::build(const gl::SceneGpu& scene, const std::vector<NfVsgl>& vs
     if (index_[j] >= 0) {
       if (origins_.size() <= static_cast<std::size_t>(index_[j]))
         origins_.resize(static_cast<std::size_t>(index_[j]) + 1);
-      origins_[static_cast<std::size_t>(index_[j])] = vsgl_shadow_origin(vsgls[j], p_.lift);
+      const std::size_t inst = j / static_cast<std::size_t>(per_instance);
+      const VsglRsmRef rsm = inst < rsms.size() ? rsms[inst] : VsglRsmRef{};
+      origins_[static_cast<std::size_t>(index_[j])] = vsgl_shadow_origin(vsgls[j], rsm, p_.lift);
     }
   // host readback and device copy (PoCL: host memory too)
   check_memory("vsgl_shadowed", fmt::format("{} VSGL cube shadow maps of {}^2 per face", origins_.size(), p_.size),

@@ -13,6 +13,7 @@
 #include <glm/vec4.hpp>
 
 #include "cl/runtime.h"
+#include "kernels/shared/surface.h"
 #include "kernels/shared/vsgl.h"
 
 namespace nf::gl {
@@ -26,7 +27,7 @@ namespace nf::render {
 struct VsglShadowParams {
   int size = 128;              // texels per cube-face side
   double near = 1e-3;          // metres: casters nearer than this along a face axis are missed
-  double lift = 0.01;          // metres: the light sits this far above the VSGL centre along xi_d
+  double lift = 0.01;          // metres: the light sits this far off the surface (vsgl_shadow_origin)
   double constant = 0.002;     // metres of depth bias
   double depth_texels = 1.0;   // depth bias in texels at the receiver's distance
   double normal_texels = 1.5;  // normal offset in texels at the receiver's distance
@@ -41,9 +42,23 @@ inline constexpr std::size_t kVsglShadowMaxBytes = std::size_t{1} << 30;
 // of largest power of every instance; ties keep the lower index.
 std::vector<int> strongest_vsgls(const std::vector<NfVsgl>& vsgls, int per_instance, int k);
 
-// Where the light of VSGL g sits: mu + lift xi_d (xi_d the diffuse lobe's unit axis; mu when the
-// VSGL has none).
-glm::dvec3 vsgl_shadow_origin(const NfVsgl& g, double lift);
+struct RsmView;  // render/vsgl_contribution.h
+
+// One instance's RSM as the shadow maps use it: its camera and its size^2 surfaces (rows from the
+// top).
+struct VsglRsmRef {
+  const RsmView* view = nullptr;
+  const std::vector<NfSurface>* surfaces = nullptr;
+  int size = 0;
+};
+
+// Where the light of VSGL g sits. Normally o = mu + lift xi_d (xi_d the diffuse lobe's unit axis:
+// off the surface the cluster lies on). But the mean mu of a cluster on a convex object (a ball,
+// a box's edge) lies inside that object, which would then hide everything from the light: when
+// mu is farther from the RSM origin than the RSM surface it projects onto (by more than 1 mm +
+// 1e-3 of the distance), o = that surface point + lift n (its normal, turned towards the
+// luminaire). mu outside the RSM or on an empty texel: mu + lift xi_d.
+glm::dvec3 vsgl_shadow_origin(const NfVsgl& g, const VsglRsmRef& rsm, double lift);
 
 // The largest k that fits kVsglShadowMaxBytes for `instances` instances.
 int vsgl_shadow_max(int instances, int size);
@@ -55,8 +70,10 @@ class VsglShadows {
 
   // Chooses, renders (GL; needs a current context) and uploads the maps. k = 0: none (the
   // buffers still exist so that the kernel has arguments). Refuses k above vsgl_shadow_max and
-  // maps that do not fit the host memory (host/core/memory.h), with the figures.
-  void build(const gl::SceneGpu& scene, const std::vector<NfVsgl>& vsgls, int per_instance, int k);
+  // maps that do not fit the host memory (host/core/memory.h), with the figures. `rsms`: each
+  // instance's RSM (for vsgl_shadow_origin; may be empty).
+  void build(const gl::SceneGpu& scene, const std::vector<NfVsgl>& vsgls, int per_instance, int k,
+             const std::vector<VsglRsmRef>& rsms = {});
 
   const ::cl::Buffer& index() const { return index_buf_; }      // int per VSGL
   const ::cl::Buffer& maps() const { return maps_buf_; }        // floats
