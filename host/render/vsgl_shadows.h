@@ -2,7 +2,7 @@
 // Shadow maps for the strongest VSGLs (vsgl_shadowed = k; docs/indirect.md "Shadowed VSGLs").
 // Per luminaire instance the k VSGLs of largest total power (NfVsgl::power, the luminance of
 // sum Phi (R_d + R_s)) get a cube of six depth maps (gl/point_shadow_maps.h) rendered with GL from
-// their centre lifted off the surface along the diffuse lobe's axis, read back and uploaded to
+// a point 1 cm off the surface their cluster lies on (vsgl_shadow_origin), read back and uploaded to
 // OpenCL; the shading kernel multiplies those VSGLs by their binary visibility at the pixel
 // (kernels/common/point_shadow.h). The others stay unshadowed.
 #include <cstddef>
