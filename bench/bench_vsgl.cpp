@@ -8,6 +8,10 @@
 // Flicker: luminaire 0 moves by --step metres along x per frame for --flicker-frames frames; the
 // mean frame-to-frame relative change sum |I_t - I_{t-1}| / sum I_{t-1} of the VSGL image, for
 // both kernels (the motion itself changes the image too, equally for both).
+// Shadowed VSGLs: with --shadowed (a list of vsgl_shadowed values), the same error and the build
+// (with its "vsgl shadow maps" stage) and shading times per value, `integral` kernels, N_v =
+// --shadowed-count, written to vsgl_shadowed.{csv,md}; an empty --counts skips the kernel sweep
+// (and leaves vsgl.{csv,md} alone).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -24,8 +28,8 @@
 #include "bench/sweep/metrics.h"
 #include "core/error.h"
 #include "core/image_io.h"
-#include "core/tonemap.h"
 #include "core/timer.h"
+#include "core/tonemap.h"
 #include "render/frame.h"
 #include "render/reference_run.h"
 #include "render/vsgl_contribution.h"
@@ -40,6 +44,8 @@ struct Options {
   std::string out = NEARFIELD_BENCH_DIR "/results";
   std::string cache = NEARFIELD_BENCH_DIR "/results/cache";
   std::string counts = "64,256,1024";
+  std::string shadowed;  // vsgl_shadowed values ("" = no shadowed sweep)
+  int shadowed_count = 256;
   int width = 160, height = 90, ref_spp = 256, spp = 64, rsm = 256, flicker_frames = 60;
   double step = 0.01;
   bool refresh = false;
@@ -68,6 +74,8 @@ struct Row {
   int count = 0;
   nf::bench::ErrorMetrics e;
   double build_ms = 0, rsm_ms = 0, light_ms = 0, pyramid_ms = 0, generate_ms = 0, shade_ms = 0;
+  int shadowed = 0;
+  double shadow_ms = 0;
 };
 
 }  // namespace
@@ -78,7 +86,9 @@ int main(int argc, char** argv) {
   app.add_flag("--quick", o.quick, "Smoke test: 64x36, N_v 64 and 256, 5 flicker frames");
   app.add_option("--out", o.out, "Folder for vsgl.csv and vsgl.md");
   app.add_option("--cache", o.cache, "Reference cache folder");
-  app.add_option("--counts", o.counts, "N_v values, comma-separated");
+  app.add_option("--counts", o.counts, "N_v values, comma-separated (empty: no kernel sweep)");
+  app.add_option("--shadowed", o.shadowed, "vsgl_shadowed values, comma-separated (empty: no shadowed sweep)");
+  app.add_option("--shadowed-count", o.shadowed_count, "N_v of the shadowed sweep");
   app.add_option("--ref-spp", o.ref_spp, "Reference samples per pixel");
   app.add_option("--spp", o.spp, "Light-field samples per RSM texel and pixel");
   app.add_option("--rsm", o.rsm, "RSM size");
@@ -87,7 +97,8 @@ int main(int argc, char** argv) {
   app.add_option("--flicker-frames", o.flicker_frames, "Frames of the moving-luminaire flicker run (0: none)");
   app.add_option("--step", o.step, "Luminaire step per frame (m)");
   app.add_flag("--refresh-references", o.refresh, "Render the references even when cached");
-  app.add_option("--images", o.images, "Write PNGs (reference's tone mapping) of the reference and each VSGL image here");
+  app.add_option("--images", o.images,
+                 "Write PNGs (reference's tone mapping) of the reference and each VSGL image here");
   CLI11_PARSE(app, argc, argv);
   if (o.quick) {
     o.width = 64;
@@ -119,15 +130,18 @@ int main(int argc, char** argv) {
       r2 += y * y;
     }
     std::vector<std::string> notes;
-    notes.push_back(fmt::format("reference {}x{} x {} spp one bounce, indirect only, key {}, {}{:.1f} s; its noise "
-                                "rel. MSE {:.2e}",
-                                o.width, o.height, o.ref_spp, ref.key, ref.from_cache ? "cached, rendered in " : "",
-                                ref.result.stats.render_ms / 1000.0, r2 > 0 ? var / r2 : 0.0));
+    notes.push_back(
+        fmt::format("reference {}x{} x {} spp one bounce, indirect only, key {}, {}{:.1f} s; its noise "
+                    "rel. MSE {:.2e}",
+                    o.width, o.height, o.ref_spp, ref.key, ref.from_cache ? "cached, rendered in " : "",
+                    ref.result.stats.render_ms / 1000.0, r2 > 0 ? var / r2 : 0.0));
     const nf::bench::ReferenceImage cmp(ref.result.image, valid, scene.render.tonemap);
 
     nf::render::Renderer renderer(scene, {});
+    int shadowed = 0;  // vsgl_shadowed of the next frames
     auto frame = [&](const std::string& indirect, const std::string& kernel, int count) {
       nf::render::FrameSettings f = renderer.settings();
+      f.declared.vsgl_shadowed = shadowed;
       f.sampling.spp = o.spp;
       f.declared.indirect = indirect;
       f.declared.vsgl_kernel = kernel;
@@ -165,13 +179,44 @@ int main(int argc, char** argv) {
         row.generate_ms = t.generate_ms;
         for (const auto& c : renderer.stats().contributions)
           if (c.name == "indirect") row.shade_ms = c.step2_ms;
-        std::printf("%-8s N_v %5d  dE %.3f  relMSE %.3e  bias %+.4f  build %.0f ms (rsm %.0f light %.0f pyr %.0f gen "
-                    "%.1f) shade %.0f ms\n",
-                    kernel.c_str(), count, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.build_ms, row.rsm_ms,
-                    row.light_ms, row.pyramid_ms, row.generate_ms, row.shade_ms);
+        std::printf(
+            "%-8s N_v %5d  dE %.3f  relMSE %.3e  bias %+.4f  build %.0f ms (rsm %.0f light %.0f pyr %.0f gen "
+            "%.1f) shade %.0f ms\n",
+            kernel.c_str(), count, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.build_ms, row.rsm_ms, row.light_ms,
+            row.pyramid_ms, row.generate_ms, row.shade_ms);
         std::fflush(stdout);
         rows.push_back(row);
       }
+
+    // Shadowed VSGLs: integral kernels, N_v = --shadowed-count, vsgl_shadowed in --shadowed.
+    std::vector<Row> srows;
+    for (int k : parse_list(o.shadowed)) {
+      shadowed = k;
+      const nf::Image all = frame("vsgl", "integral", o.shadowed_count);
+      auto* v = dynamic_cast<nf::render::VsglContribution*>(renderer.contribution("indirect"));
+      Row row;
+      row.kernel = "integral";
+      row.count = o.shadowed_count;
+      row.shadowed = k;
+      row.e = cmp.compare(difference(all, direct));
+      save(fmt::format("vsgl-shadowed-{}", k), difference(all, direct));
+      const auto& t = v->build_times();
+      row.build_ms = t.total();
+      row.rsm_ms = t.rsm_ms;
+      row.light_ms = t.light_ms;
+      row.pyramid_ms = t.pyramid_ms;
+      row.generate_ms = t.generate_ms;
+      row.shadow_ms = t.shadow_ms;
+      for (const auto& c : renderer.stats().contributions)
+        if (c.name == "indirect") row.shade_ms = c.step2_ms;
+      std::printf(
+          "shadowed %4d (N_v %d)  dE %.3f  relMSE %.3e  bias %+.4f  build %.0f ms (shadow maps %.0f) shade %.0f "
+          "ms\n",
+          k, o.shadowed_count, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.build_ms, row.shadow_ms, row.shade_ms);
+      std::fflush(stdout);
+      srows.push_back(row);
+    }
+    shadowed = 0;
 
     // The paper's Fig. 1 picture: the PDF of instance 0's RSM (log grey) with the square footprint
     // (2^l texels per side about x_i) of each of its N_v = 256 kernels, per kernel kind.
@@ -252,6 +297,32 @@ int main(int argc, char** argv) {
 
     const nf::bench::MachineInfo mi = nf::bench::collect_machine(renderer.runtime());
     fs::create_directories(o.out);
+    if (!srows.empty()) {
+      std::ofstream scsv(fs::path(o.out) / "vsgl_shadowed.csv");
+      scsv << "kernel,count,shadowed,delta_e,delta_e_max,rel_mse,rel_bias,build_ms,shadow_ms,shade_ms\n";
+      for (const auto& r : srows)
+        scsv << fmt::format("{},{},{},{:.6f},{:.6f},{:.6e},{:.6e},{:.1f},{:.1f},{:.1f}\n", r.kernel, r.count,
+                            r.shadowed, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms,
+                            r.shadow_ms, r.shade_ms);
+      std::ofstream smd(fs::path(o.out) / "vsgl_shadowed.md");
+      smd << fmt::format(
+          "Date {}, {} ({} cores), {}; GL {}; {}x{}, RSM {}^2, K = {} per texel, integral kernels, N_v = "
+          "{} per instance; total {:.0f} s.\n\n",
+          mi.date_utc, mi.cpu_model, mi.cores, mi.cl_device.name, renderer.gl_renderer(), o.width, o.height, o.rsm,
+          o.spp, o.shadowed_count, total.ms() / 1000.0);
+      for (const auto& n : notes) smd << "- " << n << "\n";
+      smd << "\n| vsgl_shadowed | mean dE76 | max dE76 | rel. MSE | rel. bias | build ms | of which shadow maps ms | "
+             "shade ms |\n|---|---|---|---|---|---|---|---|\n";
+      for (const auto& r : srows)
+        smd << fmt::format("| {} | {:.3f} | {:.2f} | {:.3e} | {:+.4f} | {:.0f} | {:.0f} | {:.0f} |\n", r.shadowed,
+                           r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms, r.shadow_ms,
+                           r.shade_ms);
+    }
+    if (rows.empty()) {  // shadowed sweep only: vsgl.{csv,md} keep the last kernel sweep
+      for (const auto& r : srows)
+        if (!std::isfinite(r.e.delta_e) || !std::isfinite(r.e.rel_mse)) return 1;
+      return 0;
+    }
     std::ofstream csv(fs::path(o.out) / "vsgl.csv");
     csv << "kernel,count,delta_e,delta_e_max,rel_mse,rel_bias,build_ms,rsm_ms,light_ms,pyramid_ms,generate_ms,"
            "shade_ms\n";
@@ -262,20 +333,22 @@ int main(int argc, char** argv) {
     std::ofstream md(fs::path(o.out) / "vsgl.md");
     md << "# VSGL one-bounce indirect light against the CPU reference\n\n";
     md << fmt::format("Date {}, {} ({} cores), {}; GL {}; {}x{}, RSM {}^2, K = {} per texel; {}; total {:.0f} s.\n\n",
-                      mi.date_utc, mi.cpu_model, mi.cores, mi.cl_device.name, renderer.gl_renderer(), o.width,
-                      o.height, o.rsm, o.spp, o.quick ? "quick mode" : "full", total.ms() / 1000.0);
+                      mi.date_utc, mi.cpu_model, mi.cores, mi.cl_device.name, renderer.gl_renderer(), o.width, o.height,
+                      o.rsm, o.spp, o.quick ? "quick mode" : "full", total.ms() / 1000.0);
     for (const auto& n : notes) md << "- " << n << "\n";
     md << "\n| kernel | N_v | mean dE76 | max dE76 | rel. MSE | rel. bias | build ms (RSM / light / pyramid / "
           "generate) | shade ms |\n|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : rows)
-      md << fmt::format("| {} | {} | {:.3f} | {:.2f} | {:.3e} | {:+.4f} | {:.0f} ({:.0f} / {:.0f} / {:.0f} / {:.1f}) | "
-                        "{:.0f} |\n",
-                        r.kernel, r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms,
-                        r.rsm_ms, r.light_ms, r.pyramid_ms, r.generate_ms, r.shade_ms);
+      md << fmt::format(
+          "| {} | {} | {:.3f} | {:.2f} | {:.3e} | {:+.4f} | {:.0f} ({:.0f} / {:.0f} / {:.0f} / {:.1f}) | "
+          "{:.0f} |\n",
+          r.kernel, r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms, r.rsm_ms, r.light_ms,
+          r.pyramid_ms, r.generate_ms, r.shade_ms);
     if (!flicker.empty()) {
-      md << fmt::format("\nFlicker (N_v = 256, luminaire 0 moving {} m per frame, {} frames): mean frame-to-frame "
-                        "relative change\n\n",
-                        o.step, o.flicker_frames);
+      md << fmt::format(
+          "\nFlicker (N_v = 256, luminaire 0 moving {} m per frame, {} frames): mean frame-to-frame "
+          "relative change\n\n",
+          o.step, o.flicker_frames);
       for (const auto& [k, f] : flicker) md << fmt::format("- {}: {:.4f}\n", k, f);
     }
     for (const auto& n : notes) std::printf("%s\n", n.c_str());

@@ -6,11 +6,14 @@
                          level (Eq. 1 or Eq. 3) and the VSGL of each (App. B.1, B.2; Eq. 4 or 5)
    and per frame
      vsgl_shade          every camera pixel against every VSGL (App. C: Eq. 10-12, the diffuse
-                         2 c_in R_d / lambda_in form, the SG x ASG product integral for GGX).
+                         2 c_in R_d / lambda_in form, the SG x ASG product integral for GGX
+                         and for each Kurt lobe).
    Pyramid layout: level k (size S >> k, rows from the top) starts at texel offset off[k]; texel t
    of the whole pyramid holds NF_VSGL_QUANTITIES float4 at pyr[NF_VSGL_QUANTITIES t + q]. */
 #define NF_LANES 1
 #include "common/brdf.h"
+#include "common/kurt_asg.h"
+#include "common/point_shadow.h"
 #include "common/random.h"
 #include "common/sg.h"
 #include "shared/vsgl.h"
@@ -301,13 +304,19 @@ __kernel void vsgl_generate(__global const float4* pyr, __global const int* off,
    specular L_s = c_in C(xi_in) int G(w; xi_in, lambda_in) ASG(w) dw  (GGX: D ~ ASG about the mirror
             direction of v, eta_x = lambda_h / 8 in the plane of incidence, eta_y = lambda_h /
             (8 (n.v)^2) across it, lambda_h = 2 / alpha^2; C = F V (n.w) / (pi alpha^2), the rest of
-            f_s (n.w) once D's peak 1 / (pi alpha^2) is taken out). */
+            f_s (n.w) once D's peak 1 / (pi alpha^2) is taken out).
+            Kurt: kd / pi as the diffuse term, and per lobe j D_j ~ D_j(n) ASG_j about the mirror
+            direction of v (common/kurt_asg.h), D_j(n) = 1 / (pi mx my), and
+            C_j = ks_j F_j(v.h) (n.w) / (4 (v.h) ((n.w)(n.v))^alpha_j) D_j(n) at w = xi_in,
+            h = (xi_in + v) / |xi_in + v| (docs/indirect.md "Kurt lobes"). */
 typedef struct {
   float3 p, n, v;
   int brdf;
   float3 base;
   float metallic, alpha;
   float3 kd; /* kurt: diffuse albedo */
+  __global const NfKurtMaterial* km; /* kurt: the table entry, 0 when none */
+  NfAsg kasg[NF_KURT_MAX_LOBES];     /* kurt: lobe j's D as an ASG */
   float3 ax, ay, az;
   float eta_x, eta_y, nv;
 } NfVsglPixel;
@@ -336,6 +345,24 @@ NF_INLINE float3 nf_vsgl_lobe(const NfVsglPixel* px, float3 mu, float sigma2, fl
     out = px->base * (1.0f / NF_PI) * ce * ca * cosn;
   } else if (px->brdf == NF_BRDF_KURT) {
     out = px->kd * (1.0f / NF_PI) * ce * ca * cosn;
+    const float3 hs = xin + px->v;
+    const float h2 = dot(hs, hs);
+    if (px->km != 0 && cosn > 0.0f && h2 > 1e-12f) {
+      const float3 h = hs * rsqrt(h2);
+      const float vh = fmax(clamp(dot(px->v, h), 0.0f, 1.0f), 1e-6f);
+      const float q = 1.0f - vh, q5 = q * q * q * q * q;
+      const int count = clamp(px->km->count, 0, NF_KURT_MAX_LOBES);
+      for (int j = 0; j < count; ++j) {
+        const NfKurtLobe L = px->km->lobe[j];
+        const float r0 = clamp(L.r0, 0.0f, 1.0f), al = clamp(L.alpha, 0.0f, 1.0f);
+        const float F = r0 + (1.0f - r0) * q5;
+        const float dn = 1.0f / (NF_PI * nf_kurt_m(L.mx) * nf_kurt_m(L.my));
+        const float cj = F * dn * cosn / (4.0f * vh * pow(cosn * px->nv, al));
+        const NfAsg g = px->kasg[j];
+        const float integ = nf_sg_asg_integral_scaled(xin, lin_s, sigma2, g.x, g.y, g.z, g.eta_x, g.eta_y);
+        out += fmax((float3)(L.ks_r, L.ks_g, L.ks_b), 0.0f) * (cj * (0.5f / NF_PI) * integ) * ce;
+      }
+    }
   } else if (px->brdf == NF_BRDF_GGX && cosn > 0.0f) {
     const float3 h = normalize(xin + px->v);
     const float vh = clamp(dot(px->v, h), 0.0f, 1.0f);
@@ -364,11 +391,20 @@ NF_INLINE NfVsglPixel nf_vsgl_pixel(NfSurface s, __global const NfKurtMaterial* 
   px.metallic = s.metallic;
   px.alpha = fmax(s.roughness * s.roughness, 1e-3f);
   px.kd = (float3)(0.0f);
+  px.km = 0;
+  px.nv = fmax(dot(px.n, px.v), 1e-3f);
   if (s.brdf == NF_BRDF_KURT) {
     const int k = (int)s.metallic;
-    if (k >= 0 && k < kurt_count) px.kd = (float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b);
+    if (k >= 0 && k < kurt_count) {
+      px.km = kurt + k;
+      px.kd = fmax((float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b), 0.0f);
+      float3 t, b;
+      nf_kurt_frame(px.n, px.base, &t, &b); /* base_r/g/b = the tangent for kurt (shared/surface.h) */
+      const int count = clamp(kurt[k].count, 0, NF_KURT_MAX_LOBES);
+      for (int j = 0; j < count; ++j)
+        px.kasg[j] = nf_kurt_asg(px.n, t, b, px.v, nf_kurt_m(kurt[k].lobe[j].mx), nf_kurt_m(kurt[k].lobe[j].my));
+    }
   }
-  px.nv = fmax(dot(px.n, px.v), 1e-3f);
   /* ASG frame of the GGX lobe: z the mirror direction of v, y across the plane of incidence. */
   px.az = 2.0f * px.nv * px.n - px.v;
   px.az = normalize(px.az);
@@ -395,19 +431,59 @@ NF_INLINE float3 nf_vsgl_shade_one(const NfVsglPixel* px, __global const NfVsgl*
   return o;
 }
 
-/* Reflected radiance (W m^-2 sr^-1) of every surface from the `nv` VSGLs, unshadowed. */
+/* Reflected radiance (W m^-2 sr^-1) of every surface from the `nv` VSGLs. VSGL j with
+   shadow[j] = m >= 0 is multiplied by its binary visibility from its cube maps (maps + 6 m size^2,
+   light position origins[m].xyz; common/point_shadow.h); shadow[j] = -1: unshadowed. */
 __kernel void vsgl_shade(__global const NfSurface* surf, const int count, __global const NfVsgl* vsgl, const int nv,
-                         __global const NfKurtMaterial* kurt, const int kurt_count, __global float4* out) {
+                         __global const NfKurtMaterial* kurt, const int kurt_count, __global float4* out,
+                         __global const int* shadow, __global const float* maps, __global const float4* origins,
+                         const int map_size, const float map_near, const float4 bias) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const NfSurface s = surf[p];
   float3 sum = (float3)(0.0f);
   if (s.valid) {
     const NfVsglPixel px = nf_vsgl_pixel(s, kurt, kurt_count);
-    for (int j = 0; j < nv; ++j) sum += nf_vsgl_shade_one(&px, vsgl + j);
+    const size_t face_texels = 6 * (size_t)map_size * (size_t)map_size;
+    for (int j = 0; j < nv; ++j) {
+      float3 c = nf_vsgl_shade_one(&px, vsgl + j);
+      const int m = shadow[j];
+      if (m >= 0 && (c.x > 0.0f || c.y > 0.0f || c.z > 0.0f))
+        c *= nf_point_shadow_lit(maps + (size_t)m * face_texels, map_size, map_near, origins[m].xyz, px.p, px.n, bias);
+      sum += c;
+    }
   }
   if (!all(isfinite(sum))) sum = (float3)(0.0f);
   out[p] = (float4)(sum, 0.0f);
+}
+
+/* Test kernel: the ASG fit of a Kurt lobe (common/kurt_asg.h). in[2 i] = (n, mx), in[2 i + 1] = (v, my),
+   tangent[i].xyz the material tangent; out[3 i .. 3 i + 2] = (x, eta_x), (y, eta_y), (z, 0). */
+__kernel void vsgl_debug_kurt_asg(__global const float4* in, __global const float4* tangent, const int count,
+                                  __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const float4 a = in[2 * i], c = in[2 * i + 1];
+  float3 t, b;
+  nf_kurt_frame(a.xyz, tangent[i].xyz, &t, &b);
+  const NfAsg g = nf_kurt_asg(a.xyz, t, b, c.xyz, nf_kurt_m(a.w), nf_kurt_m(c.w));
+  out[3 * i] = (float4)(g.x, g.eta_x);
+  out[3 * i + 1] = (float4)(g.y, g.eta_y);
+  out[3 * i + 2] = (float4)(g.z, 0.0f);
+}
+
+/* Test kernel: visibility of point i (points[i].xyz, normal normals[i].xyz) from light
+   light[i] (a map index) by common/point_shadow.h. */
+__kernel void vsgl_shadow_lookup(__global const float4* points, __global const float4* normals,
+                                 __global const int* light, const int count, __global const float* maps,
+                                 __global const float4* origins, const int map_size, const float map_near,
+                                 const float4 bias, __global float* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const int m = light[i];
+  const size_t face_texels = 6 * (size_t)map_size * (size_t)map_size;
+  out[i] = nf_point_shadow_lit(maps + (size_t)m * face_texels, map_size, map_near, origins[m].xyz, points[i].xyz,
+                               normals[i].xyz, bias);
 }
 
 /* Test kernel: the closed forms of common/sg.h per case. in[3 i .. 3 i + 2] = (a, la), (b, lb),

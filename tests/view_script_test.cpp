@@ -51,7 +51,7 @@ TEST(ViewScript, ErrorsNameTheLine) {
   EXPECT_NE(error_of("luminaire 0 intensity 1 2\n").find("1 number"), std::string::npos);
   EXPECT_EQ(error_of("luminaire 0 rotate 0 170 0 12\n"), "");
   EXPECT_NE(error_of("luminaire -1 intensity 2\n").find("index"), std::string::npos);
-  EXPECT_NE(error_of("display Z\n").find("image, A or K"), std::string::npos);
+  EXPECT_NE(error_of("display Z\n").find("image, A, K or VSGL"), std::string::npos);
   EXPECT_NE(error_of("panel maybe\n").find("on or off"), std::string::npos);
   EXPECT_NE(error_of("fov 180\n").find("(0, 179]"), std::string::npos);
   EXPECT_NE(error_of("section stats on\n").find("unknown panel section 'stats'"), std::string::npos);

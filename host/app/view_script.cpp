@@ -83,8 +83,8 @@ void check_luminaire(const Script& s, const ScriptCommand& c) {
 }
 
 void check_display(const Script& s, const ScriptCommand& c) {
-  if (c.args[0] != "image" && c.args[0] != "A" && c.args[0] != "K")
-    fail(fmt::format("{}: display: expected image, A or K, got '{}'", s.where(c), c.args[0]));
+  if (c.args[0] != "image" && c.args[0] != "A" && c.args[0] != "K" && c.args[0] != "VSGL")
+    fail(fmt::format("{}: display: expected image, A, K or VSGL, got '{}'", s.where(c), c.args[0]));
 }
 
 void check_section(const Script& s, const ScriptCommand& c) {
@@ -232,13 +232,16 @@ const std::vector<ScriptCommandSpec>& script_commands() {
       {"display",
        {A::text},
        {},
-       "image|A|K",
+       "image|A|K|VSGL",
        "what the window shows",
        "K",
        check_display,
        [](X& x) {
          const std::string& v = x.text(0);
-         x.state.display = v == "A" ? DisplayMode::a : v == "K" ? DisplayMode::k : DisplayMode::image;
+         x.state.display = v == "A"      ? DisplayMode::a
+                           : v == "K"    ? DisplayMode::k
+                           : v == "VSGL" ? DisplayMode::vsgl
+                                         : DisplayMode::image;
          x.state.redisplay = true;
        }},
       {"panel", {A::on_off}, {}, "on|off", "the panel", "off", {}, [](X& x) { x.state.panel = x.on(0); }},

@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "app/viewer_panel.h"
+#include "app/vsgl_debug_view.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timer.h"
@@ -264,6 +265,20 @@ void Viewer::save_scene(const std::filesystem::path& json) {
 
 // ---------------------------------------------------------------- display --------------------
 
+namespace {
+// The VSGL debug view of instance 0 (its VSGLs are the first vsgls().size() / instances()), or
+// one black pixel when the frame has no VSGL contribution or no instance.
+Image vsgl_view_image(const render::Renderer& r) {
+  auto* c = dynamic_cast<render::VsglContribution*>(r.contribution("indirect"));
+  if (!c || c->instances() == 0 || c->vsgls().empty()) return Image(1, 1, 3);
+  const std::vector<glm::vec4> e = c->read_irradiance(0);
+  const int size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(e.size()))));
+  const std::size_t per = c->vsgls().size() / static_cast<std::size_t>(c->instances());
+  const std::vector<NfVsgl> v0(c->vsgls().begin(), c->vsgls().begin() + static_cast<std::ptrdiff_t>(per));
+  return vsgl_debug_image(e, size, v0, c->rsm(0));
+}
+}  // namespace
+
 void Viewer::display() {
   int fw = 0, fh = 0;
   window_->framebuffer_size(fw, fh);
@@ -277,6 +292,9 @@ void Viewer::display() {
   glViewport(0, 0, fw, fh);
   if (state_.display == DisplayMode::image) {
     tonemapper_->present(0, fw, fh);
+  } else if (state_.display == DisplayMode::vsgl) {
+    if (rendered_ || state_.redisplay || false_view_.empty()) false_view_.upload(vsgl_view_image(*renderer_));
+    false_view_.present(0, fw, fh);
   } else {
     if (rendered_ || state_.redisplay || false_view_.empty()) {
       const Image values = state_.display == DisplayMode::a ? renderer_->a_image() : renderer_->k_image();

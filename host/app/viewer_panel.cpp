@@ -243,12 +243,22 @@ void Panel::display() {
   ImGui::SameLine();
   ImGui::RadioButton("K(p)", &mode, 2);
   ImGui::SameLine();
+  if (r.contribution("indirect")) {
+    ImGui::RadioButton("VSGLs", &mode, 3);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("instance 0's RSM irradiance with its VSGLs (docs/indirect.md)");
+    ImGui::SameLine();
+  } else if (mode == 3) {
+    mode = 0;  // indirect switched off
+  }
   if (ImGui::Checkbox("log", &s.false_log)) s.redisplay = true;
   if (mode != static_cast<int>(s.display)) {
     s.display = static_cast<DisplayMode>(mode);
     s.redisplay = true;
   }
-  if (s.display != DisplayMode::image) {
+  if (s.display == DisplayMode::vsgl) {
+    colour_bar(ImGui::GetContentRegionAvail().x, 12.0f);
+    ImGui::TextUnformatted("RSM irradiance (log, auto range); white: VSGL centres, magenta: sigma");
+  } else if (s.display != DisplayMode::image) {
     colour_bar(ImGui::GetContentRegionAvail().x, 12.0f);
     ImGui::Text("%s %.4g .. %.4g%s  (black: 0)", s.display == DisplayMode::a ? "A(p) [Y m^2]" : "K(p) [samples]",
                 v.false_range.lo, v.false_range.hi, v.false_range.log_scale ? " (log)" : "");

@@ -18,7 +18,8 @@
 
 namespace nf::app {
 
-enum class DisplayMode { image, a, k };
+// vsgl: the VSGL debug view of luminaire instance 0 (app/vsgl_debug_view.h)
+enum class DisplayMode { image, a, k, vsgl };
 
 // One luminaire's placement as the panel edits it (translate + Euler angles, as scene files).
 struct LuminaireEdit {

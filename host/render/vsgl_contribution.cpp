@@ -9,6 +9,7 @@
 #include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/timer.h"
 #include "gl/gbuffer.h"
 #include "gl/scene_gpu.h"
@@ -68,9 +69,8 @@ VsglSettings vsgl_settings(const FrameSettings& f) {
     fail(fmt::format("rsm_size: must be a power of two >= 2, got {}", s.rsm_size));
   if (s.count < 1) fail(fmt::format("vsgl_count: must be >= 1, got {}", s.count));
   if (!(s.k > 0.0) || !std::isfinite(s.k)) fail(fmt::format("vsgl_k: must be > 0, got {}", s.k));
-  if (d.vsgl_shadowed != 0)
-    fail(fmt::format("vsgl_shadowed: only 0 is implemented (indirect light is unshadowed, docs/indirect.md), got {}",
-                     d.vsgl_shadowed));
+  s.shadowed = d.vsgl_shadowed;
+  if (s.shadowed < 0) fail(fmt::format("vsgl_shadowed: must be >= 0, got {}", s.shadowed));
   return s;
 }
 
@@ -98,7 +98,33 @@ RsmView rsm_view(const NfLuminaire& lum, const NfInstance& in) {
   return v;
 }
 
-VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene) : rt_(rt), scene_(scene), sampler_(rt) {
+scene::Camera rsm_camera(const RsmView& view, int size) {
+  scene::Camera cam;
+  cam.position = view.origin;
+  cam.target = view.origin + view.forward;
+  cam.up = view.up;
+  cam.fov_y_deg = 2.0 * std::atan(view.tan_half) * 180.0 / 3.14159265358979323846;
+  cam.width = cam.height = size;
+  cam.near = 0.01;
+  return cam;
+}
+
+bool rsm_texel_of(const RsmView& view, int size, const glm::dvec3& p, int& column, int& row) {
+  const scene::Camera cam = rsm_camera(view, size);
+  const glm::dvec3 d = p - cam.position;
+  const double z = glm::dot(d, cam.forward());
+  if (!(z > 0.0)) return false;
+  const double t = cam.tan_half_fov_y();
+  const double x = glm::dot(d, cam.right()) / (z * t), y = glm::dot(d, cam.true_up()) / (z * t);
+  const double c = std::floor(0.5 * (x + 1.0) * size), r = std::floor(0.5 * (1.0 - y) * size);
+  if (!(c >= 0.0 && c < size && r >= 0.0 && r < size)) return false;
+  column = static_cast<int>(c);
+  row = static_cast<int>(r);
+  return true;
+}
+
+VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene)
+    : rt_(rt), scene_(scene), sampler_(rt), shadows_(std::make_unique<VsglShadows>(rt)) {
   kurt_ = kurt_table(scene.geometry.materials);
   kurt_buf_ = upload_rw(rt_, kurt_, "uploading the Kurt material table (indirect)");
 }
@@ -187,7 +213,7 @@ void VsglContribution::run_generate(const ::cl::Buffer& pyr, const std::vector<i
 }
 
 void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const ::cl::Buffer& vsgls, int nv,
-                                 const ::cl::Buffer& out) {
+                                 const ::cl::Buffer& out, const VsglShadows& shadows, const ::cl::Buffer& index) {
   ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_shade");
   cl::call(
       [&] {
@@ -198,6 +224,12 @@ void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const 
         k.setArg(4, kurt_buf_);
         k.setArg(5, static_cast<int>(kurt_.size()));
         k.setArg(6, out);
+        k.setArg(7, index);
+        k.setArg(8, shadows.maps());
+        k.setArg(9, shadows.origins());
+        k.setArg(10, shadows.params().size);
+        k.setArg(11, static_cast<float>(shadows.params().near));
+        k.setArg(12, shadows.bias());
       },
       "VSGL shading kernel arguments");
   const ::cl::Event ev = rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(std::max(count, 1))));
@@ -207,8 +239,8 @@ void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const 
 bool VsglContribution::build(const FrameInputs& in) {
   const VsglSettings vs = vsgl_settings(in.settings);
   SamplingSettings ss = in.settings.sampling;  // fixed frame index: the VSGLs do not flicker by themselves
-  std::string key = fmt::format("{} {} {} {} {} | {} | {}", vs.rsm_size, vs.count, vs.kernel, vs.k, vs.points,
-                                ss.describe(), ss.frame);
+  std::string key = fmt::format("{} {} {} {} {} {} | {} | {}", vs.rsm_size, vs.count, vs.kernel, vs.k, vs.points,
+                                vs.shadowed, ss.describe(), ss.frame);
   for (const auto& l : in.lights)
     key += instance_bytes(l.instance) + fmt::format("{}", static_cast<const void*>(l.luminaire));
   if (key == key_) return false;
@@ -223,13 +255,7 @@ bool VsglContribution::build(const FrameInputs& in) {
     Timer timer;
     r.view = rsm_view(li.luminaire->params(), li.instance);
     ensure_gl(size);
-    scene::Camera cam;
-    cam.position = r.view.origin;
-    cam.target = r.view.origin + r.view.forward;
-    cam.up = r.view.up;
-    cam.fov_y_deg = 2.0 * std::atan(r.view.tan_half) * 180.0 / 3.14159265358979323846;
-    cam.width = cam.height = size;
-    cam.near = 0.01;
+    const scene::Camera cam = rsm_camera(r.view, size);
     gbuffer_->render(*scene_gpu_, cam);
     r.surfaces = gbuffer_->read_surfaces(scene_.geometry.materials, cam);
     std::vector<NfSurface> irr = r.surfaces;
@@ -274,6 +300,15 @@ bool VsglContribution::build(const FrameInputs& in) {
         [&] { rt_.queue().enqueueWriteBuffer(vsgl_buf_, CL_TRUE, 0, vsgls_.size() * sizeof(NfVsgl), vsgls_.data()); },
         "uploading the VSGLs");
   times_.generate_ms = timer.ms();
+  // 5. shadow maps of the vsgl_shadowed strongest VSGLs of each instance
+  timer.reset();
+  if (vs.shadowed > 0 && !vsgls_.empty()) ensure_gl(size);
+  if (scene_gpu_) {
+    std::vector<VsglRsmRef> refs;
+    for (const auto& r : rsms_) refs.push_back({&r.view, &r.surfaces, size});
+    shadows_->build(*scene_gpu_, vsgls_, vs.count, vs.shadowed, refs);
+  }
+  times_.shadow_ms = timer.ms();
   pyr_bytes_ = 0;
   for (int s = size; s >= 1; s /= 2)
     pyr_bytes_ += static_cast<std::size_t>(s) * static_cast<std::size_t>(s) * NF_VSGL_QUANTITIES * sizeof(cl_float4);
@@ -336,14 +371,22 @@ std::vector<glm::vec4> VsglContribution::texel_quantities(const std::vector<NfSu
   return download<glm::vec4>(rt_, pyr, texels * NF_VSGL_QUANTITIES, 0, "reading RSM quantities");
 }
 
-std::vector<glm::vec4> VsglContribution::shade(const std::vector<NfSurface>& surfaces,
-                                               const std::vector<NfVsgl>& vsgls) {
+std::vector<glm::vec4> VsglContribution::shade(const std::vector<NfSurface>& surfaces, const std::vector<NfVsgl>& vsgls,
+                                               const VsglShadows* shadows) {
   const ::cl::Buffer sb = upload_rw(rt_, surfaces, "uploading surfaces");
   const ::cl::Buffer vb = upload_rw(rt_, vsgls, "uploading VSGLs");
   const ::cl::Buffer out =
       make_buffer(rt_, CL_MEM_READ_WRITE, std::max<std::size_t>(surfaces.size(), 1) * sizeof(cl_float4), nullptr,
                   "VSGL output buffer");
-  run_shade(sb, static_cast<int>(surfaces.size()), vb, static_cast<int>(vsgls.size()), out);
+  const VsglShadows& sh = shadows ? *shadows : *shadows_;
+  std::vector<int> index(vsgls.size(), -1);
+  if (shadows) {
+    if (shadows->index_host().size() != vsgls.size())
+      fail(fmt::format("VSGL shading: shadow maps for {} VSGLs, {} given", shadows->index_host().size(), vsgls.size()));
+    index = shadows->index_host();
+  }
+  const ::cl::Buffer ib = upload_rw(rt_, index, "uploading the VSGL shadow indices");
+  run_shade(sb, static_cast<int>(surfaces.size()), vb, static_cast<int>(vsgls.size()), out, sh, ib);
   return download<glm::vec4>(rt_, out, surfaces.size(), 0, "reading the VSGL radiance");
 }
 
@@ -354,6 +397,15 @@ void VsglContribution::prepare(const FrameInputs& in) {
   rt_.kernel("vsgl.cl", "vsgl_pyramid_down");
   rt_.kernel("vsgl.cl", "vsgl_generate");
   rt_.kernel("vsgl.cl", "vsgl_shade");
+  // refuse a k over the maximum before any frame (VsglShadows::build checks it again)
+  const int k = std::min(in.settings.declared.vsgl_shadowed, in.settings.declared.vsgl_count);
+  const int instances = static_cast<int>(in.lights.size());
+  const int k_max = vsgl_shadow_max(instances, shadows_->params().size);
+  if (instances > 0 && k > k_max)
+    fail(
+        fmt::format("vsgl_shadowed: {} per instance x {} instance(s) x 6 faces x {}^2 texels x 4 bytes is over the "
+                    "maximum of {} for the VSGL shadow maps (at most {} per instance here)",
+                    k, instances, shadows_->params().size, format_bytes(kVsglShadowMaxBytes), k_max));
   NfSurface s{};
   s.brdf = NF_BRDF_IRRADIANCE;
   const ::cl::Buffer one = upload_surfaces(rt_, {s});
@@ -374,7 +426,8 @@ ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::
     f.parts_ms = {{"rsm", times_.rsm_ms},
                   {"rsm_lighting", times_.light_ms},
                   {"pyramid", times_.pyramid_ms},
-                  {"generation", times_.generate_ms}};
+                  {"generation", times_.generate_ms},
+                  {"vsgl shadow maps", times_.shadow_ms}};
   }
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
   if (out_bytes_ != n * sizeof(cl_float4)) {
@@ -382,7 +435,7 @@ ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::
     out_bytes_ = n * sizeof(cl_float4);
   }
   Timer shade_timer;
-  run_shade(in.surfaces, in.count, vsgl_buf_, static_cast<int>(vsgls_.size()), out_);
+  run_shade(in.surfaces, in.count, vsgl_buf_, static_cast<int>(vsgls_.size()), out_, *shadows_, shadows_->index());
   f.step2_ms = shade_timer.ms();
   f.wall_ms = wall.ms();
   Timer readback;
@@ -396,7 +449,8 @@ ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::
 }
 
 std::size_t VsglContribution::device_bytes() const {
-  return pyr_bytes_ + vsgls_.size() * sizeof(NfVsgl) + out_bytes_ + kurt_.size() * sizeof(NfKurtMaterial);
+  return pyr_bytes_ + vsgls_.size() * sizeof(NfVsgl) + out_bytes_ + kurt_.size() * sizeof(NfKurtMaterial) +
+         shadows_->device_bytes();
 }
 
 }  // namespace nf::render

@@ -216,7 +216,7 @@ std::vector<Setting> declare() {
           "stratified point set warped to the VSGL centres", [](auto& r) -> auto& { return r.vsgl_points; }),
       integer(
           "vsgl_shadowed", "vsgl_shadowed", 0, 4096, "indirect", R,
-          "VSGLs with shadow maps; only 0 (unshadowed) is implemented, others are refused",
+          "per instance, the k strongest VSGLs get cube shadow maps (0: unshadowed; maps capped at 1 GiB)",
           [](auto& r) -> auto& { return r.vsgl_shadowed; }),
       positive_real(
           "exposure", "tonemap/exposure", 1e300, "display", D, "tone mapping exposure (> 0)",

@@ -54,7 +54,7 @@ struct RenderSettings {
   std::string vsgl_kernel = "integral";    // point (Eq. 1, 4) | integral (Eq. 3, 5)
   double vsgl_k = 1.0;                     // K of Eq. 3 (integral kernels)
   std::string vsgl_points = "hammersley";  // hammersley | fibonacci (stratified centres)
-  int vsgl_shadowed = 0;                   // VSGLs with shadow maps (only 0 is implemented: unshadowed)
+  int vsgl_shadowed = 0;                   // VSGLs with shadow maps per instance (the strongest; 0: none)
 };
 
 // What a change of a setting invalidates, in increasing order: `display` only re-tone-maps the
