@@ -65,10 +65,11 @@ double farfield_intensity(const Luminaire& l, glm::dvec3 w) {
   const int nx = l.image.resolution[0], ny = l.image.resolution[1], W = l.basis.count[0], H = l.basis.count[1];
   const int n = l.basis.support(), ch = l.channels;
   const double px = l.image.size.x / nx, py = l.image.size.y / ny;
+  // shift = delta t: the line of slope t through s meets U at u = s - delta t = x - shift.
   const AxisWeights jx =
-      axis_weights(l.basis.kind, W, n, l.basis.origin.x, l.basis.cell.x, nx, l.image.origin.x, px, -l.delta * tx);
+      axis_weights(l.basis.kind, W, n, l.basis.origin.x, l.basis.cell.x, nx, l.image.origin.x, px, l.delta * tx);
   const AxisWeights jy = axis_weights(l.basis.kind, H, n, l.basis.origin.y, l.basis.cell.y, ny,
-                                      l.image.origin.y + l.image.size.y, -py, -l.delta * ty);
+                                      l.image.origin.y + l.image.size.y, -py, l.delta * ty);
   double sum = 0.0;
   for (int j = 0; j < H; ++j) {
     if (jy.lo[j] >= jy.hi[j]) continue;

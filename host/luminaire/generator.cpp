@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "luminaire/basis.h"
 #include "luminaire/geometry.h"
+#include "luminaire/optics_presets.h"
 #include "luminaire/parallel.h"
 #include "luminaire/quadrature.h"
 
@@ -307,9 +308,18 @@ void acquire(const Spec& s, Luminaire& l, unsigned threads) {
 
 }  // namespace
 
-std::vector<std::string> preset_names() { return {"bike", "car1", "car2", "led-rgb", "panel"}; }
+std::vector<std::string> preset_names() {
+  std::vector<std::string> n{"bike", "car1", "car2", "led-rgb", "panel"};
+  for (auto& o : optics_preset_names()) n.push_back(o);
+  return n;
+}
 
 std::string preset_summary(const std::string& name) {
+  if (is_optics_preset(name)) {
+    const OpticsPreset p = optics_preset(name);
+    return fmt::format("{}: {} ({} x {} bspline2, {} pixels, Y, delta {} m; {} rays traced)", name, p.description,
+                       p.import.grid[0], p.import.grid[1], p.import.resolution, p.import.delta, p.rays);
+  }
   const Spec s = find_spec(name);
   return fmt::format("{}: {} ({} x {} {}, {} x {} images, {}, delta {} m)", s.name, s.description, s.basis.count[0],
                      s.basis.count[1], s.basis.kind == BasisKind::bspline2 ? "bspline2" : "quadratic2",
@@ -336,6 +346,11 @@ Spec scaled_spec(const std::string& name, const GenOptions& options) {
 // writer's conversion buffer (half or float) or the panel's template image, and the acquisition
 // tables: per term and axis count x pixels doubles (acquire_axis), per thread one row of doubles.
 std::uint64_t generate_memory(const std::string& name, const GenOptions& options) {
+  if (is_optics_preset(name)) {
+    if (!(options.resolution_scale > 0.0 && options.resolution_scale <= 16.0))
+      fail(fmt::format("luminaire gen: resolution scale {} out of range (0, 16]", options.resolution_scale));
+    return optics_preset_memory(name, options.resolution_scale);
+  }
   const Spec s = scaled_spec(name, options);
   const auto nx = static_cast<std::uint64_t>(s.image.resolution[0]);
   const auto ny = static_cast<std::uint64_t>(s.image.resolution[1]);
@@ -351,6 +366,11 @@ std::uint64_t generate_memory(const std::string& name, const GenOptions& options
 }
 
 Luminaire generate_preset(const std::string& name, const GenOptions& options) {
+  if (is_optics_preset(name)) {
+    check_memory(fmt::format("luminaire gen --preset {}", name), "tracing and importing the ray-traced preset",
+                 generate_memory(name, options), available_host_memory());
+    return generate_optics_preset(name, options.resolution_scale, options.threads);
+  }
   Spec s = scaled_spec(name, options);
   check_memory(fmt::format("luminaire gen --preset {}", name),
                fmt::format("generating {} x {} images of {} x {} {} pixels", s.basis.count[0], s.basis.count[1],

@@ -29,7 +29,7 @@ struct GenOptions {
   unsigned threads = 0;           // 0 = hardware concurrency
 };
 
-std::vector<std::string> preset_names();  // bike car1 car2 led-rgb panel
+std::vector<std::string> preset_names();  // bike car1 car2 led-rgb panel + optics_preset_names()
 std::string preset_summary(const std::string& name);
 // Throws nf::Error for an unknown name (listing the known ones), and before allocating anything
 // when generate_memory() exceeds the host memory available (docs/robustness.md).
