@@ -1,0 +1,39 @@
+#pragma once
+// Far-field goniometric point lights (IES LM-63 / EULUMDAT) as a contribution of the frame
+// (docs/photometry.md, "Far-field lights in scenes"): the scene's intensity tables uploaded once,
+// and per frame one launch of kernels/farfield.cl that shades every G-buffer surface with
+//   L_o = sum_lights f_r(w, v) max(0, n.w) I(C, gamma) / r^2
+// (I bilinear in C and gamma, as lum::Goniometric::intensity). No visibility: every light reaches
+// every surface that faces it.
+#include <vector>
+
+#include "kernels/shared/farfield.h"
+#include "kernels/shared/kurt.h"
+#include "render/contribution.h"
+
+namespace nf::render {
+
+class FarfieldContribution final : public Contribution {
+ public:
+  // The scene's far-field lights (tables already read by the scene loader) and the Kurt material
+  // table of its materials.
+  FarfieldContribution(cl::Runtime& rt, const std::vector<scene::FarfieldLightRef>& lights,
+                       const std::vector<scene::Material>& materials = {});
+  std::string name() const override { return "farfield"; }
+  void prepare(const FrameInputs& in) override;
+  ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
+  std::size_t device_bytes() const override;
+
+  // The device records of the lights and their tables, as uploaded (tests).
+  const std::vector<NfFarfieldLight>& device_lights() const { return lights_; }
+
+ private:
+  cl::Runtime& rt_;
+  std::vector<NfFarfieldLight> lights_;
+  std::size_t table_bytes_ = 0, out_bytes_ = 0;
+  int kurt_count_ = 0;
+  ::cl::Buffer lights_buf_, angles_, cd_, kurt_, out_;
+  ::cl::Kernel shade_;
+};
+
+}  // namespace nf::render
