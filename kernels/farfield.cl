@@ -36,8 +36,8 @@ NF_INLINE int ff_bracket(__global const float* a, int n, float x, float* f) {
 }
 
 /* Bilinear I(C, gamma) of one light (degrees); 0 outside the gamma range. */
-NF_INLINE float ff_intensity(__global const NfFarfieldLight* L, __global const float* angles,
-                             __global const float* cd, float c_deg, float g_deg) {
+NF_INLINE float ff_intensity(__global const NfFarfieldLight* L, __global const float* angles, __global const float* cd,
+                             float c_deg, float g_deg) {
   __global const float* ga = angles + L->g_offset;
   __global const float* ca = angles + L->c_offset;
   __global const float* t = cd + L->cd_offset;
@@ -61,9 +61,9 @@ NF_INLINE float ff_intensity(__global const NfFarfieldLight* L, __global const f
 }
 
 __kernel void farfield_shade(__global const NfSurface* surfaces, const int count,
-                             __global const NfFarfieldLight* lights, const int n_lights,
-                             __global const float* angles, __global const float* cd,
-                             __global const NfKurtMaterial* kurt, const int kurt_count, __global float4* out) {
+                             __global const NfFarfieldLight* lights, const int n_lights, __global const float* angles,
+                             __global const float* cd, __global const NfKurtMaterial* kurt, const int kurt_count,
+                             __global float4* out) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const NfSurface s = surfaces[p];

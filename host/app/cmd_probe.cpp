@@ -28,9 +28,9 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "luminaire/goniometric.h"
 #include "luminaire/io.h"
 #include "luminaire/precompute.h"
-#include "luminaire/goniometric.h"
 #include "reference/farfield_light.h"
 #include "reference/irradiance.h"
 #include "render/probe.h"
@@ -115,7 +115,8 @@ std::vector<glm::dvec3> run_kernels(const ProbeOptions& o, const lum::Luminaire&
 // A far-field photometric file (IES LM-63 or EULUMDAT) rather than a light-field manifest.
 bool is_photometric(const std::string& file) {
   std::string ext = std::filesystem::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".ies" || ext == ".ldt";
 }
 
@@ -196,7 +197,9 @@ void run_probe(const ProbeOptions& o) {
 const CommandRegistration reg("probe", [](CLI::App& app) {
   static ProbeOptions o;
   auto* cmd = app.add_subcommand("probe", "Irradiance at points in the luminaire frame (one 'E_R E_G E_B' line each)");
-  cmd->add_option("file", o.file, "Luminaire manifest (.json), or an IES LM-63 (.ies) / EULUMDAT (.ldt) file (far field)")->required();
+  cmd->add_option("file", o.file,
+                  "Luminaire manifest (.json), or an IES LM-63 (.ies) / EULUMDAT (.ldt) file (far field)")
+      ->required();
   cmd->add_option("--points", o.points, "Points file: lines 'x y z nx ny nz' ('#' comments); default stdin");
   auto* method = cmd->add_option("--method", o.method, "ours | paper | uniform | uniform-equal | global | reference")
                      ->capture_default_str();

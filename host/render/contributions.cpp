@@ -22,7 +22,9 @@ const std::vector<ContributionKind>& contribution_kinds() {
          return std::make_unique<FarfieldContribution>(c.rt, c.scene.farfield_lights, c.scene.geometry.materials);
        }},
       {"indirect",
-       [](const ContributionContext& c) { return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl"; },
+       [](const ContributionContext& c) {
+         return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl";
+       },
        [](const ContributionContext& c) { return std::make_unique<VsglContribution>(c.rt, c.scene); }},
   };
   return kinds;

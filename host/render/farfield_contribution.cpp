@@ -1,8 +1,8 @@
 #include "render/farfield_contribution.h"
 
 #include <algorithm>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include <fmt/format.h>
@@ -14,7 +14,8 @@
 
 namespace nf::render {
 
-static_assert(sizeof(NfFarfieldLight) == 80 && offsetof(NfFarfieldLight, nc) == 28 && offsetof(NfFarfieldLight, cd_offset) == 68,
+static_assert(sizeof(NfFarfieldLight) == 80 && offsetof(NfFarfieldLight, nc) == 28 &&
+                  offsetof(NfFarfieldLight, cd_offset) == 68,
               "NfFarfieldLight must match kernels/shared/farfield.h");
 
 FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<scene::FarfieldLightRef>& lights,

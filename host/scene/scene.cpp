@@ -51,10 +51,9 @@ class Parser {
 
   Scene parse(const json& root) {
     Scene s;
-    object(
-        root, "",
-        {"format", "version", "description", "camera", "materials", "objects", "luminaires", "farfield_lights", "environment",
-         "render"});
+    object(root, "",
+           {"format", "version", "description", "camera", "materials", "objects", "luminaires", "farfield_lights",
+            "environment", "render"});
     if (root.contains("format") && string(root["format"], "/format") != "nearfield-scene")
       error("/format", "expected \"nearfield-scene\"");
     if (root.contains("version") && integer(root["version"], "/version", 0, 1 << 30) != 1)
@@ -76,8 +75,7 @@ class Parser {
     }
     if (root.contains("farfield_lights")) {
       const json& lights = root["farfield_lights"];
-      if (!lights.is_array())
-        error("/farfield_lights", fmt::format("expected an array, got {}", type_name(lights)));
+      if (!lights.is_array()) error("/farfield_lights", fmt::format("expected an array, got {}", type_name(lights)));
       for (std::size_t i = 0; i < lights.size(); ++i)
         s.farfield_lights.push_back(farfield_light(lights[i], at("/farfield_lights", i), i));
     }
@@ -409,8 +407,7 @@ class Parser {
     }
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "luminaire transforms must be rigid");
-    if (v.contains("intensity"))
-      l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
     return l;
   }
 
@@ -428,8 +425,7 @@ class Parser {
     }
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "far-field light transforms must be rigid");
-    if (v.contains("intensity"))
-      l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
     return l;
   }
 

@@ -38,11 +38,11 @@ struct LuminaireRef {
 // IES LM-63 or EULUMDAT intensity table I(C, gamma) in cd placed by a rigid transform. In the
 // light's local frame gamma = 0 is +z and C = 0 is +x, C = 90 +y (type C photometry).
 struct FarfieldLightRef {
-  std::string name;                              // "name" or "farfield<i>"
-  std::filesystem::path file;                    // absolute; read when the scene is read
-  std::shared_ptr<const lum::Goniometric> table; // the file's table, expanded to C in [0, 360]
-  glm::dmat4 to_world{1.0};                      // rigid: light-local frame -> world
-  double intensity = 1.0;                        // multiplies I, in [0, kMaxIntensity]
+  std::string name;                               // "name" or "farfield<i>"
+  std::filesystem::path file;                     // absolute; read when the scene is read
+  std::shared_ptr<const lum::Goniometric> table;  // the file's table, expanded to C in [0, 360]
+  glm::dmat4 to_world{1.0};                       // rigid: light-local frame -> world
+  double intensity = 1.0;                         // multiplies I, in [0, kMaxIntensity]
 };
 
 struct Environment {

@@ -17,11 +17,11 @@ typedef struct {
   nf_float r0x, r0y, r0z; /* rows of the world -> local rotation: local = R (world - position) */
   nf_int nc;              /* C planes */
   nf_float r1x, r1y, r1z;
-  nf_int ng;              /* gamma angles */
+  nf_int ng; /* gamma angles */
   nf_float r2x, r2y, r2z;
-  nf_int c_offset;        /* into angles */
-  nf_int g_offset;        /* into angles */
-  nf_int cd_offset;       /* into cd */
+  nf_int c_offset;  /* into angles */
+  nf_int g_offset;  /* into angles */
+  nf_int cd_offset; /* into cd */
   nf_int pad0, pad1;
 } NfFarfieldLight; /* 80 bytes */
 
