@@ -8,9 +8,10 @@
    per light). (C, gamma) are the angles of the emitted direction d = -w in the light's frame:
    gamma = atan2(|d_xy|, d_z) from +z, C = atan2(d_y, d_x) from +x towards +y, wrapped to
    [0, 360). I is bilinear in (C, gamma) on the table's own angles, 0 outside its gamma range:
-   the same interpolant as lum::Goniometric::intensity. Visibility: none (every light reaches
-   every surface that faces it). Points closer than 1e-6 m to a light get nothing from it (a point
-   source on the surface; the reference renderer does the same).                             */
+   the same interpolant as lum::Goniometric::intensity. Visibility: with `has_vis`, vis[p * n_lights
+   + k] bit 0 says whether light k reaches surface p (a shadow map per light, rendered by the host,
+   docs/photometry.md); without, every light reaches every surface that faces it. Points closer than 1e-6 m to a light
+   get nothing from it (a point source on the surface; the reference renderer does the same). */
 #define NF_LANES 1
 #include "common/brdf.h"
 #include "shared/farfield.h"
@@ -63,7 +64,7 @@ NF_INLINE float ff_intensity(__global const NfFarfieldLight* L, __global const f
 __kernel void farfield_shade(__global const NfSurface* surfaces, const int count,
                              __global const NfFarfieldLight* lights, const int n_lights, __global const float* angles,
                              __global const float* cd, __global const NfKurtMaterial* kurt, const int kurt_count,
-                             __global float4* out) {
+                             __global const uint* vis, const int has_vis, __global float4* out) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const NfSurface s = surfaces[p];
@@ -106,6 +107,7 @@ __kernel void farfield_shade(__global const NfSurface* surfaces, const int count
   if (!isfinite(sh.br + sh.bg + sh.bb)) sh.br = sh.bg = sh.bb = 0.0f;
   float3 lo = (float3)(0.0f);
   for (int k = 0; k < n_lights; ++k) {
+    if (has_vis && !(vis[(long)p * n_lights + k] & 1u)) continue;
     __global const NfFarfieldLight* L = lights + k;
     const float3 dw = (float3)(L->px - s.px, L->py - s.py, L->pz - s.pz); /* towards the light */
     const float r2 = dot(dw, dw);

@@ -24,6 +24,7 @@
 #include "core/error.h"
 #include "reference/farfield_light.h"
 #include "reference/integrator.h"
+#include "render/farfield_contribution.h"
 #include "render_support.h"
 #include "support/testing.h"
 
@@ -216,6 +217,66 @@ TEST(FarfieldRender, KernelMatchesReferenceOnEveryMaterial) {
   EXPECT_GT(kinds[NF_BRDF_GGX], 300);
   EXPECT_GT(kinds[NF_BRDF_KURT], 150);
   EXPECT_NEAR(sum_got, sum_ref, 1e-5 * sum_ref);  // the per-pixel bound's mean (measured: 1e-6)
+}
+
+// Shadows (render.visibility = shadowmaps): a box between the light and the wall. The reference
+// casts exact shadow rays; the contribution reads one shadow map per light. Every wall pixel
+// whose 3 x 3 neighbourhood the reference sees entirely lit or entirely shadowed must agree
+// (shadowed: exactly 0 in both; lit: within 1e-4 as above); only pixels at the shadow's edge may
+// differ (a map texel is ~2 cm on the wall, a pixel ~4 cm).
+TEST(FarfieldRender, ShadowMapsMatchReferenceShadows) {
+  const auto ies = write_lm63("shadow.ies", 180.0, f_table);
+  const std::string box = R"(, { "type": "box", "size": [0.3, 0.3, 0.3], "material": "wall",
+      "transform": { "translate": [0.1, 1.05, -1.1], "rotate": [0, 20, 0] } })";
+  std::string json = wall_scene(ies, R"({ "translate": [0, 1, -0.5], "rotate": [0, 180, 0] })",
+                                R"("wall": { "type": "lambert", "base_color": [0.5, 0.5, 0.5] })", box);
+  json.replace(json.find("[64, 48]"), 8, "[128, 96]");
+  json.replace(json.find(R"("visibility": "none")"), 20, R"("visibility": "shadowmaps", "shadow_map_size": 512)");
+  const scene::Scene s = render_test::parse(json);
+  auto r = render_test::make_renderer(s);
+  r->render_frame();
+  auto* ff = dynamic_cast<render::FarfieldContribution*>(r->contribution("farfield"));
+  ASSERT_NE(ff, nullptr);
+  EXPECT_TRUE(ff->used_shadow_maps());
+  const Image img = r->last_frame();
+  ref::ReferenceSettings set;
+  set.spp = 1;
+  set.progress = false;
+  const ref::ReferenceResult ref = ref::render_reference(s, {}, nullptr, set);
+  const int w = s.camera.width, h = s.camera.height;
+  const auto& surf = r->surfaces();
+  auto wall = [&](int x, int y) {
+    const auto& c = surf[static_cast<std::size_t>(y * w + x)];
+    return c.valid && std::abs(c.pz + 2.0f) < 1e-4f;
+  };
+  int shadowed = 0, lit = 0, edge = 0, edge_diff = 0;
+  for (int y = 1; y < h - 1; ++y)
+    for (int x = 1; x < w - 1; ++x) {
+      if (!wall(x, y)) continue;
+      int dark = 0, all = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (!wall(x + dx, y + dy)) continue;
+          ++all;
+          dark += ref.image.at(x + dx, y + dy, 0) == 0.0f;
+        }
+      const std::size_t i = static_cast<std::size_t>(y * w + x);
+      const double got = img.pixels[3 * i], want = ref.image.at(x, y, 0);
+      if (dark == all) {
+        ++shadowed;
+        EXPECT_EQ(got, 0.0) << "pixel " << x << "," << y << " is in the box's shadow";
+      } else if (dark == 0) {
+        ++lit;
+        EXPECT_NEAR(got, want, 1e-4 * want) << "pixel " << x << "," << y;
+      } else {
+        ++edge;
+        edge_diff += (got == 0.0) != (want == 0.0);
+      }
+    }
+  std::printf("wall pixels: %d shadowed, %d lit, %d at the shadow's edge (%d of them classified differently)\n",
+              shadowed, lit, edge, edge_diff);
+  EXPECT_GT(shadowed, 50);
+  EXPECT_GT(lit, 3000);
 }
 
 // Degenerate lights: on the surface itself, a table ending at gamma = 60 (half the wall lies

@@ -10,6 +10,9 @@
 #include "cl/buffers.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "gl/gbuffer.h"
+#include "gl/scene_gpu.h"
+#include "gl/shadow_maps.h"
 #include "render/kurt_table.h"
 
 namespace nf::render {
@@ -48,6 +51,7 @@ FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<sc
     if (cd.size() > static_cast<std::size_t>(std::numeric_limits<nf_int>::max()))
       fail("far-field lights: the intensity tables hold more than 2^31 values");
     lights_.push_back(d);
+    to_world_.push_back(l.to_world);
   }
   lights_buf_ = cl::upload(rt_, lights_, "uploading the far-field lights");
   angles_ = cl::upload(rt_, angles, "uploading the far-field lights' angles");
@@ -56,6 +60,53 @@ FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<sc
   const std::vector<NfKurtMaterial> table = kurt_table(materials);
   kurt_ = cl::upload(rt_, table, "uploading the far-field lights' kurt material table");
   kurt_count_ = static_cast<int>(table.size());
+  vis_ = cl::upload(rt_, std::vector<std::uint32_t>{}, "far-field visibility placeholder");
+}
+
+FarfieldContribution::~FarfieldContribution() = default;
+
+// The shadow map of a far-field light: gl::ShadowMaps with one cell whose reference light is the
+// light itself (local origin), looking along local +z with a symmetric frustum of 75 degrees per
+// side (the largest the light-field maps use; tan 75 = 3.73). Directions beyond it are lit.
+void FarfieldContribution::update_visibility(const FrameInputs& in, ContributionFrame& f) {
+  const bool wanted = in.settings.visibility == Visibility::shadowmaps && in.scene_gpu && in.gbuffer && in.geometry &&
+                      in.geometry->can_occlude();
+  vis_used_ = wanted;
+  if (!wanted) return;
+  if (maps_.empty() || map_size_ != in.settings.shadow_map_size) {
+    Timer t;
+    maps_.clear();
+    map_size_ = in.settings.shadow_map_size;
+    const double k = std::tan(75.0 * 3.14159265358979323846 / 180.0);
+    for (const auto& m : to_world_) {
+      gl::ShadowMapSpec spec;
+      spec.lights = {glm::dvec3(0.0)};
+      spec.cells_x = spec.cells_y = 1;
+      spec.to_world = m;
+      spec.size = map_size_;
+      spec.frustum = gl::ShadowFrustum{-k, k, -k, k, 0.005};
+      maps_.push_back(std::make_unique<gl::ShadowMaps>(spec));
+      maps_.back()->render(*in.scene_gpu);
+    }
+    f.parts_ms.emplace_back("shadow maps", t.ms());
+    f.step1_ms += t.ms();
+    vis_valid_ = false;
+  }
+  if (vis_valid_ && in.view_version != 0 && in.view_version == vis_version_) return;
+  Timer t;
+  const std::size_t n = static_cast<std::size_t>(std::max(in.count, 0)), nl = maps_.size();
+  std::vector<std::uint32_t> bits(std::max<std::size_t>(n * nl, 1), 0u);
+  for (std::size_t k = 0; k < nl; ++k) {
+    const std::vector<std::uint32_t> v = maps_[k]->visibility(*in.gbuffer);  // one word per pixel
+    if (v.size() != n) fail(fmt::format("far-field shadow map {}: {} visibility words for {} pixels", k, v.size(), n));
+    for (std::size_t p = 0; p < n; ++p) bits[p * nl + k] = v[p] & 1u;
+  }
+  vis_ = cl::upload(rt_, bits, "uploading the far-field visibility");
+  vis_bytes_ = bits.size() * sizeof(std::uint32_t);
+  vis_version_ = in.view_version;
+  vis_valid_ = true;
+  f.parts_ms.emplace_back("visibility", t.ms());
+  f.step1_ms += t.ms();
 }
 
 void FarfieldContribution::prepare(const FrameInputs&) {
@@ -66,6 +117,7 @@ void FarfieldContribution::prepare(const FrameInputs&) {
 ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
   prepare(in);
   ContributionFrame f;
+  update_visibility(in, f);
   Timer wall;
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
   if (out_bytes_ != n * sizeof(cl_float4)) {
@@ -84,6 +136,8 @@ ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<g
         shade_.setArg(a++, cd_);
         shade_.setArg(a++, kurt_);
         shade_.setArg(a++, kurt_count_);
+        shade_.setArg(a++, vis_);
+        shade_.setArg(a++, vis_used_ ? 1 : 0);
         shade_.setArg(a++, out_);
       },
       "far-field kernel arguments");
@@ -104,7 +158,8 @@ ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<g
 }
 
 std::size_t FarfieldContribution::device_bytes() const {
-  return table_bytes_ + out_bytes_ + static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial);
+  return table_bytes_ + out_bytes_ + vis_bytes_ +
+         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial);
 }
 
 }  // namespace nf::render
