@@ -3,6 +3,9 @@
 // nearfield probe FILE --grid "ox,oy,oz;ux,uy,uz;vx,vy,vz" [--spacing P] [--csv OUT.csv] [--png OUT.png]
 //   illuminance on the EN 12464-1 grid of a rectangle (docs/illuminance-grid.md): a summary on
 //   stdout, the table as CSV, a false-colour picture with a scale bar.
+// FILE may also be an IES LM-63 or EULUMDAT file (.ies, .ldt): a far-field point light at the
+// origin (gamma = 0 along +z, C = 0 along +x), evaluated in closed form, E = I(C, gamma) cos / r^2
+// (reference/farfield_light.h, docs/photometry.md); --method/--spp/--seed do not apply.
 // Reads lines "x y z nx ny nz" (luminaire frame, metres; '#' starts a comment; blank lines are
 // skipped) from PTS or stdin and prints one line "E_R E_G E_B" (%.9g) per point on stdout,
 // nothing else (README.md). --reference uses the CPU quadrature (host/reference); the other
@@ -11,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -24,8 +28,10 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "luminaire/goniometric.h"
 #include "luminaire/io.h"
 #include "luminaire/precompute.h"
+#include "reference/farfield_light.h"
 #include "reference/irradiance.h"
 #include "render/probe.h"
 #include "render/settings.h"
@@ -106,6 +112,14 @@ std::vector<glm::dvec3> run_kernels(const ProbeOptions& o, const lum::Luminaire&
   return render::probe_estimate(rt, pc, surfaces, settings);
 }
 
+// A far-field photometric file (IES LM-63 or EULUMDAT) rather than a light-field manifest.
+bool is_photometric(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".ies" || ext == ".ldt";
+}
+
 std::vector<glm::dvec3> estimate(const ProbeOptions& o, const lum::Luminaire& l, const std::vector<ref::Probe>& points,
                                  bool scalar) {
   const bool reference = o.reference || o.method == "reference";
@@ -124,8 +138,13 @@ void run_grid(const ProbeOptions& o) {
     return g;
   }();
   const GridPoints g = grid_points(spec);
-  const lum::Luminaire l = lum::read_luminaire(o.file);
-  const auto rgb = estimate(o, l, g.points, false);
+  std::vector<glm::dvec3> rgb;
+  if (is_photometric(o.file)) {
+    rgb = ref::farfield_irradiance(lum::read_goniometric(o.file), g.points);
+  } else {
+    const lum::Luminaire l = lum::read_luminaire(o.file);
+    rgb = estimate(o, l, g.points, false);
+  }
   std::vector<double> e;
   for (const auto& v : rgb) e.push_back(0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z);  // Y of Rec. 709 primaries
   OutputTransaction tx;
@@ -151,7 +170,9 @@ void run_probe(const ProbeOptions& o) {
   const bool reference = o.reference || o.method == "reference";
   if (!reference) render::parse_method(o.method, "--method");  // validate before any work
   if (o.spp < 1) fail(fmt::format("probe: --spp must be >= 1, got {}", o.spp));
-  const lum::Luminaire l = lum::read_luminaire(o.file);
+  const bool photometric = is_photometric(o.file);
+  const lum::Luminaire l = photometric ? lum::Luminaire{} : lum::read_luminaire(o.file);
+  const lum::Goniometric table = photometric ? lum::read_goniometric(o.file) : lum::Goniometric{};
   std::vector<ref::Probe> points;
   if (o.points.empty() || o.points == "-") {
     points = read_points(std::cin, "<stdin>", !scalar);
@@ -161,7 +182,9 @@ void run_probe(const ProbeOptions& o) {
     points = read_points(in, o.points, !scalar);
   }
   std::vector<glm::dvec3> values;
-  if (reference) {
+  if (photometric) {
+    values = ref::farfield_irradiance(table, points, scalar);
+  } else if (reference) {
     values = ref::reference_irradiance(l, points, scalar ? ref::Quantity::scalar : ref::Quantity::irradiance);
   } else {
     values = run_kernels(o, l, points, scalar);
@@ -174,7 +197,9 @@ void run_probe(const ProbeOptions& o) {
 const CommandRegistration reg("probe", [](CLI::App& app) {
   static ProbeOptions o;
   auto* cmd = app.add_subcommand("probe", "Irradiance at points in the luminaire frame (one 'E_R E_G E_B' line each)");
-  cmd->add_option("file", o.file, "Luminaire manifest (.json)")->required();
+  cmd->add_option("file", o.file,
+                  "Luminaire manifest (.json), or an IES LM-63 (.ies) / EULUMDAT (.ldt) file (far field)")
+      ->required();
   cmd->add_option("--points", o.points, "Points file: lines 'x y z nx ny nz' ('#' comments); default stdin");
   auto* method = cmd->add_option("--method", o.method, "ours | paper | uniform | uniform-equal | global | reference")
                      ->capture_default_str();

@@ -15,6 +15,7 @@
 #include "core/timer.h"
 #include "luminaire/parallel.h"
 #include "reference/brdf.h"
+#include "reference/farfield_light.h"
 #include "reference/ray_scene.h"
 #include "reference/rng.h"
 #include "reference/surface_point.h"
@@ -150,6 +151,16 @@ class Tracer {
       const double cos = glm::dot(sp.ns, ls.direction);
       if (!(cos > 0.0) || f == dvec3(0.0)) continue;
       if (visible(sp, ls.direction, ls.distance, c)) sum += ls.weight * f * cos;
+    }
+    // Far-field point lights (reference/farfield_light.h): one deterministic shadow ray each.
+    for (const auto& l : scene_.farfield_lights) {
+      const FarfieldSample s = farfield_sample(*l.table, l.to_world, l.intensity, sp.p);
+      if (!s.valid || !(s.intensity > 0.0)) continue;
+      const double cos = glm::dot(sp.ns, s.w);
+      if (!(cos > 0.0)) continue;
+      const dvec3 f = brdf_eval(sp.material, sp.ns, v, s.w);
+      if (f == dvec3(0.0)) continue;
+      if (visible(sp, s.w, s.distance, c)) sum += f * (s.intensity * cos / (s.distance * s.distance));
     }
     return sum;
   }

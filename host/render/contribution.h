@@ -23,6 +23,7 @@
 #include "scene/scene.h"
 
 namespace nf::gl {
+class GBuffer;
 class SceneGpu;
 }
 
@@ -50,6 +51,9 @@ struct FrameInputs {
   // every frame). Contributions may keep per-view state across the frames of one accumulation
   // (the luminaires' pixel cache, docs/sampling.md; the environment's visibility fit).
   std::uint64_t view_version = 0;
+  // Step 0's G-buffer of `surfaces` (GL context current): GL passes over it, such as the far-field
+  // lights' shadow-map visibility. nullptr: not available.
+  const gl::GBuffer* gbuffer = nullptr;
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

@@ -1,6 +1,7 @@
 #include "render/contributions.h"
 
 #include "render/environment_contribution.h"
+#include "render/farfield_contribution.h"
 #include "render/luminaire_contribution.h"
 #include "render/vsgl_contribution.h"
 
@@ -16,8 +17,14 @@ const std::vector<ContributionKind>& contribution_kinds() {
        [](const ContributionContext& c) {
          return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment, c.scene.geometry.materials);
        }},
+      {"farfield", [](const ContributionContext& c) { return !c.scene.farfield_lights.empty(); },
+       [](const ContributionContext& c) {
+         return std::make_unique<FarfieldContribution>(c.rt, c.scene.farfield_lights, c.scene.geometry.materials);
+       }},
       {"indirect",
-       [](const ContributionContext& c) { return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl"; },
+       [](const ContributionContext& c) {
+         return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl";
+       },
        [](const ContributionContext& c) { return std::make_unique<VsglContribution>(c.rt, c.scene); }},
   };
   return kinds;

@@ -392,7 +392,8 @@ const StepTimes& Renderer::render_frame() {
                        &camera_,
                        &step0_->scene_gpu(),
                        &scene_.geometry,
-                       view_version_};
+                       view_version_,
+                       step0_->gbuffer()};
   context_->make_current();  // contributions may draw (the environment's shadow maps)
   frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
   contribution_frames_.clear();

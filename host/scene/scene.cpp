@@ -51,9 +51,9 @@ class Parser {
 
   Scene parse(const json& root) {
     Scene s;
-    object(
-        root, "",
-        {"format", "version", "description", "camera", "materials", "objects", "luminaires", "environment", "render"});
+    object(root, "",
+           {"format", "version", "description", "camera", "materials", "objects", "luminaires", "farfield_lights",
+            "environment", "render"});
     if (root.contains("format") && string(root["format"], "/format") != "nearfield-scene")
       error("/format", "expected \"nearfield-scene\"");
     if (root.contains("version") && integer(root["version"], "/version", 0, 1 << 30) != 1)
@@ -72,6 +72,12 @@ class Parser {
       const json& lums = root["luminaires"];
       if (!lums.is_array()) error("/luminaires", fmt::format("expected an array, got {}", type_name(lums)));
       for (std::size_t i = 0; i < lums.size(); ++i) s.luminaires.push_back(luminaire(lums[i], at("/luminaires", i), i));
+    }
+    if (root.contains("farfield_lights")) {
+      const json& lights = root["farfield_lights"];
+      if (!lights.is_array()) error("/farfield_lights", fmt::format("expected an array, got {}", type_name(lights)));
+      for (std::size_t i = 0; i < lights.size(); ++i)
+        s.farfield_lights.push_back(farfield_light(lights[i], at("/farfield_lights", i), i));
     }
     if (root.contains("environment")) s.environment = environment(root["environment"], "/environment");
     if (root.contains("render")) s.render = render(root["render"], "/render");
@@ -401,8 +407,25 @@ class Parser {
     }
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "luminaire transforms must be rigid");
-    if (v.contains("intensity"))
-      l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    return l;
+  }
+
+  // A far-field light: the table is read here, so a bad file fails with the scene; the readers'
+  // messages name the file and the value (docs/photometry.md).
+  FarfieldLightRef farfield_light(const json& v, const std::string& ptr, std::size_t index) const {
+    object(v, ptr, {"name", "file", "transform", "intensity"});
+    FarfieldLightRef l;
+    l.name = v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("farfield{}", index);
+    l.file = existing_file(require(v, ptr, "file"), at(ptr, "file"));
+    try {
+      l.table = std::make_shared<const lum::Goniometric>(lum::read_goniometric(l.file));
+    } catch (const Error& e) {
+      error(at(ptr, "file"), e.what());
+    }
+    if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
+    if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "far-field light transforms must be rigid");
+    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
     return l;
   }
 

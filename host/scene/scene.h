@@ -9,8 +9,11 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
 #include <glm/mat4x4.hpp>
 
+#include "luminaire/goniometric.h"
 #include "scene/geometry.h"
 #include "scene/settings.h"
 
@@ -31,6 +34,17 @@ struct LuminaireRef {
   double intensity = 1.0;          // multiplies the luminaire's radiance, in [0, kMaxIntensity]
 };
 
+// One far-field goniometric point light (docs/photometry.md, "Far-field lights in scenes"): an
+// IES LM-63 or EULUMDAT intensity table I(C, gamma) in cd placed by a rigid transform. In the
+// light's local frame gamma = 0 is +z and C = 0 is +x, C = 90 +y (type C photometry).
+struct FarfieldLightRef {
+  std::string name;                               // "name" or "farfield<i>"
+  std::filesystem::path file;                     // absolute; read when the scene is read
+  std::shared_ptr<const lum::Goniometric> table;  // the file's table, expanded to C in [0, 360]
+  glm::dmat4 to_world{1.0};                       // rigid: light-local frame -> world
+  double intensity = 1.0;                         // multiplies I, in [0, kMaxIntensity]
+};
+
 struct Environment {
   std::filesystem::path file;  // absolute; must exist (not read by the scene loader)
   double rotation_deg = 0.0;   // about the world +y axis
@@ -43,6 +57,7 @@ struct Scene {
   Camera camera;
   Geometry geometry;
   std::vector<LuminaireRef> luminaires;
+  std::vector<FarfieldLightRef> farfield_lights;
   std::optional<Environment> environment;
   RenderSettings render;
 

@@ -1,0 +1,165 @@
+#include "render/farfield_contribution.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "cl/buffers.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "gl/gbuffer.h"
+#include "gl/scene_gpu.h"
+#include "gl/shadow_maps.h"
+#include "render/kurt_table.h"
+
+namespace nf::render {
+
+static_assert(sizeof(NfFarfieldLight) == 80 && offsetof(NfFarfieldLight, nc) == 28 &&
+                  offsetof(NfFarfieldLight, cd_offset) == 68,
+              "NfFarfieldLight must match kernels/shared/farfield.h");
+
+FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<scene::FarfieldLightRef>& lights,
+                                           const std::vector<scene::Material>& materials)
+    : rt_(rt) {
+  std::vector<float> angles, cd;
+  for (const auto& l : lights) {
+    if (!l.table) fail(fmt::format("far-field light '{}': no intensity table", l.name));
+    const lum::Goniometric& g = *l.table;
+    NfFarfieldLight d{};
+    const glm::dvec3 pos(l.to_world[3]);
+    d.px = static_cast<float>(pos.x);
+    d.py = static_cast<float>(pos.y);
+    d.pz = static_cast<float>(pos.z);
+    d.scale = static_cast<float>(l.intensity);
+    // world -> local rotation: the transpose of the rigid transform's rotation (columns = local axes)
+    const glm::dvec3 ax(l.to_world[0]), ay(l.to_world[1]), az(l.to_world[2]);
+    d.r0x = static_cast<float>(ax.x), d.r0y = static_cast<float>(ax.y), d.r0z = static_cast<float>(ax.z);
+    d.r1x = static_cast<float>(ay.x), d.r1y = static_cast<float>(ay.y), d.r1z = static_cast<float>(ay.z);
+    d.r2x = static_cast<float>(az.x), d.r2y = static_cast<float>(az.y), d.r2z = static_cast<float>(az.z);
+    d.nc = static_cast<nf_int>(g.c.size());
+    d.ng = static_cast<nf_int>(g.gamma.size());
+    d.c_offset = static_cast<nf_int>(angles.size());
+    for (double a : g.c) angles.push_back(static_cast<float>(a));
+    d.g_offset = static_cast<nf_int>(angles.size());
+    for (double a : g.gamma) angles.push_back(static_cast<float>(a));
+    d.cd_offset = static_cast<nf_int>(cd.size());
+    // I x intensity <= 1e30 cd x 1e6 (lum::kMaxCandela, scene::kMaxIntensity): finite in float
+    for (double v : g.cd) cd.push_back(static_cast<float>(v * l.intensity));
+    if (cd.size() > static_cast<std::size_t>(std::numeric_limits<nf_int>::max()))
+      fail("far-field lights: the intensity tables hold more than 2^31 values");
+    lights_.push_back(d);
+    to_world_.push_back(l.to_world);
+  }
+  lights_buf_ = cl::upload(rt_, lights_, "uploading the far-field lights");
+  angles_ = cl::upload(rt_, angles, "uploading the far-field lights' angles");
+  cd_ = cl::upload(rt_, cd, "uploading the far-field lights' intensity tables");
+  table_bytes_ = lights_.size() * sizeof(NfFarfieldLight) + (angles.size() + cd.size()) * sizeof(float);
+  const std::vector<NfKurtMaterial> table = kurt_table(materials);
+  kurt_ = cl::upload(rt_, table, "uploading the far-field lights' kurt material table");
+  kurt_count_ = static_cast<int>(table.size());
+  vis_ = cl::upload(rt_, std::vector<std::uint32_t>{}, "far-field visibility placeholder");
+}
+
+FarfieldContribution::~FarfieldContribution() = default;
+
+// The shadow map of a far-field light: gl::ShadowMaps with one cell whose reference light is the
+// light itself (local origin), looking along local +z with a symmetric frustum of 75 degrees per
+// side (the largest the light-field maps use; tan 75 = 3.73). Directions beyond it are lit.
+void FarfieldContribution::update_visibility(const FrameInputs& in, ContributionFrame& f) {
+  const bool wanted = in.settings.visibility == Visibility::shadowmaps && in.scene_gpu && in.gbuffer && in.geometry &&
+                      in.geometry->can_occlude();
+  vis_used_ = wanted;
+  if (!wanted) return;
+  if (maps_.empty() || map_size_ != in.settings.shadow_map_size) {
+    Timer t;
+    maps_.clear();
+    map_size_ = in.settings.shadow_map_size;
+    const double k = std::tan(75.0 * 3.14159265358979323846 / 180.0);
+    for (const auto& m : to_world_) {
+      gl::ShadowMapSpec spec;
+      spec.lights = {glm::dvec3(0.0)};
+      spec.cells_x = spec.cells_y = 1;
+      spec.to_world = m;
+      spec.size = map_size_;
+      spec.frustum = gl::ShadowFrustum{-k, k, -k, k, 0.005};
+      maps_.push_back(std::make_unique<gl::ShadowMaps>(spec));
+      maps_.back()->render(*in.scene_gpu);
+    }
+    f.parts_ms.emplace_back("shadow maps", t.ms());
+    f.step1_ms += t.ms();
+    vis_valid_ = false;
+  }
+  if (vis_valid_ && in.view_version != 0 && in.view_version == vis_version_) return;
+  Timer t;
+  const std::size_t n = static_cast<std::size_t>(std::max(in.count, 0)), nl = maps_.size();
+  std::vector<std::uint32_t> bits(std::max<std::size_t>(n * nl, 1), 0u);
+  for (std::size_t k = 0; k < nl; ++k) {
+    const std::vector<std::uint32_t> v = maps_[k]->visibility(*in.gbuffer);  // one word per pixel
+    if (v.size() != n) fail(fmt::format("far-field shadow map {}: {} visibility words for {} pixels", k, v.size(), n));
+    for (std::size_t p = 0; p < n; ++p) bits[p * nl + k] = v[p] & 1u;
+  }
+  vis_ = cl::upload(rt_, bits, "uploading the far-field visibility");
+  vis_bytes_ = bits.size() * sizeof(std::uint32_t);
+  vis_version_ = in.view_version;
+  vis_valid_ = true;
+  f.parts_ms.emplace_back("visibility", t.ms());
+  f.step1_ms += t.ms();
+}
+
+void FarfieldContribution::prepare(const FrameInputs&) {
+  if (!shade_()) shade_ = rt_.kernel("farfield.cl", "farfield_shade");
+}
+
+// One launch of farfield_shade over every surface (kernels/farfield.cl has the formula).
+ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
+  prepare(in);
+  ContributionFrame f;
+  update_visibility(in, f);
+  Timer wall;
+  const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
+  if (out_bytes_ != n * sizeof(cl_float4)) {
+    cl::call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4)); },
+             "far-field output buffer");
+    out_bytes_ = n * sizeof(cl_float4);
+  }
+  cl::call(
+      [&] {
+        int a = 0;
+        shade_.setArg(a++, in.surfaces);
+        shade_.setArg(a++, in.count);
+        shade_.setArg(a++, lights_buf_);
+        shade_.setArg(a++, static_cast<cl_int>(lights_.size()));
+        shade_.setArg(a++, angles_);
+        shade_.setArg(a++, cd_);
+        shade_.setArg(a++, kurt_);
+        shade_.setArg(a++, kurt_count_);
+        shade_.setArg(a++, vis_);
+        shade_.setArg(a++, vis_used_ ? 1 : 0);
+        shade_.setArg(a++, out_);
+      },
+      "far-field kernel arguments");
+  const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(n));
+  cl::call([&] { ev.wait(); }, "far-field kernel");
+  f.step2_ms = cl::Runtime::event_ms(ev);
+  f.wall_ms = wall.ms();
+  Timer readback;
+  std::vector<glm::vec4> rgb(static_cast<std::size_t>(std::max(in.count, 0)));
+  if (in.count > 0)
+    cl::call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
+             "reading the far-field radiance");
+  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
+  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) * lights_.size();
+  f.readback_ms = readback.ms();
+  return f;
+}
+
+std::size_t FarfieldContribution::device_bytes() const {
+  return table_bytes_ + out_bytes_ + vis_bytes_ +
+         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial);
+}
+
+}  // namespace nf::render

@@ -1,0 +1,61 @@
+#pragma once
+// Far-field goniometric point lights (IES LM-63 / EULUMDAT) as a contribution of the frame
+// (docs/photometry.md, "Far-field lights in scenes"): the scene's intensity tables uploaded once,
+// and per frame one launch of kernels/farfield.cl that shades every G-buffer surface with
+//   L_o = sum_lights f_r(w, v) max(0, n.w) I(C, gamma) / r^2
+// (I bilinear in C and gamma, as lum::Goniometric::intensity). Visibility: with the frame's
+// `visibility = shadowmaps` (and geometry that can occlude), one perspective shadow map per light
+// (gl::ShadowMaps with a single cell at the light, looking along its +z, at most 75 degrees off
+// axis per side; points outside count as lit), rendered once, and per view a GL pass over the
+// G-buffer giving one bit per pixel and light; otherwise every light reaches every surface that
+// faces it.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "kernels/shared/farfield.h"
+#include "kernels/shared/kurt.h"
+#include "render/contribution.h"
+
+namespace nf::gl {
+class ShadowMaps;
+}
+
+namespace nf::render {
+
+class FarfieldContribution final : public Contribution {
+ public:
+  // The scene's far-field lights (tables already read by the scene loader) and the Kurt material
+  // table of its materials.
+  FarfieldContribution(cl::Runtime& rt, const std::vector<scene::FarfieldLightRef>& lights,
+                       const std::vector<scene::Material>& materials = {});
+  ~FarfieldContribution() override;
+  std::string name() const override { return "farfield"; }
+  void prepare(const FrameInputs& in) override;
+  ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
+  std::size_t device_bytes() const override;
+
+  // The device records of the lights and their tables, as uploaded (tests).
+  const std::vector<NfFarfieldLight>& device_lights() const { return lights_; }
+  // Whether the last frame used shadow maps (tests).
+  bool used_shadow_maps() const { return vis_used_; }
+
+ private:
+  cl::Runtime& rt_;
+  std::vector<NfFarfieldLight> lights_;
+  std::size_t table_bytes_ = 0, out_bytes_ = 0;
+  int kurt_count_ = 0;
+  ::cl::Buffer lights_buf_, angles_, cd_, kurt_, out_;
+  ::cl::Kernel shade_;
+  // Shadow maps (one per light) and the per-pixel visibility bits of the current view.
+  void update_visibility(const FrameInputs& in, ContributionFrame& f);
+  std::vector<glm::dmat4> to_world_;
+  std::vector<std::unique_ptr<gl::ShadowMaps>> maps_;
+  int map_size_ = 0;
+  std::uint64_t vis_version_ = 0;
+  bool vis_valid_ = false, vis_used_ = false;
+  std::size_t vis_bytes_ = 0;
+  ::cl::Buffer vis_;
+};
+
+}  // namespace nf::render
