@@ -176,8 +176,9 @@ const CommandRegistration reg("probe", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("probe", "Irradiance at points in the luminaire frame (one 'E_R E_G E_B' line each)");
   cmd->add_option("file", o.file, "Luminaire manifest (.json)")->required();
   cmd->add_option("--points", o.points, "Points file: lines 'x y z nx ny nz' ('#' comments); default stdin");
-  auto* method = cmd->add_option("--method", o.method, "ours | paper | uniform | uniform-equal | global | reference")
-                     ->capture_default_str();
+  auto* method =
+      cmd->add_option("--method", o.method, "ours | paper | uniform | uniform-equal | ours-equal | global | reference")
+          ->capture_default_str();
   cmd->add_option("--spp", o.spp, "Samples per point (K)")->capture_default_str()->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_flag("--reference", o.reference, "CPU reference quadrature (double precision) instead of sampling")
