@@ -685,13 +685,16 @@ def carrier(g, tol=EQUAL_TOL):
 
 def ablation_sentence(a, g):
     """One target's finding, every number and word from g."""
-    vb = verdict(g["balancing"], "saves", "costs", "changes nothing")
-    vc = verdict(g["cdfs"], "save", "cost", "change nothing")
+    def effect(x, s):
+        """'saves 2×', 'costs 2× the samples' or 'changes nothing measurable, 1.02×' (s: verb suffix)."""
+        return verdict(x, f"save{s} {fmt(x)}×", f"cost{s} {fmt(1 / x)}× the samples",
+                       f"change{s} nothing measurable, {fmt(x)}×")
+
     tw = verdict(g["total"], f"{fmt(g['total'])}× fewer samples than", f"{fmt(1 / g['total'])}× more samples than",
                  "as many samples as")
     return (f"On {a['target']} ({a['sampler']}): `ours` needs {tw} `uniform-equal` for equal ΔE; "
-            f"balancing {vb} {fmt(g['balancing'])}× ({fmt(g['bal_uniform'])}× with uniform draws, "
-            f"{fmt(g['bal_restricted'])}× with the restricted CDFs), the restricted CDFs {vc} {fmt(g['cdfs'])}× "
+            f"balancing {effect(g['balancing'], 's')} ({fmt(g['bal_uniform'])}× with uniform draws, "
+            f"{fmt(g['bal_restricted'])}× with the restricted CDFs), the restricted CDFs {effect(g['cdfs'], '')} "
             f"({fmt(g['cdf_equal'])}× with equal counts, {fmt(g['cdf_balanced'])}× with balanced K_m): "
             f"{carrier(g)}.")
 
@@ -733,8 +736,10 @@ def ablation_section(meta, P):
     L.append("")
     L.append("*How to read*: per target and sampler, each row is one cell. 'spp / 252 for equal ΔE' is the spp the "
              "cell needs to reach `ours`'s ΔE at 252 spp, over 252 (1 for `ours`; 4 = four times the samples; "
-             "*extrap.* = beyond the measured spp, power law through the last three points); the same for rel. MSE "
-             "(linear HDR; falls as 1/spp for these unbiased estimators, so it extrapolates more soundly than ΔE). "
+             "*extrap.* = beyond the measured spp, power law through the last three points: far beyond them, "
+             "e.g. hundreds of times, only an order of magnitude); the same for rel. MSE "
+             "(linear HDR; falls as 1/spp for these unbiased estimators, so it extrapolates more soundly than ΔE, "
+             "which saturates where the error is large). "
              "'time' and 'CPU time' are the cell's time at that spp over `ours`'s at 252 spp (CPU time is the "
              "process's, robust to the other users of the machine). The random sampler gives the estimators' own "
              "variance; Halton (the paper's) adds jitter from its shared sequence.")
@@ -834,7 +839,7 @@ def paper_figures_section(meta, P, out):
         if o252 and u252 and u1008:
             r1 = ratio(u252["delta_e"], o252["delta_e"])
             r2 = ratio(u1008["delta_e"], o252["delta_e"])
-            w2 = verdict(r2, "still has the higher ΔE", "has the lower ΔE", "has about the same ΔE")
+            w2 = verdict(r2, "still has a higher ΔE", "has a lower ΔE", "has about the same ΔE")
             L.append(f"Fig. 12 measured: at 252 spp `uniform-equal`'s ΔE is {fmt(r1)}× `ours`'s "
                      f"({fmt(u252['delta_e'])} vs {fmt(o252['delta_e'])}; paper 2.4×); at 1008 spp `uniform-equal` "
                      f"{w2} than `ours` at 252 ({fmt(u1008['delta_e'])} vs {fmt(o252['delta_e'])}, {fmt(r2)}×; "
@@ -844,10 +849,11 @@ def paper_figures_section(meta, P, out):
         o63 = P.point(lum, "ours", 63, "halton", study="paper")
         g63k = P.point(lum, "global", 63000, "halton", study="paper")
         if o63 and g63k:
-            wd = verdict(ratio(g63k["delta_e"], o63["delta_e"]), "lower", "higher", "about the same")
+            wd = verdict(ratio(g63k["delta_e"], o63["delta_e"]), "a lower", "a higher", "about the same")
             L.append(f"Fig. 11 measured: `ours` at 63 spp has {wd} ΔE than `global` at 63 000 spp "
-                     f"({fmt(o63['delta_e'])} vs {fmt(g63k['delta_e'])}) in {fmt(ratio(o63['time_ms'], g63k['time_ms']))}× "
-                     f"its time (CPU {fmt(ratio(o63['cpu_ms'], g63k['cpu_ms']))}×; paper 62 vs 4821 ms).")
+                     f"({fmt(o63['delta_e'])} vs {fmt(g63k['delta_e'])}); `global` takes "
+                     f"{fmt(ratio(g63k['time_ms'], o63['time_ms']))}× `ours`'s time (CPU time "
+                     f"{fmt(ratio(g63k['cpu_ms'], o63['cpu_ms']))}×; paper 4821 vs 62 ms = 78×).")
             L.append("")
     c13 = [P.point(t, "ours", s, "halton", study="paper") for t in ("closeup-car1",) for s in (100, 200, 400)]
     if all(c13):
@@ -1000,7 +1006,8 @@ def differences(meta, P, H):
     out.append(
         "- **`uniform` keeps the balanced K_m** of Eq. 12 (docs/sampling.md: K_m as for `ours`, uniform on B_m(p)), "
         "so it isolates the restricted CDFs. The paper's uniform variant draws 'the same number of samples from "
-        "each texture image' (no balancing), which also spends samples on dim images; its ratio includes that.")
+        "each texture image' (no balancing), which also spends samples on dim images; its ratio includes that. "
+        "`uniform-equal` is that baseline and `ours-equal` the fourth cell: the Ablation section separates the two.")
 
     # Halton vs random: monotonicity of the error curves and the bias of the total light
     targets = P.targets()
