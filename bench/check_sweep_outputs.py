@@ -25,8 +25,9 @@ REFERENCE_COLUMNS = [
     "samples", "valid_pixels", "mean_luminance", "noise_rel_mse", "noise_delta_e",
 ]
 BREAKDOWN_COLUMNS = ["target", "structure", "spp", "rep", "category", "ms"]
-PLOTS = ["error_vs_spp.png", "error_vs_time.png", "relmse_vs_spp.png", "breakdown.png", "studies.png"]
-METHODS = {"ours", "paper", "uniform", "uniform-equal", "global"}
+PLOTS = ["error_vs_spp.png", "error_vs_time.png", "relmse_vs_spp.png", "relmse_vs_time.png", "breakdown.png",
+         "studies.png"]
+METHODS = {"ours", "paper", "uniform", "uniform-equal", "ours-equal", "global"}
 SAMPLERS = {"halton", "halton-scrambled", "random"}
 
 
@@ -115,7 +116,7 @@ def main():
     if need(os.path.isfile(rp), "report.md: missing"):
         with open(rp, encoding="utf-8") as f:
             text = f.read()
-        for heading in ("## Machine", "## Headline ratios", "## Figures"):
+        for heading in ("## Machine", "## Ablation", "## Headline ratios", "## Figures"):
             need(heading in text, f"report.md: no '{heading}' section")
         if meta:
             need(meta.get("machine", {}).get("cpu_model", "?") in text, "report.md: does not name the CPU")

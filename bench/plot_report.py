@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Plots and the Markdown report of a bench_sweep run (bench/README.md).
 
-    bench/plot_report.py [RESULTS_DIR]      (default: bench/results)
+    bench/plot_report.py [RESULTS_DIR] [--no-plots]     (default: bench/results)
+
+--no-plots writes report.md alone (bench/test_plot_report.py: the sentences, quickly).
 
 Reads points.csv, references.csv, breakdown.csv, meta.json and, when present, micro.json
 (Google Benchmark) from RESULTS_DIR and writes there:
@@ -9,6 +11,7 @@ Reads points.csv, references.csv, breakdown.csv, meta.json and, when present, mi
     error_vs_spp.png    mean Lab ΔE76 vs samples per pixel, per target and method
     error_vs_time.png   mean Lab ΔE76 vs time per image (Steps 1-2 + accumulation), per target
     relmse_vs_spp.png   relative MSE (linear HDR) vs spp
+    relmse_vs_time.png  relative MSE vs time per image
     breakdown.png       step breakdown: the scene's full frame (paper Fig. 10), close-ups' Steps 1-2
     studies.png         search depth (Fig. 5), samplers (Fig. 8), K_max (Fig. 9), balance (Eq. 12)
     report.md           machine, configuration, headline ratios, tables, the figures
@@ -39,8 +42,18 @@ METHOD_STYLE = {
     "paper": ("tab:purple", "v"),
     "uniform": ("tab:orange", "s"),
     "uniform-equal": ("tab:green", "D"),
+    "ours-equal": ("tab:cyan", "P"),
     "global": ("tab:red", "^"),
 }
+# The 2 x 2 ablation (docs/sampling.md): (method, samples per image, draw inside B_m(p)).
+CELLS = [
+    ("ours", "balanced K_m", "restricted CDFs"),
+    ("uniform", "balanced K_m", "uniform in box"),
+    ("ours-equal", "equal K / M", "restricted CDFs"),
+    ("uniform-equal", "equal K / M", "uniform in box"),
+]
+# The paper's spp for the bike (Figs. 11, 12) and car1 (Fig. 13).
+PAPER_SPP = (63, 252, 1008, 63000)
 SAMPLER_STYLE = {"halton": "-", "halton-scrambled": ":", "random": "--"}
 PAPER = {
     "uniform_spp_ratio": "4× (252 vs 1008 spp, bike)",
@@ -601,7 +614,329 @@ def exact_from_depth(P, t, tol=EQUAL_TOL):
 
 
 # ---------------------------------------------------------------------------------------------
+# the 2 x 2 ablation: {equal, balanced} samples per image x {uniform in box, restricted CDFs}
+
+
+def ablation(P, t, sampler):
+    """Per cell of CELLS on target t: ΔE and rel. MSE at 252 spp, the spp / 252 each needs for
+    `ours`'s ΔE (and rel. MSE) at 252 spp, and its time and CPU time at that spp / `ours`'s at 252.
+    None when `ours` has no 252-spp point; cells without a curve are left out."""
+    ours = P.point(t, "ours", 252, sampler)
+    if ours is None:
+        return None
+    a = {"target": t, "sampler": sampler, "cells": {}}
+    for m, _, _ in CELLS:
+        xs, ys = P.curve(t, m, sampler)
+        if not len(xs):
+            continue
+        pt = P.point(t, m, 252, sampler)
+        c = {"de252": pt["delta_e"] if pt else float("nan"), "mse252": pt["rel_mse"] if pt else float("nan")}
+        if m == "ours":  # the reference point of every ratio: 1 by definition
+            spp_de, how_de, spp_mse, how_mse = 252.0, "measured", 252.0, "measured"
+        else:
+            spp_de, how_de = spp_to_reach(xs, ys, ours["delta_e"])
+            spp_mse, how_mse = spp_to_reach(*P.curve(t, m, sampler, y="rel_mse"), ours["rel_mse"])
+        c["spp_de"], c["how_de"] = ratio(spp_de, 252.0), how_de
+        c["spp_mse"], c["how_mse"] = ratio(spp_mse, 252.0), how_mse
+        xt, yt = P.curve(t, m, sampler, y="time_ms")
+        c["time"] = ratio(loglog_interp(xt, yt, spp_de), ours["time_ms"]) if m != "ours" else 1.0
+        xc, yc = P.curve(t, m, sampler, y="cpu_ms")
+        ok = np.isfinite(yc) & (yc > 0)
+        c["cpu"] = (ratio(loglog_interp(xc[ok], yc[ok], spp_de), ours.get("cpu_ms", float("nan")))
+                    if m != "ours" and ok.sum() >= 1 else (1.0 if m == "ours" else float("nan")))
+        a["cells"][m] = c
+    return a
+
+
+def factor_gains(a, key="spp_de"):
+    """The two factors' gains from the cells' spp for equal error (> 1: the factor saves samples):
+      balancing       equal -> balanced K_m: uniform-equal / uniform and ours-equal / ours
+      restricted CDFs uniform -> restricted:  uniform-equal / ours-equal and uniform / ours
+    each factor's gain is the geometric mean of its two ratios, so balancing × CDFs = total =
+    uniform-equal / ours. None unless all four cells are there."""
+    c = a["cells"]
+    if not all(m in c and math.isfinite(c[m][key]) and c[m][key] > 0 for m, _, _ in CELLS):
+        return None
+    s = {m: c[m][key] for m, _, _ in CELLS}
+    g = {
+        "bal_uniform": s["uniform-equal"] / s["uniform"],
+        "bal_restricted": s["ours-equal"] / s["ours"],
+        "cdf_equal": s["uniform-equal"] / s["ours-equal"],
+        "cdf_balanced": s["uniform"] / s["ours"],
+        "total": s["uniform-equal"] / s["ours"],
+    }
+    g["balancing"] = math.sqrt(g["bal_uniform"] * g["bal_restricted"])
+    g["cdfs"] = math.sqrt(g["cdf_equal"] * g["cdf_balanced"])
+    return g
+
+
+def carrier(g, tol=EQUAL_TOL):
+    """Which factor carries the gain, from the two factors' gains (words follow the numbers)."""
+    vb = verdict(g["balancing"], "helps", "hurts", "none")
+    vc = verdict(g["cdfs"], "helps", "hurts", "none")
+    if vb == "helps" and (vc != "helps" or g["balancing"] > g["cdfs"] * (1.0 + tol)):
+        return "balancing carries the gain"
+    if vc == "helps" and (vb != "helps" or g["cdfs"] > g["balancing"] * (1.0 + tol)):
+        return "the restricted CDFs carry the gain"
+    if vb == "helps" and vc == "helps":
+        return "both factors share the gain about equally"
+    return "neither factor gains samples"
+
+
+def ablation_sentence(a, g):
+    """One target's finding, every number and word from g."""
+    def effect(x, s):
+        """'saves 2×', 'costs 2× the samples' or 'changes nothing measurable, 1.02×' (s: verb suffix)."""
+        return verdict(x, f"save{s} {fmt(x)}×", f"cost{s} {fmt(1 / x)}× the samples",
+                       f"change{s} nothing measurable, {fmt(x)}×")
+
+    tw = verdict(g["total"], f"{fmt(g['total'])}× fewer samples than", f"{fmt(1 / g['total'])}× more samples than",
+                 "as many samples as")
+    return (f"On {a['target']} ({a['sampler']}): `ours` needs {tw} `uniform-equal` for equal ΔE; "
+            f"balancing {effect(g['balancing'], 's')} ({fmt(g['bal_uniform'])}× with uniform draws, "
+            f"{fmt(g['bal_restricted'])}× with the restricted CDFs), the restricted CDFs {effect(g['cdfs'], '')} "
+            f"({fmt(g['cdf_equal'])}× with equal counts, {fmt(g['cdf_balanced'])}× with balanced K_m): "
+            f"{carrier(g)}.")
+
+
+def bike_like(meta):
+    """The close-up of the `bike` preset (the paper's bike layout), or None."""
+    for t in meta.get("targets", []):
+        if t.get("kind") == "closeup" and t.get("luminaire") == "bike":
+            return t["name"]
+    return None
+
+
+def four_x(g, sampler, target):
+    """Does `ours` need 4× fewer samples than `uniform-equal` (the paper's Fig. 12 claim)?"""
+    r = g["total"]
+    if r >= 4.0 / (1.0 + EQUAL_TOL):
+        ans = f"yes: {fmt(r)}× (paper 4×)"
+    elif r > 1.0 + EQUAL_TOL:
+        ans = f"no: {fmt(r)}×, fewer than the paper's 4×, though `ours` still needs fewer samples"
+    elif r >= 1.0 / (1.0 + EQUAL_TOL):
+        ans = f"no: {fmt(r)}×, both need equal samples within ±{fmt(100 * EQUAL_TOL, 2)} %"
+    else:
+        ans = f"no: {fmt(r)}×, `uniform-equal` needs fewer samples than `ours`"
+    return (f"Does `ours` need 4× fewer samples than the paper's baseline `uniform-equal` for equal ΔE on the "
+            f"bike-like data ({target}, {sampler})? {ans}.")
+
+
+def times_how(v, how):
+    """'1.7×', or '1.7× (extrap.)' beyond the measured spp."""
+    return fmt(v) + "×" + (" (extrap.)" if how == "extrapolated" else "")
+
+
+def ablation_section(meta, P):
+    L = ["## Ablation: which factor carries the gain", ""]
+    L.append("Two choices separate `ours` from the paper's Fig. 12 baseline (`uniform-equal`): how many samples "
+             "each image gets (equal K / M, or balanced K_m = K A_m(p) / A(p), Eq. 12) and how a sample is drawn "
+             "in B_m(p) (uniformly, or through the restricted CDFs). The four methods are the four combinations "
+             "(docs/sampling.md, \"The 2 x 2 ablation\"); `global` (Eq. 6) is in the headline section.")
+    L.append("")
+    L.append("*How to read*: per target and sampler, each row is one cell. 'spp / 252 for equal ΔE' is the spp the "
+             "cell needs to reach `ours`'s ΔE at 252 spp, over 252 (1 for `ours`; 4 = four times the samples; "
+             "*extrap.* = beyond the measured spp, power law through the last three points: far beyond them, "
+             "e.g. hundreds of times, only an order of magnitude); the same for rel. MSE "
+             "(linear HDR; falls as 1/spp for these unbiased estimators, so it extrapolates more soundly than ΔE, "
+             "which saturates where the error is large). "
+             "'time' and 'CPU time' are the cell's time at that spp over `ours`'s at 252 spp (CPU time is the "
+             "process's, robust to the other users of the machine). The random sampler gives the estimators' own "
+             "variance; Halton (the paper's) adds jitter from its shared sequence.")
+    L.append("")
+    findings, groups, fours = [], {}, []
+    lum = bike_like(meta)
+    any_table = False
+    for t in P.targets():
+        rows = []
+        for sampler in ("random", "halton"):
+            a = ablation(P, t, sampler)
+            if a is None:
+                continue
+            for m, counts, draw in CELLS:
+                c = a["cells"].get(m)
+                if c is None:
+                    continue
+                rows.append([sampler, f"`{m}`", counts, draw, fmt(c["de252"]), fmt(c["mse252"]),
+                             times_how(c["spp_de"], c["how_de"]), times_how(c["spp_mse"], c["how_mse"]),
+                             fmt(c["time"]) + "×", fmt(c["cpu"]) + "×"])
+            g = factor_gains(a)
+            if g is not None:
+                findings.append(ablation_sentence(a, g))
+                if sampler == "random":
+                    groups.setdefault(carrier(g), []).append(f"{t} ({fmt(g['balancing'])}× vs {fmt(g['cdfs'])}×)")
+                if t == lum:
+                    fours.append(four_x(g, sampler, t))
+        if rows:
+            any_table = True
+            L.append(f"**{t}**")
+            L.append("")
+            L.append(md_table(["sampler", "method", "samples per image", "draw in B_m(p)", "ΔE @252", "rel. MSE @252",
+                               "spp / 252 for equal ΔE", "spp / 252 for equal rel. MSE", "time for equal ΔE",
+                               "CPU time for equal ΔE"], rows))
+            L.append("")
+    if not any_table:
+        L.append("No ablation points in this run (`ours` at 252 spp is missing).")
+        L.append("")
+        return L
+    L.append("### Findings (computed from the tables)")
+    L.append("")
+    L.append("*How to read*: a factor's gain is the geometric mean of its two ratios in the 2 × 2 (for balancing: "
+             "`uniform-equal`/`uniform` and `ours-equal`/`ours`, in spp for equal ΔE), so balancing × restricted "
+             "CDFs = `uniform-equal`/`ours`. A gain within ±"
+             f"{fmt(100 * EQUAL_TOL, 2)} % of 1 counts as none; one factor 'carries the gain' when its gain exceeds "
+             "the other's by more than that.")
+    L.append("")
+    if groups:
+        L.append("**Summary (random sampler; balancing gain vs restricted-CDF gain)**: "
+                 + "; ".join(f"{w} on {', '.join(ts)}" for w, ts in groups.items()) + ".")
+        L.append("")
+    for f in fours:
+        L.append(f"**{f}**")
+        L.append("")
+    if lum is None:
+        L.append("No close-up of the `bike` preset in this run: the 4× question is not answered here.")
+        L.append("")
+    for f in findings:
+        L.append(f"- {f}")
+    L.append("")
+    return L
+
+
+def paper_figures_section(meta, P, out):
+    """Figs. 11, 12 (bike), 13 (car1), 9 (K_max) at the paper's spp, and Fig. 7 from visibility.csv."""
+    L = ["## The paper's figures at the paper's spp", ""]
+    lum = bike_like(meta)
+    L.append("The luminaire closest to the paper's bike is the `bike` preset (host/luminaire/generator.cpp): "
+             "9 × 7 images of 300² pixels, quadratic basis (`quadratic2`) of 15 mm support, Goesele's "
+             "reconstruction, δ = 0.5 m — the layout of the paper's Table 1 — but its images are a synthetic smooth "
+             "lens/beam emitter, not the measured filament and reflector. 1008 spp is run as 2 progressive frames "
+             "of K = 504 (the sequences advance per frame: one estimate with 1008 samples per pixel; the CSV's K and "
+             "frames columns say so), 63 000 as 63 frames of K = 1000. Halton, as in the paper, unless stated.")
+    L.append("")
+    rows = []
+    if lum:
+        for m, _, _ in CELLS + [("global", "", "")]:
+            for sampler in ("halton", "random"):
+                cells = []
+                for spp in PAPER_SPP:
+                    r = P.point(lum, m, spp, sampler, study="paper")
+                    cells.append(f"{fmt(r['delta_e'])} / {fmt(r['time_ms'])} / {fmt(r['cpu_ms'])}" if r else "–")
+                if any(c != "–" for c in cells):
+                    rows.append([f"`{m}`", sampler] + cells)
+    if rows:
+        L.append(f"**Figs. 11 and 12 on {lum}**: ΔE / time ms / CPU ms per image")
+        L.append("")
+        L.append("*How to read*: one row per method and sampler, one column per spp of the paper. Paper Fig. 12: "
+                 "`ours` 252 spp 1.4 Lab in 118 ms, uniform 252 spp 3.4 Lab in 84 ms, uniform 1008 spp 1.4 Lab in "
+                 "201 ms; Fig. 11: `ours` 63 spp in 62 ms, global 63 000 spp in 4821 ms.")
+        L.append("")
+        L.append(md_table(["method", "sampler"] + [f"{s} spp" for s in PAPER_SPP], rows))
+        L.append("")
+        o252 = P.point(lum, "ours", 252, "halton", study="paper")
+        u252 = P.point(lum, "uniform-equal", 252, "halton", study="paper")
+        u1008 = P.point(lum, "uniform-equal", 1008, "halton", study="paper")
+        if o252 and u252 and u1008:
+            r1 = ratio(u252["delta_e"], o252["delta_e"])
+            r2 = ratio(u1008["delta_e"], o252["delta_e"])
+            w2 = verdict(r2, "still has a higher ΔE", "has a lower ΔE", "has about the same ΔE")
+            L.append(f"Fig. 12 measured: at 252 spp `uniform-equal`'s ΔE is {fmt(r1)}× `ours`'s "
+                     f"({fmt(u252['delta_e'])} vs {fmt(o252['delta_e'])}; paper 2.4×); at 1008 spp `uniform-equal` "
+                     f"{w2} than `ours` at 252 ({fmt(u1008['delta_e'])} vs {fmt(o252['delta_e'])}, {fmt(r2)}×; "
+                     f"paper: the same 1.4), in {fmt(ratio(u1008['time_ms'], o252['time_ms']))}× the time "
+                     f"(CPU time {fmt(ratio(u1008['cpu_ms'], o252['cpu_ms']))}×; paper 201 vs 118 ms = 1.7×).")
+            L.append("")
+        o63 = P.point(lum, "ours", 63, "halton", study="paper")
+        g63k = P.point(lum, "global", 63000, "halton", study="paper")
+        if o63 and g63k:
+            wd = verdict(ratio(g63k["delta_e"], o63["delta_e"]), "a lower", "a higher", "about the same")
+            L.append(f"Fig. 11 measured: `ours` at 63 spp has {wd} ΔE than `global` at 63 000 spp "
+                     f"({fmt(o63['delta_e'])} vs {fmt(g63k['delta_e'])}); `global` takes "
+                     f"{fmt(ratio(g63k['time_ms'], o63['time_ms']))}× `ours`'s time (CPU time "
+                     f"{fmt(ratio(g63k['cpu_ms'], o63['cpu_ms']))}×; paper 4821 vs 62 ms = 78×).")
+            L.append("")
+    c13 = [P.point(t, "ours", s, "halton", study="paper") for t in ("closeup-car1",) for s in (100, 200, 400)]
+    if all(c13):
+        L.append("**Fig. 13 on closeup-car1** (`ours`, Halton): ΔE "
+                 + ", ".join(f"{fmt(r['delta_e'])} at {int(r['spp'])} spp ({fmt(r['time_ms'])} ms)" for r in c13)
+                 + "; paper (close-up view) 1.12, 0.84, 0.53 at 100, 200, 400 spp (50, 84, 149 ms). "
+                 f"ΔE falls {fmt(ratio(c13[0]['delta_e'], c13[2]['delta_e']))}× from 100 to 400 spp (paper 2.1×; "
+                 "1/√spp would give 2×).")
+        L.append("")
+    if lum:
+        k7 = [r for r in P.select(study="kmax", target=lum) if r["k_max"] == 7]
+        k0 = [r for r in P.select(study="kmax", target=lum) if r["k_max"] == 0]
+        if k7 and k0:
+            a, b = k7[0], k0[0]
+            L.append(f"**Fig. 9 on {lum}** (K = 200, K_max = 7 vs none, Halton): ΔE against the reference "
+                     f"{fmt(a['delta_e'])} vs {fmt(b['delta_e'])} (max {fmt(a['delta_e_max'])} vs "
+                     f"{fmt(b['delta_e_max'])}), {fmt(ratio(a['samples'], b['samples']))}× the samples in "
+                     f"{fmt(ratio(a['time_ms'], b['time_ms']))}× the time{cpu_txt(a, b)}. The paper compares the two "
+                     "images with each other (0.63 mean, 23 max ΔE; 13.5 vs 11.6 fps = 0.86× the time).")
+            L.append("")
+    vis = load_csv(os.path.join(out, "visibility.csv"))
+    if vis:
+        parts = []
+        for t in dict.fromkeys(r["target"] for r in vis):
+            none = [r for r in vis if r["target"] == t and r["visibility"] == "none"]
+            sm = sorted((r for r in vis if r["target"] == t and r["visibility"] == "shadowmaps"),
+                        key=lambda r: fnum(r["shadow_map_size"]))
+            if none and sm:
+                parts.append(f"{t}: ΔE {fmt(fnum(none[0]['delta_e']))} without visibility, "
+                             f"{fmt(fnum(sm[0]['delta_e']))}-{fmt(fnum(sm[-1]['delta_e']))} with shadow maps of "
+                             f"{sm[0]['shadow_map_size']}-{sm[-1]['shadow_map_size']}² (rel. bias "
+                             f"{100 * fnum(none[0]['rel_bias']):+.1f} % vs {100 * fnum(sm[-1]['rel_bias']):+.1f} %)")
+        L.append("**Fig. 7** (shadow-map visibility vs the ray-cast reference) is measured by `bench_visibility`, "
+                 "not by this sweep: [visibility.md](visibility.md). From its table: " + "; ".join(parts) + ".")
+        L.append("")
+    return L
+
+
+# ---------------------------------------------------------------------------------------------
 # report
+
+
+def gpu_line(cl):
+    """Whether this run had a GPU (from the OpenCL device type), with the earlier H100 figures."""
+    if "GPU" in str(cl.get("type", "")).upper():
+        return f"this run's OpenCL device is a GPU ({cl.get('name', '?')})"
+    return ("none in this run (no GPU was lent to the session that ran it; every time here is the CPU's). "
+            "Earlier figures of the same kernels on an NVIDIA H100: [gpu/README.md](gpu/README.md)")
+
+
+# The full plan's defaults (bench/sweep/plan.cpp), for the note on a reduced run.
+FULL_DEFAULTS = {"closeup_res": 128, "closeup_max_spp": 4000, "closeup_ref_frames": 64, "scene": (320, 180), "scene_ref_frames": 16,
+                 "studies": ("spp", "sampler", "kmax", "balance", "search", "structure", "paper")}
+
+
+def reductions(meta, P):
+    """What this full-mode run left out or shrank against the plan's defaults (from meta.json and
+    the studies present), as a list of phrases; empty when nothing was reduced."""
+    if meta.get("mode") != "full":
+        return []
+    out = []
+    tg = meta.get("targets", [])
+    res = sorted({t["width"] for t in tg if t.get("kind") == "closeup"})
+    if res and res != [FULL_DEFAULTS["closeup_res"]]:
+        out.append(f"close-ups at {'/'.join(str(r) for r in res)}² pixels (default {FULL_DEFAULTS['closeup_res']}²)")
+    cf = meta.get("closeup_reference", {}).get("frames")
+    if cf and cf != FULL_DEFAULTS["closeup_ref_frames"]:
+        out.append(f"close-up references of {cf} frames of K = 1000 (default {FULL_DEFAULTS['closeup_ref_frames']})")
+    sc = [(t["width"], t["height"]) for t in tg if t.get("kind") == "scene"]
+    if sc and sc[0] != FULL_DEFAULTS["scene"]:
+        out.append(f"the scene at {sc[0][0]}×{sc[0][1]} (default {FULL_DEFAULTS['scene'][0]}×{FULL_DEFAULTS['scene'][1]})")
+    sf = meta.get("scene_reference", {}).get("frames")
+    if sc and sf and sf != FULL_DEFAULTS["scene_ref_frames"]:
+        out.append(f"a scene reference of {sf} frames (default {FULL_DEFAULTS['scene_ref_frames']})")
+    top = max((r["spp"] for r in P.rows if r["study"] == "spp" and r["kind"] == "closeup"), default=None)
+    if top is not None and top < FULL_DEFAULTS["closeup_max_spp"]:
+        out.append(f"the spp study's close-ups up to {fmt(top)} spp (default {fmt(FULL_DEFAULTS['closeup_max_spp'])}; "
+                   "`--max-spp`, beyond it the spp for equal error are extrapolated)")
+    have = {r["study"] for r in P.rows}
+    missing = [s for s in FULL_DEFAULTS["studies"] if s not in have]
+    if missing:
+        out.append("studies left out: " + ", ".join(missing))
+    return out
 
 
 def machine_block(meta):
@@ -615,6 +950,7 @@ def machine_block(meta):
         f"compute units, fp64 {'yes' if cl.get('fp64') else 'no'}) — {cl.get('version', '?')}; "
         f"driver {cl.get('driver_version', '?')}; platform {cl.get('platform', '?')} {cl.get('platform_version', '')}",
         f"- **GL renderer**: {m.get('gl_renderer') or 'not used in this run'}",
+        f"- **GPU**: {gpu_line(cl)}",
         f"- **Build**: {m.get('build', '?')}; source commit `{m.get('git_commit', '?')}`",
         f"- **Date**: {m.get('date_utc', '?')} → {meta.get('date_end_utc', '?')} (UTC); sweep wall time "
         f"{fmt(meta.get('wall_s', float('nan')))} s",
@@ -670,7 +1006,8 @@ def differences(meta, P, H):
     out.append(
         "- **`uniform` keeps the balanced K_m** of Eq. 12 (docs/sampling.md: K_m as for `ours`, uniform on B_m(p)), "
         "so it isolates the restricted CDFs. The paper's uniform variant draws 'the same number of samples from "
-        "each texture image' (no balancing), which also spends samples on dim images; its ratio includes that.")
+        "each texture image' (no balancing), which also spends samples on dim images; its ratio includes that. "
+        "`uniform-equal` is that baseline and `ours-equal` the fourth cell: the Ablation section separates the two.")
 
     # Halton vs random: monotonicity of the error curves and the bias of the total light
     targets = P.targets()
@@ -747,6 +1084,14 @@ def write_report(out, meta, P, R, B, micro):
                  f"{meta.get('max_reps', '?')} repetitions for points under {fmt(meta.get('rep_budget_ms', 0))} ms, "
                  f"single runs above; {noise}. Errors do not depend on timing.")
     L.append("")
+    red = reductions(meta, P)
+    if red:
+        L.append("")
+        L.append("> **Reduced run.** The machine's load (above) made the full plan too slow for the time this run "
+                 "had, so it ran with " + "; ".join(red) + " (the command line above). The errors of a smaller image "
+                 "are of the same estimators; the studies left out keep their figures in earlier reports "
+                 "(git history of this file).")
+    L.append("")
     L.append("## Setup")
     L.append("")
     rows = []
@@ -789,6 +1134,10 @@ def write_report(out, meta, P, R, B, micro):
              "same work (all PoCL threads; barely affected by other processes, unlike the device times); "
              "**samples/s** = samples drawn / Steps 1-2 device time.")
     L.append("")
+
+    # ---- the 2 x 2 ablation and the paper's figures
+    L.extend(ablation_section(meta, P))
+    L.extend(paper_figures_section(meta, P, out))
 
     # ---- headline
     targets = P.targets()
@@ -938,6 +1287,7 @@ def write_report(out, meta, P, R, B, micro):
     for name, cap in (("error_vs_spp.png", "Mean Lab ΔE76 vs samples per pixel (solid: Halton, dashed: random)"),
                       ("error_vs_time.png", "Mean Lab ΔE76 vs time per image (Steps 1-2 + accumulation, no Step 0)"),
                       ("relmse_vs_spp.png", "Relative MSE (linear HDR) vs samples per pixel"),
+                      ("relmse_vs_time.png", "Relative MSE (linear HDR) vs time per image"),
                       ("breakdown.png", "Step breakdown"),
                       ("studies.png", "Search depth, samplers, K_max, balance")):
         L.append(f"**{cap}**")
@@ -987,7 +1337,7 @@ def write_report(out, meta, P, R, B, micro):
     L.append("")
     rows = []
     for t in targets:
-        for m in ("ours", "paper", "uniform", "uniform-equal", "global"):
+        for m in ("ours", "paper", "uniform", "uniform-equal", "ours-equal", "global"):
             r = P.point(t, m, 252)
             if r:
                 rows.append([t, m, fmt(r["step1_ms"]), fmt(r["step2_ms"]), fmt(r["cl_other_ms"]), fmt(r["accumulate_ms"]),
@@ -1031,7 +1381,9 @@ def write_report(out, meta, P, R, B, micro):
 
 
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "results")
+    args = [a for a in sys.argv[1:] if a != "--no-plots"]
+    plots = len(args) == len(sys.argv) - 1
+    out = args[0] if args else os.path.join(os.path.dirname(os.path.abspath(__file__)), "results")
     with open(os.path.join(out, "meta.json")) as f:
         meta = json.load(f)
     P = Points(load_csv(os.path.join(out, "points.csv")))
@@ -1047,13 +1399,19 @@ def main():
             print(f"plot_report: ignoring {mp}: {e}", file=sys.stderr)
     if not P.rows:
         sys.exit(f"plot_report: {out}/points.csv has no points")
+    if not plots:
+        write_report(out, meta, P, R, B, micro)
+        print(f"plot_report: wrote report.md (no plots) in {out}")
+        return
     plot_curves(P, os.path.join(out, "error_vs_spp.png"))
     plot_curves(P, os.path.join(out, "error_vs_time.png"), x="time_ms", xlabel="ms per image (Steps 1-2 + accum.)")
     plot_curves(P, os.path.join(out, "relmse_vs_spp.png"), y="rel_mse", ylabel="relative MSE (HDR)")
+    plot_curves(P, os.path.join(out, "relmse_vs_time.png"), y="rel_mse", x="time_ms", ylabel="relative MSE (HDR)",
+                xlabel="ms per image (Steps 1-2 + accum.)")
     plot_breakdown(P, B, os.path.join(out, "breakdown.png"))
     plot_studies(P, os.path.join(out, "studies.png"))
     write_report(out, meta, P, R, B, micro)
-    print(f"plot_report: wrote report.md and 5 plots in {out}")
+    print(f"plot_report: wrote report.md and 6 plots in {out}")
 
 
 if __name__ == "__main__":

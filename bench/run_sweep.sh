@@ -9,6 +9,9 @@
 # Full mode writes bench/results/ (the committed report); --quick (< 1 min, the ctest smoke test)
 # writes bench/results/cache/quick/ unless --out says otherwise, so it never replaces the full
 # report. References are cached in <out>/cache/. --check validates the outputs' form afterwards.
+# Full mode adds a close-up of the measured OSRAM LED ray set when ../shared/data/raysets holds it
+# (imported with `nearfield luminaire import` into <out>/cache/imported/; $NEARFIELD_RAYSETS
+# overrides the folder), and says why when it does not.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${NEARFIELD_BUILD_DIR:-$here/build}"
@@ -43,7 +46,7 @@ fi
 start=$(date +%s)
 if [ $do_build = 1 ]; then
   [ -f "$build/CMakeCache.txt" ] || cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
-  cmake --build "$build" --target bench_sweep bench_micro --parallel "$(nproc)"
+  cmake --build "$build" --target bench_sweep bench_micro nearfield --parallel "$(nproc)"
 fi
 for exe in bench_sweep bench_micro; do
   [ -x "$build/bench/$exe" ] || { echo "run_sweep.sh: $build/bench/$exe is missing (build it, or drop --no-build)" >&2; exit 1; }
@@ -52,6 +55,24 @@ mkdir -p "$out"
 
 args=(--out "$out")
 [ $quick = 1 ] && args+=(--quick)
+
+# The measured close-up (full mode, default luminaires only): the OSRAM LED imported as it is.
+if [ $quick = 0 ] && [[ " ${extra[*]-} " != *" --luminaires "* ]]; then
+  rays_dir="${NEARFIELD_RAYSETS:-$here/../shared/data/raysets}"
+  rays="$rays_dir/osram_LERTDUW_S2WP_green_100k.TM25RAY"
+  if [ ! -f "$rays" ]; then
+    echo "run_sweep.sh: skipping closeup-osram-led: $rays is absent (the shared data is not here)"
+  elif [ ! -x "$build/nearfield" ]; then
+    echo "run_sweep.sh: skipping closeup-osram-led: $build/nearfield is missing (build it, or drop --no-build)"
+  else
+    imported="$out/cache/imported"
+    mkdir -p "$imported"
+    if [ ! -f "$imported/osram-led.json" ] || [ "$rays" -nt "$imported/osram-led.json" ]; then
+      "$build/nearfield" luminaire import "$rays" -o "$imported" --name osram-led
+    fi
+    args+=(--luminaires "bike,car1,car2,led-rgb,$imported/osram-led.json")
+  fi
+fi
 "$build/bench/bench_sweep" "${args[@]}" "${extra[@]}"
 
 if [ $micro = 1 ]; then

@@ -46,11 +46,17 @@
 /* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 /* Methods that draw uniformly on B_m(p) (uniform, uniform-equal). */
 #define NF_UNIFORM_BOX (NF_METHOD == NF_METHOD_UNIFORM || NF_METHOD == NF_METHOD_UNIFORM_EQUAL)
+/* Methods that draw through the restricted CDFs of B_m(p) (ours, ours-equal). */
+#define NF_RESTRICTED (NF_METHOD == NF_METHOD_OURS || NF_METHOD == NF_METHOD_OURS_EQUAL)
+/* Methods with K / M samples per image instead of the balanced K_m(p) of Eq. 12
+   (uniform-equal, ours-equal: common/equal_counts.h). */
+#define NF_EQUAL_COUNTS (NF_METHOD == NF_METHOD_UNIFORM_EQUAL || NF_METHOD == NF_METHOD_OURS_EQUAL)
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
 
 #include "common/brdf.h"
+#include "common/equal_counts.h"
 #include "common/lanes.h"
 #include "common/random.h"
 
@@ -623,8 +629,8 @@ NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const Nf
 
 /* ---------------------------------------------------------------- samples on B_m(p) ------- */
 
-/* Draws s in B_m(p) with pdf Y_m / A_m (ours, global) or the paper's variant, from (ux, uy):
-   ours (docs/sampling.md): F(x) = int_{x0}^{x} int_{y0}^{y1} Y / A_m, the exact restricted
+/* Draws s in B_m(p) with pdf Y_m / A_m (ours, ours-equal, global) or the paper's variant, from (ux, uy):
+   ours, ours-equal (docs/sampling.md): F(x) = int_{x0}^{x} int_{y0}^{y1} Y / A_m, the exact restricted
    marginal from the SAT (3 row bands), then the column's cumulative restricted to [y0, y1].
    paper (Eq. 8): the precomputed full-column marginal restricted to [x0, x1], same conditional.
    global (Eq. 6): the box is the whole image.
@@ -633,7 +639,7 @@ NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const Nf
 NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx, const NfSpan* sr, const NfBoxSums* B,
                      vf ux, vf uy, vi act, int depth, vi* col, vf* fx, vi* row, vf* fy, vi* itx, vi* ity) {
   NfCum e;
-#if NF_METHOD == NF_METHOD_OURS
+#if NF_RESTRICTED
   e.r0 = sr->e0 * L1;
   e.r1 = sr->e1 * L1;
   e.r2 = sr->e2 * L1;
@@ -657,7 +663,7 @@ NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx,
   /* conditional along y in column col, restricted to [y0, y1]: cc(k) = SAT[k][col+1] - SAT[k][col] */
   const vi c = *col;
   vl q0, q1, q2, q3;
-#if NF_METHOD == NF_METHOD_OURS
+#if NF_RESTRICTED
   q0 = cr[0] - cl[0];
   q1 = cr[1] - cl[1];
   q2 = cr[2] - cl[2];
@@ -669,7 +675,7 @@ NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx,
     const vi o0 = sr->e0 * L1 + c, o1 = sr->e1 * L1 + c, o2 = sr->e2 * L1 + c, o3 = sr->e3 * L1 + c;
     const vl g0 = GATHER(img, o0 + 1) - GATHER(img, o0), g1 = GATHER(img, o1 + 1) - GATHER(img, o1);
     const vl g2 = GATHER(img, o2 + 1) - GATHER(img, o2), g3 = GATHER(img, o3 + 1) - GATHER(img, o3);
-#if NF_METHOD == NF_METHOD_OURS
+#if NF_RESTRICTED
     q0 = SELL(q0, g0, need);
     q1 = SELL(q1, g1, need);
     q2 = SELL(q2, g2, need);
@@ -827,28 +833,14 @@ NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global co
 
 /* K_m(p) (Eq. 12) from x = K A_m / A: paper rounds (may drop light), min1 keeps >= 1 sample,
    roulette keeps one sample with probability x < 1 and returns the weight 1/x in *inv_p.
-   uniform-equal (paper Fig. 12 baseline; docs/sampling.md "uniform-equal"): every image with
-   A_m > 0 gets K_m = floor(K / M) + [((m + rot) mod M) < K mod M] of the M images, rot uniform in
-   [0, M) per pixel and frame (a hash), so the remainder goes to a rotating block of images. With
-   K >= M every lit image gets >= 1 sample; with K < M image m is drawn with probability exactly
-   K / M (a systematic roulette over the images) and weighted M / K: unbiased either way. The
-   `balance` option does not apply. */
+   uniform-equal, ours-equal (paper Fig. 12 baseline; docs/sampling.md "Equal counts"): K / M
+   samples per lit image, the remainder to a block of images rotated per pixel and frame, the
+   roulette M / K for K < M (common/equal_counts.h). The `balance` option does not apply. */
 NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, int M, vf Am, vf A, vf* inv_p) {
-#if NF_METHOD == NF_METHOD_UNIFORM_EQUAL
+#if NF_EQUAL_COUNTS
   (void)A;
-  const int q = P->spp / M, rem = P->spp % M;
-  vi k = (vi)(q);
-  *inv_p = (vf)(1.0f);
-  if (rem > 0) {
-    /* rot = floor(h M / 2^32): each value has probability within M / 2^32 of 1 / M */
-    const vu h = nf_hashv(pix ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
-    const vi rot = CVT_I(mul_hi(h, (vu)((uint)M)));
-    const vi slot = (rot + (vi)(m)) % (vi)(M);
-    k += SEL((vi)(0), (vi)(1), slot < (vi)(rem));
-    if (q == 0) *inv_p = (vf)((float)M / (float)P->spp);
-  }
-  k = min(k, (vi)(P->k_max));
-  return SEL((vi)(0), k, Am > 0.0f);
+  const vu h = nf_hashv(pix ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
+  return nf_equal_count(h, P->spp, P->k_max, m, M, Am, inv_p);
 #else
   (void)M;
   vf x = (float)P->spp * (Am / A);
@@ -873,8 +865,8 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, int M, vf Am, vf
 
 /* One sample of image m = (i, j) at p from the 2D point (ux, uy) (Eq. 11 with Eq. 5 in the box,
    Eq. 9 in the band): the lanes in `sband` take the U-parametrised sample of the band, the lanes in
-   `sbox` the S-parametrised sample in B_m(p) (method ours / paper / global: the restricted CDFs of
-   nf_draw; uniform: uniform on the box, times Y_m(s)). Returns the factor g that multiplies
+   `sbox` the S-parametrised sample in B_m(p) (ours, ours-equal, paper, global: the CDFs of nf_draw;
+   uniform, uniform-equal: uniform on the box, times Y_m(s)). Returns the factor g that multiplies
    rho_k c_m(s_k) in Eq. 14 (0 where the sample carries no light), the direction w towards U, the
    pixel (col, row) of s with its fraction (fx, fy) and the search's evaluation counts (added).
    The shading kernels and the debug kernel both draw through this routine (docs/sampling.md). */

@@ -45,7 +45,7 @@ TEST(SamplingSettings, ParseAndPrintRoundTrip) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("--method"), std::string::npos);
     EXPECT_NE(msg.find("bogus"), std::string::npos);
-    EXPECT_NE(msg.find("ours, paper, uniform, uniform-equal, global"), std::string::npos);
+    EXPECT_NE(msg.find("ours, paper, uniform, uniform-equal, ours-equal, global"), std::string::npos);
   }
   SamplingSettings s;
   EXPECT_NO_THROW(s.validate());

@@ -181,7 +181,8 @@ TEST(SamplingExtremes, AllZeroAndSinglePixelImages) {
   DeviceLuminaire zero(rt, pc0);
   std::vector<NfSurface> pts;
   for (int k = 0; k < 20; ++k) pts.push_back(surface({0.01 * k - 0.1, 0.0, 0.02 * (k % 7) - 0.05}, {0, 0, -1}));
-  for (auto method : {Method::ours, Method::paper, Method::uniform, Method::uniform_equal, Method::global}) {
+  for (auto method :
+       {Method::ours, Method::paper, Method::uniform, Method::uniform_equal, Method::ours_equal, Method::global}) {
     auto s = random_settings();
     s.method = method;
     const auto buf = upload_surfaces(rt, pts);
@@ -315,7 +316,8 @@ TEST(SamplingExtremes, DegenerateTransformsAndBadSurfacesStayFinite) {
   huge[3] = glm::dvec4(1e30, 0.0, 0.0, 1.0);
   for (const auto& inst :
        {identity_instance(), make_instance(singular), make_instance(huge), make_instance(glm::dmat4(0.0))})
-    for (auto method : {Method::ours, Method::paper, Method::uniform, Method::uniform_equal, Method::global})
+    for (auto method :
+         {Method::ours, Method::paper, Method::uniform, Method::uniform_equal, Method::ours_equal, Method::global})
       for (auto st : {Structure::per_image, Structure::fused}) {
         auto s = random_settings(32);
         s.method = method;

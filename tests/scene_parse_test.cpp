@@ -238,7 +238,7 @@ TEST_F(SceneParse, BadFilesNameTheJsonPath) {
       {"mirrored luminaire", scene(R"("luminaires": [{"preset": "car2", "transform": {"scale": [1, 1, -1]}}])"),
        "/luminaires/0/transform/scale: luminaire transforms must be rigid"},
       {"bad method", scene(R"("render": {"method": "fast"})"),
-       "/render/method: unknown value 'fast' (allowed: ours, paper, uniform, uniform-equal, global)"},
+       "/render/method: unknown value 'fast' (allowed: ours, paper, uniform, uniform-equal, ours-equal, global)"},
       {"bad sampler", scene(R"("render": {"sampler": "sobol"})"), "/render/sampler: unknown value 'sobol'"},
       {"bad balance", scene(R"("render": {"balance": "max"})"), "/render/balance: unknown value 'max'"},
       {"bad search", scene(R"("render": {"search": "linear"})"), "/render/search: unknown value 'linear'"},

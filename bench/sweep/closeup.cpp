@@ -5,9 +5,11 @@
 #include <cmath>
 
 #include "bench/sweep/hash.h"
+#include "bench/sweep/plan.h"
 #include "core/timer.h"
 #include "luminaire/generator.h"
 #include "luminaire/geometry.h"
+#include "luminaire/io.h"
 #include "luminaire/precompute.h"
 
 namespace nf::bench {
@@ -90,10 +92,17 @@ std::string luminaire_fingerprint(const lum::Luminaire& l) {
 }
 
 CloseupTarget::CloseupTarget(cl::Runtime& rt, const std::string& preset, int res, double resolution_scale)
-    : rt_(rt), preset_(preset), res_(res), scale_(resolution_scale) {
-  lum::GenOptions go;
-  go.resolution_scale = resolution_scale;
-  lum_ = lum::generate_preset(preset, go);
+    : rt_(rt), preset_(closeup_label(preset)), res_(res), scale_(resolution_scale) {
+  if (preset_ != preset) {
+    // A luminaire manifest (e.g. `nearfield luminaire import` output), used as it is.
+    from_file_ = true;
+    scale_ = 1.0;
+    lum_ = lum::read_luminaire(preset);
+  } else {
+    lum::GenOptions go;
+    go.resolution_scale = resolution_scale;
+    lum_ = lum::generate_preset(preset, go);
+  }
   pc_ = lum::precompute(lum_);
   fingerprint_ = luminaire_fingerprint(lum_);
   geom_ = closeup_geometry(lum_);
@@ -107,8 +116,9 @@ CloseupTarget::CloseupTarget(cl::Runtime& rt, const std::string& preset, int res
 CloseupTarget::~CloseupTarget() = default;
 
 std::string CloseupTarget::describe() const {
-  return fmt::format("closeup preset={} scale={} luminaire={} res={} wall z={:.6f} half={:.6f} lambert 0.8", preset_,
-                     scale_, fingerprint_, res_, geom_.distance, geom_.half_size);
+  return fmt::format("closeup {}={} scale={} luminaire={} res={} wall z={:.6f} half={:.6f} lambert 0.8",
+                     from_file_ ? "file" : "preset", preset_, scale_, fingerprint_, res_, geom_.distance,
+                     geom_.half_size);
 }
 
 Rendering CloseupTarget::render(const render::SamplingSettings& settings, int frames,

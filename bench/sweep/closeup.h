@@ -44,8 +44,9 @@ std::string luminaire_fingerprint(const lum::Luminaire& l);
 
 class CloseupTarget final : public Target {
  public:
-  // Generates and precomputes `preset` (at `resolution_scale` of its image resolution) and
-  // uploads it and the res x res wall.
+  // Generates and precomputes `preset` (at `resolution_scale` of its image resolution), or reads
+  // a luminaire manifest when `preset` names a *.json file (named after its stem, used at its own
+  // resolution), and uploads it and the res x res wall.
   CloseupTarget(cl::Runtime& rt, const std::string& preset, int res, double resolution_scale = 1.0);
   ~CloseupTarget() override;
 
@@ -67,6 +68,7 @@ class CloseupTarget final : public Target {
   std::string preset_;
   int res_;
   double scale_;
+  bool from_file_ = false;
   lum::Luminaire lum_;
   lum::Precomputed pc_;
   std::string fingerprint_;

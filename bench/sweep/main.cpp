@@ -3,7 +3,7 @@
 //
 //   bench_sweep [--quick] [--out DIR] [--cache DIR] [--luminaires bike,car1] [--studies spp,kmax]
 //               [--no-scene] [--scene FILE] [--scene-size 320x180] [--res 128]
-//               [--reference-frames N] [--refresh-references] [--cl-device SPEC] [-q|-v]
+//               [--reference-frames N] [--max-spp N] [--refresh-references] [--cl-device SPEC] [-q|-v]
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 #include <sstream>
@@ -32,18 +32,21 @@ int main(int argc, char** argv) {
   bool quick = false, no_scene = false, refresh = false, quiet = false, verbose = false;
   std::string out = std::string(NEARFIELD_BENCH_DIR) + "/results", cache, luminaires, studies, device;
   std::string scene = std::string(NEARFIELD_SOURCE_DIR) + "/scenes/default.json", scene_size;
-  int res = 0, ref_frames = 0;
+  int res = 0, ref_frames = 0, max_spp = 0;
   app.add_flag("--quick", quick, "small subset (one close-up, two methods, tiny reference): the smoke test");
   app.add_option("--out", out, "output folder for the CSV tables and meta.json")->capture_default_str();
   app.add_option("--cache", cache, "reference cache folder (default: <out>/cache)");
   app.add_option("--luminaires", luminaires,
-                 "close-ups, comma-separated (bike,car1,car2,led-rgb; none: the scene alone)");
-  app.add_option("--studies", studies, "comma-separated: spp,sampler,kmax,balance,search,structure (default all)");
+                 "close-ups, comma-separated presets (bike,car1,car2,led-rgb) or luminaire manifests (*.json); none: "
+                 "the scene alone");
+  app.add_option("--studies", studies,
+                 "comma-separated: spp,sampler,kmax,balance,search,structure,paper (default all)");
   app.add_flag("--no-scene", no_scene, "skip the default scene (no GL)");
   app.add_option("--scene", scene, "scene file for the scene target")->capture_default_str();
   app.add_option("--scene-size", scene_size, "scene resolution WxH (default 320x180)");
   app.add_option("--res", res, "close-up resolution (res x res; default 128, quick 48)");
   app.add_option("--reference-frames", ref_frames, "frames of K = 1000 per reference (even; default 64, scene 16)");
+  app.add_option("--max-spp", max_spp, "leave out points above this spp, except the paper study's (a loaded machine)");
   app.add_flag("--refresh-references", refresh, "recompute references even when cached");
   app.add_option("--cl-device", device, "OpenCL device (P:D, gpu, cpu or a name)");
   app.add_flag("-q,--quiet", quiet, "no progress or per-point lines");
@@ -59,6 +62,7 @@ int main(int argc, char** argv) {
     po.scene_file = scene;
     po.closeup_res = res;
     po.reference_frames = ref_frames;
+    po.max_spp = max_spp;
     if (!scene_size.empty()) {
       const auto x = scene_size.find('x');
       if (x == std::string::npos) fail(fmt::format("--scene-size: expected WxH, got '{}'", scene_size));

@@ -48,23 +48,29 @@ render::SamplingSettings base(Method m = Method::ours, SamplerKind k = SamplerKi
 
 }  // namespace
 
-std::vector<std::string> study_names() { return {"spp", "sampler", "kmax", "balance", "search", "structure"}; }
+std::vector<std::string> study_names() { return {"spp", "sampler", "kmax", "balance", "search", "structure", "paper"}; }
+
+std::string closeup_label(const std::string& entry) {
+  const std::filesystem::path p(entry);
+  return p.extension() == ".json" ? p.stem().string() : entry;
+}
 
 void set_spp(Point& p, int spp) {
-  if (spp <= kMaxK) {
-    p.settings.spp = spp;
-    p.frames = 1;
-  } else {
-    if (spp % kMaxK) fail(fmt::format("sweep: spp {} above {} must be a multiple of it", spp, kMaxK));
-    p.settings.spp = kMaxK;
-    p.frames = spp / kMaxK;
-  }
+  if (spp < 1) fail(fmt::format("sweep: spp {} must be >= 1", spp));
+  // The fewest frames F that split spp into equal frames of K = spp / F <= 1000 (1008 = 2 x 504,
+  // 63 000 = 63 x 1000); the CSV's K and frames columns say how a point was made.
+  for (int f = 1; f <= spp; ++f)
+    if (spp % f == 0 && spp / f <= kMaxK) {
+      p.settings.spp = spp / f;
+      p.frames = f;
+      return;
+    }
 }
 
 Plan make_plan(const PlanOptions& o) {
   for (const auto& s : o.studies)
     if (std::find(study_names().begin(), study_names().end(), s) == study_names().end())
-      fail(fmt::format("--studies: unknown study '{}' (spp, sampler, kmax, balance, search, structure)", s));
+      fail(fmt::format("--studies: unknown study '{}' (spp, sampler, kmax, balance, search, structure, paper)", s));
   Plan plan;
   plan.mode = o.quick ? "quick" : "full";
   plan.scene_file = o.scene_file;
@@ -89,7 +95,7 @@ Plan make_plan(const PlanOptions& o) {
   if (o.scene_height > 0) plan.scene_height = o.scene_height;
 
   std::vector<std::string> targets;
-  for (const auto& c : plan.closeups) targets.push_back("closeup-" + c);
+  for (const auto& c : plan.closeups) targets.push_back("closeup-" + closeup_label(c));
   if (plan.scene) targets.push_back(plan.scene_file.stem().string());
 
   for (const auto& t : targets) {
@@ -103,11 +109,14 @@ Plan make_plan(const PlanOptions& o) {
         for (int spp : {16, 63, 252}) b.add(base(Method::ours, SamplerKind::random), spp);
         for (int spp : {16, 63, 252, 1000}) b.add(base(Method::uniform, SamplerKind::random), spp);
         for (int spp : {63, 252}) b.add(base(Method::uniform_equal, SamplerKind::random), spp);
+        for (int spp : {63, 252}) b.add(base(Method::ours_equal, SamplerKind::random), spp);
       } else if (!is_scene) {
         for (int spp : {16, 32, 63, 126, 252, 504, 1000}) b.add(base(Method::ours), spp);
         for (int spp : {16, 63, 252, 1000, 4000}) b.add(base(Method::paper), spp);
         for (int spp : {16, 32, 63, 126, 252, 504, 1000, 2000, 4000}) b.add(base(Method::uniform), spp);
-        for (int spp : {63, 252, 1000, 4000, 16000}) b.add(base(Method::global), spp);
+        // rel. MSE falls as 1 / spp for this unbiased estimator, so 4000 spp extrapolate soundly; the
+        // bike's 63 000 (below) is Fig. 11's point.
+        for (int spp : {63, 252, 1000, 4000}) b.add(base(Method::global), spp);
         // Paper Fig. 11 (bike): ours at 63 spp against global at 63 000 spp.
         if (t == "closeup-bike") b.add(base(Method::global), 63000);
         // The random sampler: independent per pixel, so the curves are the estimators' own variance
@@ -116,10 +125,12 @@ Plan make_plan(const PlanOptions& o) {
         for (int spp : {16, 32, 63, 126, 252, 504, 1000, 2000, 4000})
           b.add(base(Method::uniform, SamplerKind::random), spp);
         b.add(base(Method::paper, SamplerKind::random), 4000);
-        // Paper Fig. 12: the same number of samples from every image (252 = 4 x 63 for the bike).
-        for (int spp : {16, 63, 126, 252, 504, 1000, 2000, 4000}) b.add(base(Method::uniform_equal), spp);
-        for (int spp : {16, 63, 126, 252, 504, 1000, 2000, 4000})
-          b.add(base(Method::uniform_equal, SamplerKind::random), spp);
+        // Paper Fig. 12: the same number of samples from every image (252 = 4 x 63 for the bike), drawn
+        // uniformly in the box (the paper's baseline) or through the restricted CDFs (ours-equal):
+        // with ours and uniform the 2 x 2 ablation (docs/sampling.md).
+        for (auto m : {Method::uniform_equal, Method::ours_equal})
+          for (auto k : {SamplerKind::halton, SamplerKind::random})
+            for (int spp : {16, 63, 126, 252, 504, 1000, 2000, 4000}) b.add(base(m, k), spp);
       } else {
         for (int spp : {16, 63, 252, 1000}) b.add(base(Method::ours), spp);
         for (int spp : {63, 252, 1000}) b.add(base(Method::paper), spp);
@@ -128,8 +139,9 @@ Plan make_plan(const PlanOptions& o) {
         for (int spp : {16, 63, 252, 1000, 2000}) b.add(base(Method::ours, SamplerKind::random), spp);
         for (int spp : {16, 63, 252, 1000, 2000}) b.add(base(Method::uniform, SamplerKind::random), spp);
         b.add(base(Method::paper, SamplerKind::random), 2000);
-        for (int spp : {63, 252, 1000, 2000}) b.add(base(Method::uniform_equal), spp);
-        for (int spp : {63, 252, 1000, 2000}) b.add(base(Method::uniform_equal, SamplerKind::random), spp);
+        for (auto m : {Method::uniform_equal, Method::ours_equal})
+          for (auto k : {SamplerKind::halton, SamplerKind::random})
+            for (int spp : {63, 252, 1000, 2000}) b.add(base(m, k), spp);
       }
     }
     if (wanted(o, "sampler")) {
@@ -175,6 +187,22 @@ Plan make_plan(const PlanOptions& o) {
           b.add(s, 200);
         }
     }
+    // The paper's own figures at its spp (bench/README.md, studies): Figs. 11 and 12 on the bike (the
+    // four ablation cells at 63, 252, 1008 = 2 frames x 504; global also at 63 000), Fig. 13 on car1
+    // (ours at 100, 200, 400). Fig. 9 is the kmax study's K = 200, K_max 7 vs none.
+    if (wanted(o, "paper") && !o.quick && !is_scene) {
+      b.study = "paper";
+      if (t == "closeup-bike") {
+        for (auto m : {Method::ours, Method::ours_equal, Method::uniform, Method::uniform_equal})
+          for (int spp : {63, 252, 1008}) b.add(base(m), spp);
+        for (auto m : {Method::ours, Method::ours_equal, Method::uniform, Method::uniform_equal})
+          for (int spp : {63, 252, 1008}) b.add(base(m, SamplerKind::random), spp);
+        b.add(base(Method::ours), 1000);
+        for (int spp : {63, 252, 1008, 63000}) b.add(base(Method::global), spp);
+      }
+      if (t == "closeup-car1")
+        for (int spp : {100, 200, 400}) b.add(base(Method::ours), spp);
+    }
     if (wanted(o, "structure")) {
       b.study = "structure";
       const std::vector<int> spps = o.quick ? std::vector<int>{63} : std::vector<int>{63, 252};
@@ -187,6 +215,8 @@ Plan make_plan(const PlanOptions& o) {
           }
     }
   }
+  if (o.max_spp > 0)
+    std::erase_if(plan.points, [&](const Point& p) { return p.study != "paper" && p.spp() > o.max_spp; });
   return plan;
 }
 

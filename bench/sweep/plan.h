@@ -9,9 +9,10 @@
 //   balance    paper / min1 / roulette rounding of K_m (Eq. 12)
 //   search     secant / binary x search depth at K = 200 (Fig. 5: depth 3)
 //   structure  per-image vs fused passes (timing; same images)
+//   paper      the paper's Figs. 11-13 at its spp (63, 252, 1008, 63 000 on the bike; car1 Fig. 13)
 //
-// spp above 1000 are progressive frames of K = 1000 (the kernels' sequences advance per frame,
-// so F frames of K samples are one estimate with F K samples).
+// spp above 1000 are F equal progressive frames of K = spp / F <= 1000 (the kernels' sequences
+// advance per frame, so F frames of K samples are one estimate with F K samples).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -31,7 +32,7 @@ struct Point {
 
 struct Plan {
   std::string mode;                   // "quick" | "full"
-  std::vector<std::string> closeups;  // presets
+  std::vector<std::string> closeups;  // presets, or luminaire manifests (*.json, e.g. imported)
   int closeup_res = 128;
   double closeup_scale = 1.0;  // preset image resolution scale
   bool scene = true;
@@ -53,12 +54,15 @@ struct PlanOptions {
   std::filesystem::path scene_file;
   int scene_width = 0, scene_height = 0, closeup_res = 0;  // 0: the mode's default
   int reference_frames = 0;                                // 0: the mode's default
+  int max_spp = 0;  // > 0: leave out points above this spp (except the `paper` study's); 0: all
 };
 
 Plan make_plan(const PlanOptions& options);
+// The close-up's name for an entry of --luminaires: a preset's name, or a manifest's file stem.
+std::string closeup_label(const std::string& entry);
 std::vector<std::string> study_names();
 
-// spp -> (K, frames): K = spp up to 1000, else frames of K = 1000 (spp must then be a multiple).
+// spp -> (K, frames): K = spp up to 1000, else the fewest equal frames of K <= 1000.
 void set_spp(Point& p, int spp);
 
 }  // namespace nf::bench

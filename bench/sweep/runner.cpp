@@ -168,7 +168,7 @@ class Runner {
                 ct->precomputed().precompute_ms, t.ms());
       nlohmann::json j{{"name", ct->name()},
                        {"kind", "closeup"},
-                       {"luminaire", c},
+                       {"luminaire", ct->luminaire()},
                        {"width", ct->width()},
                        {"height", ct->height()},
                        {"wall_distance_m", ct->geometry().distance},

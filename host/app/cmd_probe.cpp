@@ -201,8 +201,9 @@ const CommandRegistration reg("probe", [](CLI::App& app) {
                   "Luminaire manifest (.json), or an IES LM-63 (.ies) / EULUMDAT (.ldt) file (far field)")
       ->required();
   cmd->add_option("--points", o.points, "Points file: lines 'x y z nx ny nz' ('#' comments); default stdin");
-  auto* method = cmd->add_option("--method", o.method, "ours | paper | uniform | uniform-equal | global | reference")
-                     ->capture_default_str();
+  auto* method =
+      cmd->add_option("--method", o.method, "ours | paper | uniform | uniform-equal | ours-equal | global | reference")
+          ->capture_default_str();
   cmd->add_option("--spp", o.spp, "Samples per point (K)")->capture_default_str()->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_flag("--reference", o.reference, "CPU reference quadrature (double precision) instead of sampling")

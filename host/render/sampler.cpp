@@ -43,6 +43,8 @@ int method_code(Method m) {
       return NF_METHOD_UNIFORM;
     case Method::uniform_equal:
       return NF_METHOD_UNIFORM_EQUAL;
+    case Method::ours_equal:
+      return NF_METHOD_OURS_EQUAL;
     case Method::global:
       return NF_METHOD_GLOBAL;
   }

@@ -14,10 +14,11 @@ namespace {
 template <typename E, std::size_t N>
 using Table = std::array<std::pair<E, const char*>, N>;
 
-constexpr Table<Method, 5> kMethods{{{Method::ours, "ours"},
+constexpr Table<Method, 6> kMethods{{{Method::ours, "ours"},
                                      {Method::paper, "paper"},
                                      {Method::uniform, "uniform"},
                                      {Method::uniform_equal, "uniform-equal"},
+                                     {Method::ours_equal, "ours-equal"},
                                      {Method::global, "global"}}};
 constexpr Table<SamplerKind, 3> kSamplers{{{SamplerKind::halton, "halton"},
                                            {SamplerKind::halton_scrambled, "halton-scrambled"},

@@ -7,7 +7,7 @@
 namespace nf::render {
 
 // What draws the samples s_k (docs/sampling.md, "Methods").
-enum class Method { ours, paper, uniform, uniform_equal, global };
+enum class Method { ours, paper, uniform, uniform_equal, ours_equal, global };
 // Where the 2D sample points come from. (Named SamplerKind: `Sampler` is the pipeline class.)
 enum class SamplerKind { halton, halton_scrambled, random };
 // How K_m(p) = K A_m / A is rounded (Eq. 12). `roulette` and `min1` are unbiased.

@@ -96,7 +96,7 @@ std::vector<Setting> declare() {
   constexpr long long kMaxSpp = 1 << 24;
   return {
       choice(
-          "method", "method", {"ours", "paper", "uniform", "uniform-equal", "global"}, "luminaires", R,
+          "method", "method", {"ours", "paper", "uniform", "uniform-equal", "ours-equal", "global"}, "luminaires", R,
           "how samples are drawn on the light-field images (docs/sampling.md)",
           [](auto& r) -> auto& { return r.method; }),
       choice(

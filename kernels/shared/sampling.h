@@ -11,6 +11,7 @@
 #define NF_METHOD_UNIFORM 2 /* same K_m, uniform on B_m(p) */
 #define NF_METHOD_GLOBAL 3  /* Eq. 6: whole-image importance sampling, K_m from whole-image flux */
 #define NF_METHOD_UNIFORM_EQUAL 4 /* K / M samples for every lit image, uniform on B_m(p) (paper Fig. 12) */
+#define NF_METHOD_OURS_EQUAL 5    /* K / M samples for every lit image, restricted exact CDFs */
 
 /* Sample sequences, -DNF_SEQ=... */
 #define NF_SEQ_HALTON 0           /* bases 2, 3; one sequence shared by all pixels */
