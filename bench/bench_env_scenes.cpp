@@ -1,0 +1,354 @@
+// Environment lighting on whole scenes against the CPU reference renderer (docs/environment.md,
+// "Scene benchmark"): a metal GGX sphere and a glossy dielectric plane (roughness 0.05, 0.3, 0.7)
+// and DamagedHelmet (its own textures) under every HDRI of ../shared/data/hdri, rendered with
+// every glossy method at N = 4..256 samples per pixel (one frame each: the error of N samples),
+// and compared with `nearfield reference --only environment` (per-sample environment sampling,
+// exact visibility): mean CIE Lab dE76 after tone mapping both images with the reference's
+// operator, relative MSE on linear radiance and the relative bias of the total light
+// (bench/README.md, "Definitions"), plus ms per frame (host wall clock, the environment's kernels).
+// A second part measures the SH visibility (docs/env_visibility.md): a Lambertian ball on a
+// Lambertian floor, env_visibility none vs sh with N_v = 8, 16, 64 shadow maps (Krivanek and
+// Colbert 2008 Fig. 5: most of the error gone by 16). The renderer has no visibility for the
+// glossy parts unless env_visibility = sh, the reference always has it: what differs is the
+// approximations (filtering, SH irradiance, SH visibility) and each side's noise (the
+// reference's own noise is reported beside it). References are cached by their key under --cache.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include "bench/sweep/machine.h"
+#include "bench/sweep/metrics.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "render/frame.h"
+#include "render/reference_run.h"
+#include "scene/scene.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Options {
+  bool quick = false;
+  std::string out = NEARFIELD_BENCH_DIR "/results";
+  std::string cache = NEARFIELD_BENCH_DIR "/results/cache";
+  std::string data = NEARFIELD_BENCH_DIR "/../../shared/data";
+  std::string samples = "4,16,64";
+  std::string roughness = "0.05,0.3,0.7";
+  std::string visibility_samples = "8,16,64";
+  std::string hdris;  // comma-separated file names; "" = every .hdr/.exr in <data>/hdri
+  int width = 160, height = 90, ref_spp = 256;
+  bool helmet = true, refresh = false;
+};
+
+struct Target {
+  std::string name, hdri, json;  // json: the scene file's text
+  double roughness = -1;         // -1: not a roughness sweep
+};
+
+struct Row {
+  std::string target, hdri, method;
+  double roughness = -1;
+  int n = 0, nv = 0;
+  nf::bench::ErrorMetrics e;
+  double ms = 0, ref_noise = 0;
+};
+
+template <class T>
+std::vector<T> parse_list(const std::string& s) {
+  std::vector<T> v;
+  std::size_t pos = 0;
+  while (pos < s.size()) {
+    const std::size_t end = std::min(s.find(',', pos), s.size());
+    const std::string item = s.substr(pos, end - pos);
+    if (!item.empty()) v.push_back(static_cast<T>(std::stod(item)));
+    pos = end + 1;
+  }
+  return v;
+}
+
+std::string environment_json(const fs::path& hdri) {
+  return fmt::format(R"("environment": {{ "file": "{}", "rotation": 0, "intensity": 1 }})", hdri.generic_string());
+}
+
+std::string render_json(int n) {
+  return fmt::format(R"("render": {{ "env_samples": {}, "tonemap": {{ "exposure": 1, "gamma": 2.2 }} }})", n);
+}
+
+// A metal sphere (base 0.9, the bench_environment material) filling most of the frame.
+std::string sphere_scene(const fs::path& hdri, double roughness) {
+  return fmt::format(R"({{
+  "camera": {{ "position": [0, 0, 3.2], "target": [0, 0, 0], "fov_y": 40, "resolution": [160, 90] }},
+  "materials": {{ "m": {{ "type": "ggx", "base_color": [0.9, 0.9, 0.9], "metallic": 1, "roughness": {} }} }},
+  "objects": [ {{ "name": "sphere", "type": "sphere", "radius": 1, "segments": 96, "rings": 48, "material": "m" }} ],
+  {}, {} }})",
+                     roughness, environment_json(hdri), render_json(16));
+}
+
+// A glossy dielectric floor seen at a low angle: the horizon's reflection at grazing incidence.
+std::string plane_scene(const fs::path& hdri, double roughness) {
+  return fmt::format(R"({{
+  "camera": {{ "position": [0, 0.6, 3], "target": [0, 0, -2], "fov_y": 50, "resolution": [160, 90] }},
+  "materials": {{ "m": {{ "type": "ggx", "base_color": [0.5, 0.5, 0.5], "metallic": 0, "roughness": {} }} }},
+  "objects": [ {{ "name": "floor", "type": "plane", "size": [40, 40], "material": "m" }} ],
+  {}, {} }})",
+                     roughness, environment_json(hdri), render_json(16));
+}
+
+std::string helmet_scene(const fs::path& hdri, const fs::path& glb) {
+  return fmt::format(R"({{
+  "camera": {{ "position": [0.6, 0.3, 2.6], "target": [0, 0, 0], "fov_y": 45, "resolution": [160, 90] }},
+  "materials": {{}},
+  "objects": [ {{ "name": "helmet", "type": "gltf", "file": "{}" }} ],
+  {}, {} }})",
+                     glb.generic_string(), environment_json(hdri), render_json(16));
+}
+
+// A diffuse ball resting on a diffuse floor: the ball's contact shadow and its occlusion of the
+// sky are what the SH visibility approximates.
+std::string shadow_scene(const fs::path& hdri) {
+  return fmt::format(R"({{
+  "camera": {{ "position": [0, 1.4, 3.2], "target": [0, 0.3, 0], "fov_y": 45, "resolution": [160, 90] }},
+  "materials": {{ "floor": {{ "type": "lambert", "base_color": [0.6, 0.6, 0.6] }},
+                  "ball": {{ "type": "lambert", "base_color": [0.8, 0.8, 0.8] }} }},
+  "objects": [ {{ "name": "floor", "type": "plane", "size": [8, 8], "material": "floor" }},
+               {{ "name": "ball", "type": "sphere", "radius": 0.5, "material": "ball",
+                  "transform": {{ "translate": [0, 0.5, 0] }} }} ],
+  {}, {} }})",
+                     environment_json(hdri), render_json(16));
+}
+
+// The reference's own noise: sum var(mean) / sum r^2 over the valid pixels (luminance).
+double reference_noise(const nf::ref::ReferenceResult& r) {
+  double var = 0, r2 = 0;
+  const auto valid = r.valid_mask();
+  for (std::size_t i = 0; i < valid.size(); ++i) {
+    if (!valid[i]) continue;
+    var += r.variance.pixels[i];
+    const float* p = &r.image.pixels[3 * i];
+    const double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    r2 += y * y;
+  }
+  return r2 > 0 ? var / r2 : 0.0;
+}
+
+struct Method {
+  std::string label, glossy, kernel;
+};
+
+const std::vector<Method>& methods() {
+  static const std::vector<Method> m{{"fis", "fis", "point"},         {"fis-rotated", "fis-rotated", "point"},
+                                     {"mc", "mc", "point"},           {"env-is", "env-is", "point"},
+                                     {"env-fis", "env-fis", "point"}, {"env-fis-integral", "env-fis", "integral"}};
+  return m;
+}
+
+void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::vector<std::string>& notes) {
+  nf::scene::Scene scene = nf::scene::parse_scene(t.json, t.name, ".");
+  scene.camera.width = o.width;
+  scene.camera.height = o.height;
+  nf::ref::ReferenceSettings rs;
+  rs.spp = o.ref_spp;
+  rs.only = nf::ref::Only::environment;
+  rs.seed = 0x5eed;
+  const std::string tag = t.name + "-" + fs::path(t.hdri).stem().string();
+  const nf::render::ReferenceRun ref = nf::render::cached_reference(scene, rs, o.cache, "envscene-" + tag, o.refresh);
+  const double noise = reference_noise(ref.result);
+  notes.push_back(fmt::format("{}: reference {}x{} x {} spp, key {}, {}{:.1f} s, noise rel. MSE {:.2e}", tag, o.width,
+                              o.height, o.ref_spp, ref.key, ref.from_cache ? "cached, rendered in " : "",
+                              ref.result.stats.render_ms / 1000.0, noise));
+  const nf::bench::ReferenceImage cmp(ref.result.image, ref.result.valid_mask(), scene.render.tonemap);
+  nf::render::Renderer renderer(scene, {});
+  auto frame = [&](const std::string& label, auto&& configure, int n, int nv) {
+    nf::render::FrameSettings f = renderer.settings();
+    configure(f.declared);
+    renderer.set_settings(nf::render::frame_settings(f.declared));
+    renderer.reset();
+    nf::Timer timer;
+    renderer.render_frame();
+    Row row{t.name, t.hdri, label, t.roughness, n, nv, cmp.compare(renderer.accumulated()), timer.ms(), noise};
+    std::printf("%-10s %-26s %-17s N %4d Nv %3d  dE %7.3f  relMSE %.3e  bias %+.4f  %7.1f ms\n", t.name.c_str(),
+                t.hdri.c_str(), label.c_str(), n, nv, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.ms);
+    std::fflush(stdout);
+    rows.push_back(row);
+  };
+  // One untimed frame per method at the smallest N builds its programs (and Step 0, SH
+  // visibility maps) so that the timed frames hold no compiler run.
+  auto warm_up = [&](auto&& configure) {
+    nf::render::FrameSettings f = renderer.settings();
+    configure(f.declared);
+    renderer.set_settings(nf::render::frame_settings(f.declared));
+    renderer.reset();
+    renderer.render_frame();
+  };
+  if (t.name == "shadow") {
+    // Programs built untimed; the timed SH frames include building their N_v maps and the fit.
+    warm_up([&](nf::scene::RenderSettings& d) { d.env_visibility = "sh"; });
+    warm_up([&](nf::scene::RenderSettings& d) { d.env_visibility = "none"; });
+    frame(
+        "visibility-none", [&](nf::scene::RenderSettings& d) { d.env_visibility = "none"; }, 16, 0);
+    for (int nv : parse_list<int>(o.visibility_samples))
+      frame(
+          "visibility-sh",
+          [&](nf::scene::RenderSettings& d) {
+            d.env_visibility = "sh";
+            d.env_visibility_samples = nv;
+          },
+          16, nv);
+    return;
+  }
+  for (const auto& m : methods()) {
+    warm_up([&](nf::scene::RenderSettings& d) {
+      d.env_glossy = m.glossy;
+      d.env_kernel = m.kernel;
+      d.env_samples = 1;
+    });
+    for (int n : parse_list<int>(o.samples))
+      frame(
+          m.label,
+          [&](nf::scene::RenderSettings& d) {
+            d.env_glossy = m.glossy;
+            d.env_kernel = m.kernel;
+            d.env_samples = n;
+          },
+          n, 0);
+  }
+}
+
+std::vector<fs::path> find_hdris(const Options& o) {
+  std::vector<fs::path> maps;
+  const fs::path dir = fs::path(o.data) / "hdri";
+  if (!o.hdris.empty()) {
+    std::size_t pos = 0;
+    while (pos < o.hdris.size()) {
+      const std::size_t end = std::min(o.hdris.find(',', pos), o.hdris.size());
+      maps.push_back(dir / o.hdris.substr(pos, end - pos));
+      pos = end + 1;
+    }
+    for (const auto& m : maps)
+      if (!fs::is_regular_file(m)) nf::fail(fmt::format("{}: no such HDRI", m.string()));
+    return maps;
+  }
+  if (fs::is_directory(dir))
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".hdr" || e.path().extension() == ".exr") maps.push_back(e.path());
+  std::sort(maps.begin(), maps.end());
+  return maps;
+}
+
+void write_results(const Options& o, const nf::bench::MachineInfo& m, const std::vector<Row>& rows,
+                   const std::vector<std::string>& notes, double total_s) {
+  fs::create_directories(o.out);
+  std::ofstream csv(fs::path(o.out) / "environment_scenes.csv");
+  csv << "target,hdri,roughness,method,n,nv,delta_e,delta_e_max,rel_mse,rel_bias,ms,reference_noise_rel_mse\n";
+  for (const auto& r : rows)
+    csv << fmt::format("{},{},{},{},{},{},{:.6f},{:.6f},{:.6e},{:.6e},{:.2f},{:.3e}\n", r.target, r.hdri, r.roughness,
+                       r.method, r.n, r.nv, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.ms, r.ref_noise);
+  std::ofstream md(fs::path(o.out) / "environment_scenes.md");
+  md << "# Environment lighting on scenes against the CPU reference\n\n";
+  md << fmt::format(
+      "Machine: {} ({} ISA, {} logical CPUs), OpenCL device {}; load at the start {}, at the end {}; "
+      "{}; commit {}; {}x{}, reference {} spp; {} mode; total {:.0f} s. Written by `bench_env_scenes` "
+      "(bench/bench_env_scenes.cpp).\n\n",
+      m.cpu_model, m.isa, m.cores, m.cl_device.name, m.loadavg, nf::bench::read_loadavg(), nf::bench::utc_now(),
+      m.git_commit, o.width, o.height, o.ref_spp, o.quick ? "quick" : "full", total_s);
+  md << "How to read: one frame of N environment samples per pixel against the reference (`nearfield reference "
+        "--only environment`); dE = mean CIE Lab dE76 after tone mapping both images with the reference's "
+        "operator, rel. MSE on linear radiance, bias = relative error of the total light. The reference's own "
+        "noise (rel. MSE) is its floor. `ms` is the frame's host wall clock (the machine is shared: ratios within "
+        "this run only).\n\n";
+  for (const auto& n : notes) md << "- " << n << "\n";
+  std::string last;
+  for (const auto& r : rows) {
+    const std::string head =
+        fmt::format("{} / {}{}", r.target, r.hdri, r.roughness >= 0 ? fmt::format(" / roughness {}", r.roughness) : "");
+    if (head != last) {
+      md << "\n## " << head
+         << "\n\n| method | N | N_v | mean dE76 | rel. MSE | rel. bias | ms |\n|---|---|---|---|---|---|---|\n";
+      last = head;
+    }
+    md << fmt::format("| {} | {} | {} | {:.3f} | {:.3e} | {:+.4f} | {:.1f} |\n", r.method, r.n,
+                      r.nv ? std::to_string(r.nv) : "-", r.e.delta_e, r.e.rel_mse, r.e.rel_bias, r.ms);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Environment lighting on scenes against the CPU reference (docs/environment.md)");
+  Options o;
+  app.add_flag("--quick", o.quick, "Smoke test: one HDRI, 48x27, N 4 and 16, one roughness, no helmet (< 1 min)");
+  app.add_option("--out", o.out, "Folder for environment_scenes.csv and .md");
+  app.add_option("--cache", o.cache, "Reference cache folder");
+  app.add_option("--data", o.data, "The shared data folder (hdri/, models/)");
+  app.add_option("--hdris", o.hdris, "HDRI file names in <data>/hdri, comma-separated (default: all)");
+  app.add_option("--samples", o.samples, "N values, comma-separated");
+  app.add_option("--roughness", o.roughness, "GGX roughness values, comma-separated");
+  app.add_option("--visibility-samples", o.visibility_samples, "N_v values of the SH visibility part");
+  app.add_option("--ref-spp", o.ref_spp, "Reference samples per pixel")->check(CLI::Range(1, 1 << 24));
+  app.add_option("--width", o.width, "Image width")->check(CLI::Range(8, 4096));
+  app.add_option("--height", o.height, "Image height")->check(CLI::Range(8, 4096));
+  app.add_flag("!--no-helmet", o.helmet, "Leave DamagedHelmet out");
+  app.add_flag("--refresh-references", o.refresh, "Render the references even when cached");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    std::vector<fs::path> hdris = find_hdris(o);
+    if (hdris.empty()) {
+      std::printf("bench_env_scenes: skipped: no HDRI in %s/hdri (../shared/data is absent)\n", o.data.c_str());
+      return 77;
+    }
+    if (o.quick) {
+      hdris.resize(1);
+      o.width = 48;
+      o.height = 27;
+      o.ref_spp = std::min(o.ref_spp, 32);
+      o.samples = "4,16";
+      o.roughness = "0.3";
+      o.visibility_samples = "8";
+      o.helmet = false;
+    }
+    const fs::path glb = fs::path(o.data) / "models" / "DamagedHelmet.glb";
+    std::vector<Target> targets;
+    for (const auto& h : hdris) {
+      const std::string hn = h.filename().string();
+      for (double r : parse_list<double>(o.roughness)) {
+        targets.push_back({"sphere", hn, sphere_scene(h, r), r});
+        targets.push_back({"plane", hn, plane_scene(h, r), r});
+      }
+      if (o.helmet && fs::is_regular_file(glb)) targets.push_back({"helmet", hn, helmet_scene(h, glb), -1});
+      targets.push_back({"shadow", hn, shadow_scene(h), -1});
+    }
+    if (o.helmet && !fs::is_regular_file(glb))
+      std::printf("bench_env_scenes: %s absent: the helmet is left out\n", glb.string().c_str());
+    nf::Timer total;
+    nf::bench::MachineInfo machine;
+    {
+      nf::cl::Runtime rt;
+      machine = nf::bench::collect_machine(rt);
+    }
+    std::vector<Row> rows;
+    std::vector<std::string> notes;
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+      std::printf("[%zu/%zu] %s under %s\n", i + 1, targets.size(), targets[i].name.c_str(), targets[i].hdri.c_str());
+      run_target(targets[i], o, rows, notes);
+    }
+    write_results(o, machine, rows, notes, total.ms() / 1000.0);
+    for (const auto& r : rows)
+      if (!std::isfinite(r.e.delta_e) || !std::isfinite(r.e.rel_mse)) {
+        std::fprintf(stderr, "non-finite error for %s %s %s N %d\n", r.target.c_str(), r.hdri.c_str(), r.method.c_str(),
+                     r.n);
+        return 1;
+      }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_env_scenes: %s\n", e.what());
+    return 1;
+  }
+}
