@@ -19,6 +19,7 @@
 
 #include "cl/runtime.h"
 #include "render/frame_settings.h"
+#include "render/luminaire_view.h"
 #include "render/sampler.h"
 #include "scene/scene.h"
 
@@ -27,6 +28,14 @@ class SceneGpu;
 }
 
 namespace nf::render {
+
+// A luminaire instance on the host: its light field (the luminaire seen along a ray) and, with
+// shadow maps, its cells' reference lights (luminaire-local, index cj * cells_x + ci; visibility
+// of points other than the camera's, e.g. the environment's local maps).
+struct HostLuminaire {
+  ViewInstance view;
+  const std::vector<glm::dvec3>* ref_lights = nullptr;
+};
 
 // What a contribution gets each frame: Step 0's surfaces of the current view (one NfSurface per
 // pixel, rows from the top; pixels that see a luminaire are invalid) on the device, and the frame.
@@ -50,6 +59,8 @@ struct FrameInputs {
   // every frame). Contributions may keep per-view state across the frames of one accumulation
   // (the luminaires' pixel cache, docs/sampling.md; the environment's visibility fit).
   std::uint64_t view_version = 0;
+  // The luminaire instances on the host, in the order of `lights` (empty: not available).
+  std::span<const HostLuminaire> host_lights = {};
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

@@ -12,12 +12,15 @@ const std::vector<ContributionKind>& contribution_kinds() {
        [](const ContributionContext& c) {
          return std::make_unique<LuminaireContribution>(c.rt, c.scene.geometry.materials);
        }},
-      {"environment", [](const ContributionContext& c) { return c.scene.environment.has_value(); },
+      {"environment",
        [](const ContributionContext& c) {
-         return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment, c.scene.geometry.materials);
-       }},
+         return c.scene.environment.has_value() || !c.scene.local_environments.empty();
+       },
+       [](const ContributionContext& c) { return std::make_unique<EnvironmentContribution>(c.rt, c.scene); }},
       {"indirect",
-       [](const ContributionContext& c) { return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl"; },
+       [](const ContributionContext& c) {
+         return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl";
+       },
        [](const ContributionContext& c) { return std::make_unique<VsglContribution>(c.rt, c.scene); }},
   };
   return kinds;

@@ -37,6 +37,17 @@ struct Environment {
   double intensity = 1.0;      // in [0, kMaxIntensity]
 };
 
+// An object with its own environment map (docs/local-environment.md): a lat-long map of the
+// scene seen from the object's centroid (the object itself left out), used as that object's
+// environment by every environment method. Scene key per object: "local_environment": true, or
+// { "size": W, "frames": F }.
+struct LocalEnvironment {
+  int object = 0;    // index into the scene file's /objects (scene::Instance::object)
+  std::string name;  // the object's name
+  int size = 128;    // map width in texels (even, 8..4096); height = size / 2
+  int frames = 16;   // luminaire/environment frames averaged per texel when the map is built (1..1024)
+};
+
 struct Scene {
   std::filesystem::path file;  // the scene file as given (empty when parsed from a string)
   std::string description;
@@ -44,6 +55,7 @@ struct Scene {
   Geometry geometry;
   std::vector<LuminaireRef> luminaires;
   std::optional<Environment> environment;
+  std::vector<LocalEnvironment> local_environments;  // in object order
   RenderSettings render;
 
   // Step 0 builds shadow maps only when this holds (docs/rendering.md).
