@@ -350,15 +350,21 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   set_filter(d.env_filter);  // first: a new filter with a new parametrisation builds once
   set_param(d.env_param);
-  const std::string options = fmt::format(
-      "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
-      "-DNF_ENV_VIS={}",
-      glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1,
-      d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0, d.env_visibility == "sh" ? 1 : 0);
+  const auto options_for = [&](bool background, bool vis) {
+    return fmt::format(
+        "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
+        "-DNF_ENV_VIS={}",
+        glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, background ? 1 : 0,
+        d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0, vis ? 1 : 0);
+  };
+  const std::string options = options_for(d.env_background != "hide", d.env_visibility == "sh");
   if (options != options_ || !shade_()) {
     shade_ = rt_.kernel("environment.cl", "env_shade", options);
     options_ = options;
   }
+  // the local maps' passes (texels, the objects' pixels: no background, no far visibility) are
+  // compiled here too, so that no frame's times include a compiler run
+  if (!locals_.empty()) (void)rt_.program("environment.cl", options_for(false, false));
   vis_.prepare(in);
 }
 
