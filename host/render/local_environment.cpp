@@ -13,6 +13,7 @@
 
 #include "cl/buffers.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/timer.h"
 #include "luminaire/basis.h"
 #include "luminaire/geometry.h"
@@ -253,6 +254,7 @@ ref::EnvironmentMap LocalEnvironmentMap::build(const FrameInputs& in, const ref:
   // Shading: the frames 0 .. frames - 1 of the luminaire and far-environment estimators, averaged.
   timer.reset();
   std::vector<glm::dvec3> sum(n, glm::dvec3(0.0));
+  Progress progress(fmt::format("local environment of '{}'", spec_.name), static_cast<std::size_t>(spec_.frames));
   for (int f = 0; f < spec_.frames; ++f) {
     if (!lights.empty()) {
       SamplingSettings s = in.settings.sampling;
@@ -265,7 +267,9 @@ ref::EnvironmentMap LocalEnvironmentMap::build(const FrameInputs& in, const ref:
       const std::vector<glm::vec4> rgb = far_shade(buf, static_cast<int>(n), static_cast<std::uint32_t>(f));
       for (std::size_t i = 0; i < n && i < rgb.size(); ++i) sum[i] += glm::dvec3(rgb[i]);
     }
+    progress.advance();
   }
+  progress.finish();
   times.shading_ms = timer.ms();
 
   Image img(w, h, 3);
