@@ -111,7 +111,9 @@ TEST(LocalEnvironmentScene, AcceptsTheKeyAndRejectsBadValues) {
     ASSERT_EQ(s.local_environments.size(), 1u);
     EXPECT_EQ(s.local_environments[0].size, 256);
     EXPECT_EQ(s.local_environments[0].frames, 4);
+    EXPECT_TRUE(s.local_environments[0].glow);
   }
+  EXPECT_FALSE(parse(R"({ "glow": false })").local_environments.at(0).glow);
   const auto fails_with = [&](const std::string& value, const std::string& part) {
     try {
       parse(value);
@@ -126,6 +128,7 @@ TEST(LocalEnvironmentScene, AcceptsTheKeyAndRejectsBadValues) {
   fails_with(R"({ "size": 4 })", "size");
   fails_with(R"({ "frames": 0 })", "frames");
   fails_with(R"({ "width": 64 })", "unknown key 'width'");
+  fails_with(R"({ "glow": 1 })", "glow");
 }
 
 // Renders the map (64 frames) and, for each texel, a direct render from the centroid along its ray

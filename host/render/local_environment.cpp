@@ -203,7 +203,7 @@ ref::EnvironmentMap LocalEnvironmentMap::build(const FrameInputs& in, const ref:
       const ref::RayHit hit = intersect_skipping(rays, geometry_, spec_.object, centre_, dir, kInf);
       glm::dvec3 glow(0.0);
       if (lum_rays.see(centre_, dir, hit.hit ? hit.t : kInf, glow)) {
-        direct[i] = glow;
+        direct[i] = spec_.glow ? glow : glm::dvec3(0.0);  // without glow: the lamp's body, black
         continue;
       }
       if (!hit.hit) {

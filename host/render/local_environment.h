@@ -5,8 +5,8 @@
 // is cast with Embree (render's own G-buffer of the map: position, normal, material of the first
 // hit), the hits are shaded by the luminaire contribution's kernels exactly as camera pixels are
 // (same sampler, settings and visibility model) plus the far environment's estimators, rays that
-// see a luminaire take its light field L(u -> s) as the camera does, and rays that hit nothing take
-// the far environment L_env. The environment contribution pyramids the map and uses it for the
+// see a luminaire take its light field L(u -> s) as the camera does (unless "glow": false), and
+// rays that hit nothing take the far environment L_env. The environment contribution pyramids the map and uses it for the
 // object's pixels (render/environment_contribution.h).
 #include <cstdint>
 #include <functional>

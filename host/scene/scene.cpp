@@ -386,7 +386,7 @@ class Parser {
       local_environment(v["local_environment"], at(ptr, "local_environment"), object, name);
   }
 
-  // "local_environment": true | false | { "size": W, "frames": F } (docs/local-environment.md).
+  // "local_environment": true | false | { "size": W, "frames": F, "glow": G } (docs/local-environment.md).
   void local_environment(const json& v, const std::string& ptr, int object_index, const std::string& name) {
     LocalEnvironment e;
     e.object = object_index;
@@ -394,15 +394,17 @@ class Parser {
     if (v.is_boolean()) {
       if (!v.get<bool>()) return;
     } else if (v.is_object()) {
-      object(v, ptr, {"size", "frames"});
+      object(v, ptr, {"size", "frames", "glow"});
       if (v.contains("size")) {
         e.size = integer(v["size"], at(ptr, "size"), 8, 4096);
         if (e.size % 2 != 0)
           error(at(ptr, "size"), fmt::format("the map width must be even (height = width / 2), got {}", e.size));
       }
       if (v.contains("frames")) e.frames = integer(v["frames"], at(ptr, "frames"), 1, 1024);
+      if (v.contains("glow")) e.glow = boolean(v["glow"], at(ptr, "glow"));
     } else {
-      error(ptr, fmt::format("expected true, false or an object {{\"size\", \"frames\"}}, got {}", type_name(v)));
+      error(ptr,
+            fmt::format("expected true, false or an object {{\"size\", \"frames\", \"glow\"}}, got {}", type_name(v)));
     }
     locals_.push_back(e);
   }

@@ -40,12 +40,13 @@ struct Environment {
 // An object with its own environment map (docs/local-environment.md): a lat-long map of the
 // scene seen from the object's centroid (the object itself left out), used as that object's
 // environment by every environment method. Scene key per object: "local_environment": true, or
-// { "size": W, "frames": F }.
+// { "size": W, "frames": F, "glow": true }.
 struct LocalEnvironment {
   int object = 0;    // index into the scene file's /objects (scene::Instance::object)
   std::string name;  // the object's name
   int size = 128;    // map width in texels (even, 8..4096); height = size / 2
   int frames = 16;   // luminaire/environment frames averaged per texel when the map is built (1..1024)
+  bool glow = true;  // texels that see a luminaire hold its L(u -> s) (counts its direct light twice)
 };
 
 struct Scene {
