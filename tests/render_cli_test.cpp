@@ -2,6 +2,7 @@
 // stderr, non-zero exit, no output file left behind).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -164,3 +165,27 @@ TEST(RenderCli, RefusesToOverwriteALuminaireImage) {
 }
 
 }  // namespace
+
+// The shipped materials scene (scenes/materials.json: Kurt spheres, the generated sky, a gold ball
+// with a local environment map) renders, small and quick; the local map's build is in the stats.
+TEST(RenderCli, ShippedMaterialsSceneRenders) {
+  const auto dir = nf::testing::temp_dir("render_materials");
+  const fs::path scene = fs::path(NEARFIELD_SOURCE_DIR) / "scenes" / "materials.json";
+  const auto r = run_nearfield("render " + q(scene) + " -o " + q(dir / "m.exr") + " --stats " + q(dir / "s.json") +
+                               " --width 96 --spp 4 --env-samples 4 --frames 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nf::Image img = nf::read_image(dir / "m.exr");
+  EXPECT_EQ(img.width, 96);
+  double sum = 0.0;
+  for (const float v : img.pixels) {
+    ASSERT_TRUE(std::isfinite(v));
+    sum += v;
+  }
+  EXPECT_GT(sum, 0.0);
+  std::ifstream in(dir / "s.json");
+  const auto j = nlohmann::json::parse(in);
+  bool local = false;
+  for (const auto& c : j["contributions"])
+    if (c["name"] == "environment") local = c["parts_ms"].contains("local 'gold ball' shading");
+  EXPECT_TRUE(local) << j["contributions"].dump();
+}

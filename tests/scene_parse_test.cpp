@@ -398,3 +398,34 @@ TEST(SceneCamera, RaysIntoTheLuminaire) {
 }
 
 }  // namespace
+
+TEST(SceneMaterials, ShippedMaterialsSceneIsPlausible) {
+  const fs::path file = fs::path(NEARFIELD_SOURCE_DIR) / "scenes" / "materials.json";
+  const Scene s = nf::scene::load_scene(file);
+  ASSERT_TRUE(s.environment.has_value());
+  EXPECT_TRUE(fs::exists(s.environment->file)) << "the generated sky ships with the scene (scripts/make_sky.py)";
+  ASSERT_EQ(s.luminaires.size(), 1u);
+  EXPECT_EQ(s.luminaires[0].preset, "car2");
+  // Kurt materials: an isotropic lobe, an anisotropic one, two lobes
+  int iso = 0, aniso = 0, two = 0;
+  for (const auto& m : s.geometry.materials) {
+    if (m.kind != nf::scene::MaterialKind::kurt) continue;
+    if (m.kurt_lobes.size() == 2) ++two;
+    if (m.kurt_lobes.size() == 1) (m.kurt_lobes[0].mx == m.kurt_lobes[0].my ? iso : aniso) += 1;
+  }
+  EXPECT_EQ(iso, 1);
+  EXPECT_EQ(aniso, 1);
+  EXPECT_EQ(two, 1);
+  // the gold ball next to the headlight has a local environment map
+  ASSERT_EQ(s.local_environments.size(), 1u);
+  EXPECT_EQ(s.local_environments[0].name, "gold ball");
+  const glm::dvec3 lamp = apply(s.luminaires[0].to_world, {0, 0, 0});
+  for (const auto& inst : s.geometry.instances)
+    if (inst.object == s.local_environments[0].object) {
+      const glm::dvec3 c(inst.to_world[3]);
+      EXPECT_LT(glm::length(c - lamp), 1.5) << "next to the headlight";
+      const glm::dvec3 local(glm::inverse(s.luminaires[0].to_world) * glm::dvec4(c, 1.0));
+      EXPECT_GT(local.z, 0.0) << "in front of the headlight: it sees its glow";
+    }
+  EXPECT_TRUE(s.needs_shadow_maps());
+}

@@ -19,6 +19,7 @@
 
 #include "cl/runtime.h"
 #include "render/frame_settings.h"
+#include "render/luminaire_view.h"
 #include "render/sampler.h"
 #include "scene/scene.h"
 
@@ -28,6 +29,14 @@ class SceneGpu;
 }
 
 namespace nf::render {
+
+// A luminaire instance on the host: its light field (the luminaire seen along a ray) and, with
+// shadow maps, its cells' reference lights (luminaire-local, index cj * cells_x + ci; visibility
+// of points other than the camera's, e.g. the environment's local maps).
+struct HostLuminaire {
+  ViewInstance view;
+  const std::vector<glm::dvec3>* ref_lights = nullptr;
+};
 
 // What a contribution gets each frame: Step 0's surfaces of the current view (one NfSurface per
 // pixel, rows from the top; pixels that see a luminaire are invalid) on the device, and the frame.
@@ -54,6 +63,8 @@ struct FrameInputs {
   // Step 0's G-buffer of `surfaces` (GL context current): GL passes over it, such as the far-field
   // lights' shadow-map visibility. nullptr: not available.
   const gl::GBuffer* gbuffer = nullptr;
+  // The luminaire instances on the host, in the order of `lights` (empty: not available).
+  std::span<const HostLuminaire> host_lights = {};
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

@@ -13,10 +13,11 @@ const std::vector<ContributionKind>& contribution_kinds() {
        [](const ContributionContext& c) {
          return std::make_unique<LuminaireContribution>(c.rt, c.scene.geometry.materials);
        }},
-      {"environment", [](const ContributionContext& c) { return c.scene.environment.has_value(); },
+      {"environment",
        [](const ContributionContext& c) {
-         return std::make_unique<EnvironmentContribution>(c.rt, *c.scene.environment, c.scene.geometry.materials);
-       }},
+         return c.scene.environment.has_value() || !c.scene.local_environments.empty();
+       },
+       [](const ContributionContext& c) { return std::make_unique<EnvironmentContribution>(c.rt, c.scene); }},
       {"farfield", [](const ContributionContext& c) { return !c.scene.farfield_lights.empty(); },
        [](const ContributionContext& c) {
          return std::make_unique<FarfieldContribution>(c.rt, c.scene.farfield_lights, c.scene.geometry.materials);

@@ -9,7 +9,9 @@
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "reference/ray_scene.h"
 #include "render/kurt_table.h"
+#include "render/local_environment.h"
 
 namespace nf::render {
 namespace {
@@ -51,6 +53,22 @@ std::size_t texel_count(const std::vector<glm::ivec2>& dims) {
 
 }  // namespace
 
+// One object's local map (docs/local-environment.md): its builder, the built map's own
+// environment contribution (pyramids, SH, sampling tables) and the object's camera pixels.
+struct EnvironmentContribution::Local {
+  std::unique_ptr<LocalEnvironmentMap> builder;
+  std::unique_ptr<EnvironmentContribution> env;
+  std::string key;  // what `env` was built for (LocalEnvironmentMap::key); empty: nothing built
+  int builds = 0;
+  LocalEnvironmentMap::Times times;  // of the last build
+  double pixels_ms = 0.0;            // the last search for the object's camera pixels
+  std::uint64_t pixels_version = 0;
+  int pixels_count = -1;
+  std::vector<std::uint8_t> pixels;  // 1: the object's camera pixel
+  bool any = false;
+  ::cl::Buffer masked;  // the camera's surfaces with every other pixel invalid
+};
+
 EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, const scene::Environment& env,
                                                  const std::vector<scene::Material>& materials)
     : EnvironmentContribution(rt, ref::EnvironmentMap::load(env.file, env.rotation_deg, env.intensity)) {
@@ -62,6 +80,41 @@ EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, ref::Environme
   upload();
   build();
   set_kurt_table({});
+}
+
+namespace {
+ref::EnvironmentMap black_map() {
+  Image img(2, 1, 3);
+  return ref::EnvironmentMap(img, 0.0, 1.0, "no environment");
+}
+}  // namespace
+
+EnvironmentContribution::EnvironmentContribution(cl::Runtime& rt, const scene::Scene& scene)
+    : EnvironmentContribution(
+          rt, scene.environment ? ref::EnvironmentMap::load(scene.environment->file, scene.environment->rotation_deg,
+                                                            scene.environment->intensity)
+                                : black_map()) {
+  has_far_ = scene.environment.has_value();
+  materials_ = scene.geometry.materials;
+  set_kurt_table(kurt_table(materials_));
+  for (const auto& spec : scene.local_environments) {
+    auto l = std::make_unique<Local>();
+    l->builder = std::make_unique<LocalEnvironmentMap>(rt, scene.geometry, spec, materials_);
+    locals_.push_back(std::move(l));
+  }
+}
+
+EnvironmentContribution::~EnvironmentContribution() = default;
+
+const ref::EnvironmentMap& EnvironmentContribution::local_map(std::size_t i) const {
+  static const ref::EnvironmentMap none;
+  const Local& l = *locals_.at(i);
+  return l.env ? l.env->map() : none;
+}
+int EnvironmentContribution::local_builds(std::size_t i) const { return locals_.at(i)->builds; }
+glm::dvec3 EnvironmentContribution::local_centre(std::size_t i) const { return locals_.at(i)->builder->centre(); }
+const std::vector<std::uint8_t>& EnvironmentContribution::local_pixels(std::size_t i) const {
+  return locals_.at(i)->pixels;
 }
 
 void EnvironmentContribution::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
@@ -297,26 +350,133 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   set_filter(d.env_filter);  // first: a new filter with a new parametrisation builds once
   set_param(d.env_param);
-  const std::string options = fmt::format(
-      "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
-      "-DNF_ENV_VIS={}",
-      glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, d.env_background == "hide" ? 0 : 1,
-      d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0, d.env_visibility == "sh" ? 1 : 0);
+  const auto options_for = [&](bool background, bool vis) {
+    return fmt::format(
+        "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
+        "-DNF_ENV_VIS={}",
+        glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, background ? 1 : 0,
+        d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0, vis ? 1 : 0);
+  };
+  const std::string options = options_for(d.env_background != "hide", d.env_visibility == "sh");
   if (options != options_ || !shade_()) {
     shade_ = rt_.kernel("environment.cl", "env_shade", options);
     options_ = options;
   }
+  // the local maps' passes (texels, the objects' pixels: no background, no far visibility) are
+  // compiled here too, so that no frame's times include a compiler run
+  if (!locals_.empty()) (void)rt_.program("environment.cl", options_for(false, false));
   vis_.prepare(in);
 }
 
-// One launch of env_shade over every surface; docs/environment.md has the estimators.
+// The frame: the far map on every surface, then each local map on its object's pixels, which
+// replace the far map's values there (docs/local-environment.md).
 ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
-  prepare(in);
   ContributionFrame f;
   if (!build_reported_) {  // the one-time build shows in the first frame's first-pass time
     f.step1_ms = build_ms_;
     build_reported_ = true;
   }
+  update_locals(in, f);  // first: rebuilding a map runs this contribution's kernels on its texels
+  std::vector<glm::vec4> rgb = shade(in, f);
+  if (!locals_.empty()) {
+    // the object's pixels read the local map: no far-map visibility (the map holds the scene's
+    // occluders) and no background (the far pass draws it)
+    FrameSettings ls = in.settings;
+    ls.declared.env_visibility = "none";
+    ls.declared.env_background = "hide";
+    for (auto& l : locals_) {
+      if (!l->any) continue;
+      const FrameInputs local{in.rt,       l->masked,       in.count,      ls, in.frame, in.lights, in.camera, nullptr,
+                              in.geometry, in.view_version, in.host_lights};
+      ContributionFrame lf;
+      l->env->prepare(local);
+      const std::vector<glm::vec4> lrgb = l->env->shade(local, lf);
+      f.step2_ms += lf.step2_ms;
+      f.readback_ms += lf.readback_ms;
+      for (std::size_t p = 0; p < rgb.size() && p < lrgb.size() && p < l->pixels.size(); ++p)
+        if (l->pixels[p]) rgb[p] = lrgb[p];
+    }
+  }
+  Timer readback;
+  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
+  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  f.readback_ms += readback.ms();
+  return f;
+}
+
+// Rebuilds the local maps whose key changed (LocalEnvironmentMap::key: luminaires, settings; not
+// the camera) and finds each object's camera pixels when the surfaces changed.
+void EnvironmentContribution::update_locals(const FrameInputs& in, ContributionFrame& f) {
+  if (locals_.empty() || !in.geometry) return;
+  if (!rays_ || rays_for_ != in.geometry) {
+    rays_ = std::make_unique<ref::RayScene>(*in.geometry);
+    rays_for_ = in.geometry;
+  }
+  std::vector<NfSurface> surfaces;
+  for (auto& l : locals_) {
+    const std::string key = l->builder->key(in);
+    if (key != l->key || !l->env) {
+      Timer total;
+      FrameSettings ts = in.settings;  // the texels: no far-map visibility, no background
+      ts.declared.env_visibility = "none";
+      ts.declared.env_background = "hide";
+      const LocalEnvironmentMap::FarShade far_shade = [&](const ::cl::Buffer& buf, int count, std::uint32_t frame) {
+        const FrameInputs t{in.rt, buf, count, ts, frame, in.lights, nullptr, nullptr, in.geometry, 0, in.host_lights};
+        ContributionFrame tf;
+        return shade(t, tf);
+      };
+      LocalEnvironmentMap::Times times;
+      ref::EnvironmentMap map = l->builder->build(in, *rays_, has_far_ ? &map_ : nullptr,
+                                                  has_far_ ? far_shade : LocalEnvironmentMap::FarShade{}, times);
+      l->env = std::make_unique<EnvironmentContribution>(rt_, std::move(map));
+      l->env->set_kurt_table(kurt_table(materials_));
+      l->env->set_filter(in.settings.declared.env_filter);
+      l->env->set_param(in.settings.declared.env_param);
+      l->env->build_reported_ = true;
+      l->key = key;
+      ++l->builds;
+      l->times = times;
+      f.step1_ms += total.ms();  // the frame that built it pays for it
+    }
+    // the last build's stages, every frame (render --stats shows the last frame's)
+    const std::string& name = l->builder->spec().name;
+    f.parts_ms.emplace_back(fmt::format("local '{}' rays", name), l->times.rays_ms);
+    f.parts_ms.emplace_back(fmt::format("local '{}' visibility", name), l->times.visibility_ms);
+    f.parts_ms.emplace_back(fmt::format("local '{}' shading", name), l->times.shading_ms);
+    f.parts_ms.emplace_back(fmt::format("local '{}' pyramid", name), l->env->build_ms());
+    if (in.view_version == 0 || in.view_version != l->pixels_version || in.count != l->pixels_count) {
+      Timer timer;
+      if (surfaces.size() != static_cast<std::size_t>(in.count)) {
+        surfaces.resize(static_cast<std::size_t>(std::max(in.count, 0)));
+        if (!surfaces.empty())
+          cl::call(
+              [&] {
+                rt_.queue().enqueueReadBuffer(in.surfaces, CL_TRUE, 0, surfaces.size() * sizeof(NfSurface),
+                                              surfaces.data());
+              },
+              "reading the surfaces for the local environment maps");
+      }
+      l->pixels = in.camera ? l->builder->owned_pixels(surfaces, *in.camera, *rays_)
+                            : std::vector<std::uint8_t>(surfaces.size(), 0);
+      l->any = std::any_of(l->pixels.begin(), l->pixels.end(), [](std::uint8_t b) { return b != 0; });
+      if (l->any) {
+        std::vector<NfSurface> masked = surfaces;
+        for (std::size_t p = 0; p < masked.size(); ++p)
+          if (!l->pixels[p]) masked[p].valid = 0;
+        l->masked = upload_surfaces(rt_, masked);
+      }
+      l->pixels_version = in.view_version;
+      l->pixels_count = in.count;
+      l->pixels_ms = timer.ms();
+      f.step1_ms += l->pixels_ms;
+    }
+    f.parts_ms.emplace_back(fmt::format("local '{}' pixels", l->builder->spec().name), l->pixels_ms);
+  }
+}
+
+// One launch of env_shade over every surface; docs/environment.md has the estimators.
+std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, ContributionFrame& f) {
+  prepare(in);
   Timer wall;
   const EnvVisibility::Frame vis = vis_.run(in, map_, pyr_, lv_);  // dummies unless env_visibility sh
   f.step1_ms += vis.build_ms + vis.fit_ms;
@@ -374,23 +534,24 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
       "environment kernel arguments");
   const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
   cl::call([&] { ev.wait(); }, "environment kernel");
-  f.step2_ms = cl::Runtime::event_ms(ev);
-  f.wall_ms = wall.ms();
+  f.step2_ms += cl::Runtime::event_ms(ev);
+  f.wall_ms += wall.ms();
   Timer readback;
   std::vector<glm::vec4> rgb(static_cast<std::size_t>(in.count));
   if (in.count > 0)
     cl::call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
              "reading the environment radiance");
-  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
-  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
-  f.samples = static_cast<std::uint64_t>(in.count) * static_cast<std::uint64_t>(d.env_samples);
-  f.readback_ms = readback.ms();
-  return f;
+  f.samples += static_cast<std::uint64_t>(in.count) * static_cast<std::uint64_t>(d.env_samples);
+  f.readback_ms += readback.ms();
+  return rgb;
 }
 
 std::size_t EnvironmentContribution::device_bytes() const {
+  std::size_t local = 0;
+  for (const auto& l : locals_)
+    if (l->env) local += l->env->device_bytes() + (l->any ? l->pixels.size() * sizeof(NfSurface) : 0);
   return pyr_bytes_ + ppyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16 +
-         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial) + vis_.device_bytes();
+         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial) + vis_.device_bytes() + local;
 }
 
 }  // namespace nf::render

@@ -6,6 +6,7 @@
 // seen by camera rays that miss the geometry. The filtered lookups read the lat-long pyramid or a
 // dual-paraboloid one (env_param); Kurt materials read the material table (render/kurt_table.h).
 #include <array>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -16,7 +17,13 @@
 #include "render/contribution.h"
 #include "render/env_visibility.h"
 
+namespace nf::ref {
+class RayScene;
+}
+
 namespace nf::render {
+
+class LocalEnvironmentMap;
 
 class EnvironmentContribution final : public Contribution {
  public:
@@ -26,6 +33,10 @@ class EnvironmentContribution final : public Contribution {
                           const std::vector<scene::Material>& materials = {});
   // From a map in memory (tests).
   EnvironmentContribution(cl::Runtime& rt, ref::EnvironmentMap map);
+  // For a scene: its far environment (black when it has none) and a local map per object with
+  // "local_environment" (docs/local-environment.md).
+  EnvironmentContribution(cl::Runtime& rt, const scene::Scene& scene);
+  ~EnvironmentContribution() override;
 
   std::string name() const override { return "environment"; }
   void prepare(const FrameInputs& in) override;
@@ -65,7 +76,19 @@ class EnvironmentContribution final : public Contribution {
   std::vector<float> integral_level_debug(const std::vector<glm::vec2>& uv, float target);
   EnvVisibility& visibility() { return vis_; }  // env_visibility sh (docs/env_visibility.md)
 
+  // Local environment maps (docs/local-environment.md), in scene order.
+  std::size_t local_count() const { return locals_.size(); }
+  // The last built map of local i (empty before the first frame) and how often it was built.
+  const ref::EnvironmentMap& local_map(std::size_t i) const;
+  int local_builds(std::size_t i) const;
+  glm::dvec3 local_centre(std::size_t i) const;
+  // The camera pixels local i shaded in the last frame (1 = the object's).
+  const std::vector<std::uint8_t>& local_pixels(std::size_t i) const;
+
  private:
+  struct Local;
+  std::vector<glm::vec4> shade(const FrameInputs& in, ContributionFrame& f);
+  void update_locals(const FrameInputs& in, ContributionFrame& f);
   void upload();
   void build();
   void build_paraboloid();
@@ -87,6 +110,11 @@ class EnvironmentContribution final : public Contribution {
   std::string param_ = "latlong";
   ::cl::Kernel shade_;
   EnvVisibility vis_;
+  bool has_far_ = true;  // false: the scene has no environment, the far map is black
+  std::vector<scene::Material> materials_;
+  std::vector<std::unique_ptr<Local>> locals_;
+  std::unique_ptr<ref::RayScene> rays_;
+  const scene::Geometry* rays_for_ = nullptr;
 };
 
 }  // namespace nf::render

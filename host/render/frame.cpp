@@ -383,6 +383,13 @@ const StepTimes& Renderer::render_frame() {
   // Steps 1-2: every contribution adds its radiance into this frame's
   const int count = static_cast<int>(pixel_count(camera_));
   const auto ls = lights();
+  std::vector<HostLuminaire> hl;  // the environment's local maps (docs/local-environment.md)
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const auto& inst = instances_[i];
+    const LuminaireSource& src = sources_[inst.source];
+    hl.push_back({{&src.luminaire, inst.to_world, inst.intensity},
+                  i < vis_bufs_.size() ? &src.precomputed.ref_lights : nullptr});
+  }
   const FrameInputs in{*rt_,
                        surfaces_buf_,
                        count,
@@ -393,7 +400,8 @@ const StepTimes& Renderer::render_frame() {
                        &step0_->scene_gpu(),
                        &scene_.geometry,
                        view_version_,
-                       step0_->gbuffer()};
+                       step0_->gbuffer(),
+                       hl};
   context_->make_current();  // contributions may draw (the environment's shadow maps)
   frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
   contribution_frames_.clear();

@@ -81,6 +81,7 @@ class Parser {
     }
     if (root.contains("environment")) s.environment = environment(root["environment"], "/environment");
     if (root.contains("render")) s.render = render(root["render"], "/render");
+    s.local_environments = std::move(locals_);
     return s;
   }
 
@@ -320,7 +321,7 @@ class Parser {
     const std::string type =
         choice(require(v, ptr, "type"), at(ptr, "type"), {"gltf", "plane", "box", "sphere", "disk"});
     const std::string name = v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("{}{}", type, index);
-    const auto common = {"type", "name", "transform", "material", "casts_shadows"};
+    const auto common = {"type", "name", "transform", "material", "casts_shadows", "local_environment"};
     auto allowed = [&](std::initializer_list<const char*> extra) {
       std::vector<const char*> keys(common.begin(), common.end());
       keys.insert(keys.end(), extra.begin(), extra.end());
@@ -387,6 +388,31 @@ class Parser {
       g.instances.push_back(inst);
     }
     for (std::size_t i = first_instance; i < g.instances.size(); ++i) g.instances[i].casts_shadows = casts;
+    if (v.contains("local_environment"))
+      local_environment(v["local_environment"], at(ptr, "local_environment"), object, name);
+  }
+
+  // "local_environment": true | false | { "size": W, "frames": F, "glow": G } (docs/local-environment.md).
+  void local_environment(const json& v, const std::string& ptr, int object_index, const std::string& name) {
+    LocalEnvironment e;
+    e.object = object_index;
+    e.name = name;
+    if (v.is_boolean()) {
+      if (!v.get<bool>()) return;
+    } else if (v.is_object()) {
+      object(v, ptr, {"size", "frames", "glow"});
+      if (v.contains("size")) {
+        e.size = integer(v["size"], at(ptr, "size"), 8, 4096);
+        if (e.size % 2 != 0)
+          error(at(ptr, "size"), fmt::format("the map width must be even (height = width / 2), got {}", e.size));
+      }
+      if (v.contains("frames")) e.frames = integer(v["frames"], at(ptr, "frames"), 1, 1024);
+      if (v.contains("glow")) e.glow = boolean(v["glow"], at(ptr, "glow"));
+    } else {
+      error(ptr,
+            fmt::format("expected true, false or an object {{\"size\", \"frames\", \"glow\"}}, got {}", type_name(v)));
+    }
+    locals_.push_back(e);
   }
 
   LuminaireRef luminaire(const json& v, const std::string& ptr, std::size_t index) const {
@@ -434,14 +460,14 @@ class Parser {
     Environment e;
     e.file = existing_file(require(v, ptr, "file"), at(ptr, "file"));
     if (v.contains("rotation")) e.rotation_deg = number(v["rotation"], at(ptr, "rotation"));
-    if (v.contains("intensity"))
-      e.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    if (v.contains("intensity")) e.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
     return e;
   }
 
   RenderSettings render(const json& v, const std::string& ptr) const { return parse_render_settings(v, where(ptr)); }
 
   std::string name_;
+  std::vector<LocalEnvironment> locals_;
   fs::path base_;
   Geometry* geometry_ = nullptr;
   std::map<std::string, int> material_index_;

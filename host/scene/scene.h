@@ -51,6 +51,18 @@ struct Environment {
   double intensity = 1.0;      // in [0, kMaxIntensity]
 };
 
+// An object with its own environment map (docs/local-environment.md): a lat-long map of the
+// scene seen from the object's centroid (the object itself left out), used as that object's
+// environment by every environment method. Scene key per object: "local_environment": true, or
+// { "size": W, "frames": F, "glow": true }.
+struct LocalEnvironment {
+  int object = 0;    // index into the scene file's /objects (scene::Instance::object)
+  std::string name;  // the object's name
+  int size = 128;    // map width in texels (even, 8..4096); height = size / 2
+  int frames = 16;   // luminaire/environment frames averaged per texel when the map is built (1..1024)
+  bool glow = false;  // texels that see a luminaire hold its L(u -> s) (counts its direct light twice)
+};
+
 struct Scene {
   std::filesystem::path file;  // the scene file as given (empty when parsed from a string)
   std::string description;
@@ -59,6 +71,7 @@ struct Scene {
   std::vector<LuminaireRef> luminaires;
   std::vector<FarfieldLightRef> farfield_lights;
   std::optional<Environment> environment;
+  std::vector<LocalEnvironment> local_environments;  // in object order
   RenderSettings render;
 
   // Step 0 builds shadow maps only when this holds (docs/rendering.md).
