@@ -56,13 +56,16 @@ void onb(dvec3 n, dvec3& t, dvec3& b) {
 // E / L of one Kurt lobe (the sum of the header comment) in double.
 dvec3 kurt_regular(const nf::ref::KurtMaterial& m, dvec3 n, dvec3 v, int budget, double eps) {
   const auto& lb = m.lobes[0];
-  const auto p = nf::render::regular_pattern_for_budget(budget, eps, lb.mx, lb.my);
+  // the roughness as the device table holds it (float): a sample at q = eps0 is kept or dropped
+  // by the host generator exactly as for the contribution's pattern
+  const double mx = double(float(lb.mx)), my = double(float(lb.my));
+  const auto p = nf::render::regular_pattern_for_budget(budget, eps, mx, my);
   dvec3 t, b;
   kurt_frame(n, m.tangent, t, b);
   dvec3 num(0.0);
   double den = 0.0;
   for (const dvec3& hl : p.h) {
-    den += nf::render::regular_beckmann_d(hl, lb.mx, lb.my);
+    den += nf::render::regular_beckmann_d(hl, mx, my);
     const dvec3 h = hl.x * t + hl.y * b + hl.z * n;
     const double vh = glm::dot(v, h);
     if (vh <= 0.0) continue;
@@ -183,7 +186,10 @@ TEST(RegularEstimator, ConstantMapGgx) {
     const auto got = nf::envtest::shade(env, surf, rs);
     for (std::size_t i = 0; i < got.size(); ++i)
       for (int ch = 0; ch < 3; ++ch)
-        EXPECT_NEAR(got[i][ch], want[i][ch], 1e-4 * want[i][ch] + 1e-7) << "surface " << i << " N " << budget;
+        // 5e-4: the kernel's float D_GGX = alpha^2 / (pi dd^2), dd = 1 - (1 - alpha^2) (n.h)^2, loses
+        // ~eps_float / alpha^2 = 4e-5 relative at alpha = 0.04 (roughness 0.2), twice through dd^2, in
+        // every term of both sums (measured up to 1.5e-4)
+        EXPECT_NEAR(got[i][ch], want[i][ch], 5e-4 * want[i][ch] + 1e-7) << "surface " << i << " N " << budget;
   }
 }
 
