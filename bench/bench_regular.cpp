@@ -65,7 +65,7 @@ std::vector<NfSurface> sphere_points(int count, int material) {
       s.nx = static_cast<float>(x), s.ny = static_cast<float>(y), s.nz = static_cast<float>(std::sqrt(z2));
       s.vx = 0.0f, s.vy = 0.0f, s.vz = 1.0f;
       s.brdf = NF_BRDF_KURT;
-      s.metallic = static_cast<float>(material);  // table index (kernels/shared/surface.h)
+      s.metallic = static_cast<float>(material);          // table index (kernels/shared/surface.h)
       s.base_r = 1.0f, s.base_g = 0.0f, s.base_b = 0.0f;  // tangent
       out.push_back(s);
     }
@@ -130,7 +130,8 @@ void run(const Options& o) {
   const std::vector<Lobe> lobes{{"iso 0.1", 0.1, 0.1}, {"iso 0.15", 0.15, 0.15}, {"aniso 0.2x0.075", 0.2, 0.075}};
   std::vector<NfKurtMaterial> table;
   for (const Lobe& l : lobes) table.push_back(material(l));
-  const std::vector<int> ns = o.quick ? std::vector<int>{5, 19, 64} : std::vector<int>{5, 7, 10, 14, 19, 30, 37, 52, 64};
+  const std::vector<int> ns =
+      o.quick ? std::vector<int>{5, 19, 64} : std::vector<int>{5, 7, 10, 14, 19, 30, 37, 52, 64};
   const std::vector<std::string> methods{"regular", "fis", "mc"};
   std::vector<Row> rows;
   nf::Timer wall;
@@ -201,7 +202,8 @@ void run(const Options& o) {
         const nf::scene::RenderSettings rs = settings(m, n);
         std::vector<double> ms;
         shade(rt, env, buf, o.timing_pixels, rs, 0, g);  // kernel build and pattern upload
-        for (int f = 0; f < 3; ++f) ms.push_back(shade(rt, env, buf, o.timing_pixels, rs, 1u + static_cast<std::uint32_t>(f), g).step2_ms);
+        for (int f = 0; f < 3; ++f)
+          ms.push_back(shade(rt, env, buf, o.timing_pixels, rs, 1u + static_cast<std::uint32_t>(f), g).step2_ms);
         std::sort(ms.begin(), ms.end());
         timings.push_back({m, n, m == "regular" ? env.regular_samples(2, 0) : n, ms[1]});
       }
@@ -231,10 +233,11 @@ void run(const Options& o) {
   {
     std::ofstream md(md_tmp);
     md << "# Regular sampling (Luksch et al. 2014) vs FIS and MC: error vs N (Luksch Figs. 8-10)\n\n";
-    md << fmt::format("Machine: {} ({} ISA, {} logical CPUs, shared with other jobs), OpenCL device {}; load {}; {}; "
-                      "commit {}; {:.0f} s.\n\n",
-                      machine.cpu_model, machine.isa, machine.cores, machine.cl_device.name, machine.loadavg,
-                      machine.date_utc, machine.git_commit, wall.ms() / 1000.0);
+    md << fmt::format(
+        "Machine: {} ({} ISA, {} logical CPUs, shared with other jobs), OpenCL device {}; load {}; {}; "
+        "commit {}; {:.0f} s.\n\n",
+        machine.cpu_model, machine.isa, machine.cores, machine.cl_device.name, machine.loadavg, machine.date_utc,
+        machine.git_commit, wall.ms() / 1000.0);
     md << fmt::format(
         "Setup: {} visible points of a sphere seen from +z, one Kurt lobe, ks = 1, r0 = 1, alpha = 0 (Fresnel and "
         "shadowing off), kd = 0; gauss6 pyramids, env_regular_eps 0.1, fis K = 1; error = RMS over points and "
@@ -244,8 +247,9 @@ void run(const Options& o) {
         o.points, o.frames, o.ref_frames);
     for (std::size_t i = 0; i < rows.size();) {
       const Row& r0 = rows[i];
-      md << fmt::format("## {}, {}\n\n| N | regular (samples) | regular | fis | mc | ref. |\n|---|---|---|---|---|---|\n",
-                        r0.hdri, r0.lobe);
+      md << fmt::format(
+          "## {}, {}\n\n| N | regular (samples) | regular | fis | mc | ref. |\n|---|---|---|---|---|---|\n", r0.hdri,
+          r0.lobe);
       for (std::size_t ni = 0; ni < ns.size(); ++ni) {
         const Row& rg = rows[i + ni];
         md << fmt::format("| {} | {} | {:.4f} | {:.4f} | {:.4f} | {:.4f} |\n", ns[ni], rg.samples, rg.nrmse,
@@ -254,9 +258,10 @@ void run(const Options& o) {
       md << "\n";
       i += methods.size() * ns.size();
     }
-    md << fmt::format("## Kernel time per frame, {} pixels, anisotropic lobe, {}\n\n| N | regular (samples) | "
-                      "regular ms | fis ms | mc ms |\n|---|---|---|---|---|\n",
-                      o.timing_pixels, maps[0].filename().string());
+    md << fmt::format(
+        "## Kernel time per frame, {} pixels, anisotropic lobe, {}\n\n| N | regular (samples) | "
+        "regular ms | fis ms | mc ms |\n|---|---|---|---|---|\n",
+        o.timing_pixels, maps[0].filename().string());
     for (std::size_t ni = 0; ni < ns.size(); ++ni)
       md << fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} |\n", ns[ni], timings[ni].samples, timings[ni].ms,
                         timings[ns.size() + ni].ms, timings[2 * ns.size() + ni].ms);

@@ -140,7 +140,8 @@ TEST(RegularEstimator, ConstantMapKurtLobes) {
       rs.env_regular_eps = eps;
       std::vector<NfSurface> surf;
       for (std::size_t k = 0; k < mats.size(); ++k)
-        for (const dvec3& v : views) surf.push_back(nf::envtest::surface(n, v, NF_BRDF_KURT, 0.0, double(k), mats[k].tangent));
+        for (const dvec3& v : views)
+          surf.push_back(nf::envtest::surface(n, v, NF_BRDF_KURT, 0.0, double(k), mats[k].tangent));
       const auto got = nf::envtest::shade(env, surf, rs);
       std::size_t i = 0;
       for (std::size_t k = 0; k < mats.size(); ++k) {
@@ -194,14 +195,16 @@ TEST(RegularEstimator, ConstantMapGgx) {
 }
 
 TEST(RegularEstimator, FiniteAtExtremes) {
-  std::vector<nf::ref::KurtMaterial> mats{lobe(1e-3, 1e-3), lobe(1.0, 1.0), lobe(1e-3, 1.0), nf::kurt_test::two_lobes()};
+  std::vector<nf::ref::KurtMaterial> mats{lobe(1e-3, 1e-3), lobe(1.0, 1.0), lobe(1e-3, 1.0),
+                                          nf::kurt_test::two_lobes()};
   std::vector<NfKurtMaterial> table;
   for (const auto& m : mats) table.push_back(nf::kurt_test::device_material(m));
   std::vector<NfSurface> surf;
   for (const dvec3 v : {dvec3(0, 1, 0), dvec3(1, 1e-7, 0), dvec3(1, 1e-3, 0), dvec3(1, 0, 0), dvec3(0.3, -0.5, 0.2)}) {
     for (std::size_t k = 0; k < mats.size(); ++k)
       surf.push_back(nf::envtest::surface({0, 1, 0}, v, NF_BRDF_KURT, 0.0, double(k), mats[k].tangent));
-    for (const double r : {0.0, 1.0}) surf.push_back(nf::envtest::surface({0, 1, 0}, v, NF_BRDF_GGX, r, 1.0, {1, 1, 1}));
+    for (const double r : {0.0, 1.0})
+      surf.push_back(nf::envtest::surface({0, 1, 0}, v, NF_BRDF_GGX, r, 1.0, {1, 1, 1}));
   }
   const std::vector<nf::ref::EnvironmentMap> maps{
       nf::envtest::make_map(16, 8, 0.0, [](dvec3) { return dvec3(0.0); }),

@@ -24,9 +24,9 @@
 
 namespace {
 
+using nf::render::regular_pattern;
 using nf::render::RegularPattern;
 using nf::render::RegularSpacing;
-using nf::render::regular_pattern;
 constexpr double kPi = 3.14159265358979323846;
 
 double q_of(const glm::dvec3& h, double mx, double my) {
@@ -72,13 +72,15 @@ void check_pattern(const RegularPattern& p, double eps0, double mx, double my, c
 
 TEST(RegularPattern, SymmetricAndAboveThreshold) {
   for (const double eps : {0.01, 0.1, 0.3})
-    for (const auto& [mx, my] : std::vector<std::pair<double, double>>{{0.1, 0.1}, {0.3, 0.1}, {0.075, 0.2}, {0.5, 0.05}})
+    for (const auto& [mx, my] :
+         std::vector<std::pair<double, double>>{{0.1, 0.1}, {0.3, 0.1}, {0.075, 0.2}, {0.5, 0.05}})
       for (const auto sp : {RegularSpacing::s1, RegularSpacing::s2})
         for (int c = 1; c <= 8; ++c) {
           const auto p = regular_pattern(sp, c, eps, mx, my);
           if (sp == RegularSpacing::s2 && p.h.empty()) continue;  // every s2 circle rejected: skipped by the budget
-          check_pattern(p, eps, mx, my,
-                        fmt::format("eps {} m ({}, {}) {} n_c {}", eps, mx, my, sp == RegularSpacing::s1 ? "s1" : "s2", c));
+          check_pattern(
+              p, eps, mx, my,
+              fmt::format("eps {} m ({}, {}) {} n_c {}", eps, mx, my, sp == RegularSpacing::s1 ? "s1" : "s2", c));
         }
 }
 

@@ -84,8 +84,8 @@ void EnvironmentContribution::set_regular(int budget, double eps0) {
       if (unit) {  // (cos phi, sin phi, theta / theta_max): the kernel scales theta per pixel
         const double st = std::hypot(h.x, h.y), th = std::atan2(st, h.z);
         const double c = st > 0.0 ? h.x / st : 1.0, sn = st > 0.0 ? h.y / st : 0.0;
-        pat.push_back(cl_float4{
-            {static_cast<float>(c), static_cast<float>(sn), static_cast<float>(th / p.theta_max), 0.0f}});
+        pat.push_back(
+            cl_float4{{static_cast<float>(c), static_cast<float>(sn), static_cast<float>(th / p.theta_max), 0.0f}});
       } else {
         pat.push_back(cl_float4{{static_cast<float>(h.x), static_cast<float>(h.y), static_cast<float>(h.z), 0.0f}});
       }
@@ -121,8 +121,8 @@ void EnvironmentContribution::set_regular(int budget, double eps0) {
 }
 
 int EnvironmentContribution::regular_samples(int material, int lobe) const {
-  const std::size_t i = material < 0 ? regular_counts_.size() - 1
-                                     : static_cast<std::size_t>(material * NF_KURT_MAX_LOBES + lobe);
+  const std::size_t i =
+      material < 0 ? regular_counts_.size() - 1 : static_cast<std::size_t>(material * NF_KURT_MAX_LOBES + lobe);
   return i < regular_counts_.size() ? regular_counts_[i] : 0;
 }
 

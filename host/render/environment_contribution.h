@@ -85,8 +85,8 @@ class EnvironmentContribution final : public Contribution {
   std::vector<int> poffsets_;
   ::cl::Buffer ppyr_, plv_, kurt_;
   std::vector<NfKurtMaterial> kurt_host_;
-  ::cl::Buffer rpat_, rlob_;          // regular patterns: half vectors, per-lobe (offset, count)
-  std::vector<int> regular_counts_;   // per rlob_ entry
+  ::cl::Buffer rpat_, rlob_;         // regular patterns: half vectors, per-lobe (offset, count)
+  std::vector<int> regular_counts_;  // per rlob_ entry
   int regular_budget_ = -1;
   double regular_eps_ = -1.0;
   std::size_t regular_bytes_ = 0;

@@ -21,10 +21,10 @@ enum class RegularSpacing { s1, s2 };
 
 struct RegularPattern {
   RegularSpacing spacing = RegularSpacing::s1;
-  int circles = 0;          // n_c
-  double theta_max = 0.0;   // radians
+  int circles = 0;            // n_c
+  double theta_max = 0.0;     // radians
   std::vector<glm::dvec3> h;  // unit half vectors in (t, b, n)
-  double sum_d = 0.0;       // sum_i D(h_i) = N p_h (Eq. 18), 1/sr
+  double sum_d = 0.0;         // sum_i D(h_i) = N p_h (Eq. 18), 1/sr
   int size() const { return static_cast<int>(h.size()); }
 };
 
