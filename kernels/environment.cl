@@ -309,14 +309,15 @@ static float env_glossy_sample(const EnvGlossy* g, float2 u, float3* l) {
    a_x, a_y the angles between the lobe centre l_c = reflect(v, n) and the reflections of the
    border half vectors at the threshold eps0 along t and b; (v.h_i)/(v.n) is the ratio of the
    direction densities of Eq. 17 at the lobe centre and at the sample (the half-vector ->
-   direction change). env_filtered turns Omega_i into l_i = log4(Omega_i / texel solid angle),
-   the texel's solid angle from J of the lookup's parametrisation (latlong or paraboloid).
+   direction change), times K = env_k (1 when env_k is 0: log4 K levels of MIP bias). env_filtered
+   turns Omega_i into l_i = log4(Omega_i / texel solid angle), the texel's solid angle from J of the
+   lookup's parametrisation (latlong or paraboloid).
    kind 1 (GGX, alpha): the isotropic unit pattern (cos ph, sin ph, theta / theta_max) scaled by
    theta_max = atan(alpha sqrt(eps0^(-1/2) - 1)), where the GGX slope density falls to eps0 of
    its peak (alpha plays the role of m); D = the GGX D, f = the GGX specular lobe.
    kind 2 (Kurt lobe j, ks_j inside f): the lobe's own pattern (hx, hy, hz). */
 static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __global const float4* pat, float4 rec,
-                               float eps0) {
+                               float eps0, float k) {
   const int off = (int)rec.x, count = (int)rec.y;
   if (count <= 0) return (float3)(0.0f);
   float3 t, b;
@@ -341,7 +342,8 @@ static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __glo
   const float3 hxw = normalize(n + kb * mx * t), hyw = normalize(n + kb * my * b);
   const float ax = fmin(acos(clamp(dot(lc, nf_reflect(v, hxw)), -1.0f, 1.0f)), 1.3f);
   const float ay = fmin(acos(clamp(dot(lc, nf_reflect(v, hyw)), -1.0f, 1.0f)), 1.3f);
-  const float area = NF_PI * tan(ax) * tan(ay) / (float)count;
+  /* K A / N: env_k (when > 0) as the MIP bias of the paper, log4 K levels */
+  const float area = k * NF_PI * tan(ax) * tan(ay) / (float)count;
   float3 num = (float3)(0.0f);
   float den = 0.0f;
   for (int i = 0; i < count; ++i) {
@@ -435,7 +437,7 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
                         int2 cam_wh, __global float4* out, __global const float4* fpyr, __global const int4* flv,
                         int flevels, __global const NfKurtMaterial* kurt, int kurt_count,
                         __global const float4* vis16, __global const float4* lsh16, __global const float4* rpat,
-                        __global const float4* rlob, float reps) {
+                        __global const float4* rlob, float reps, float rk) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const EnvMap m = {pyr, lv, levels, rot, fpyr, flv, flevels};
@@ -513,10 +515,10 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
 #if NF_ENV_GLOSSY == 5
   /* regular sampling: one pattern per Kurt lobe, or the GGX lobe's unit pattern after the table */
   if (g.kind == 1) {
-    lo += env_regular_lobe(&m, &g, 0, rpat, rlob[kurt_count * NF_KURT_MAX_LOBES], reps);
+    lo += env_regular_lobe(&m, &g, 0, rpat, rlob[kurt_count * NF_KURT_MAX_LOBES], reps, rk);
   } else if (g.kind == 2) {
     const int count = clamp(g.km->count, 0, NF_KURT_MAX_LOBES);
-    for (int j = 0; j < count; ++j) lo += env_regular_lobe(&m, &g, j, rpat, rlob[g.mat * NF_KURT_MAX_LOBES + j], reps);
+    for (int j = 0; j < count; ++j) lo += env_regular_lobe(&m, &g, j, rpat, rlob[g.mat * NF_KURT_MAX_LOBES + j], reps, rk);
   }
 #else
   if (g.kind != 0) {

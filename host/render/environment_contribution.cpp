@@ -354,7 +354,14 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   set_filter(d.env_filter);  // first: a new filter with a new parametrisation builds once
   set_param(d.env_param);
-  if (d.env_glossy == "regular" || regular_budget_ < 0) set_regular(d.env_samples, d.env_regular_eps);
+  if (d.env_glossy == "regular") {
+    set_regular(d.env_samples, d.env_regular_eps);
+  } else if (regular_bytes_ > 0) {  // patterns only while in use
+    rpat_ = ::cl::Buffer();
+    rlob_ = ::cl::Buffer();
+    regular_bytes_ = 0;
+    regular_budget_ = -1;
+  }
   const std::string options = fmt::format(
       "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
       "-DNF_ENV_VIS={}",
@@ -428,9 +435,12 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
         shade_.setArg(a++, kurt_count_);
         shade_.setArg(a++, *vis.coeffs);
         shade_.setArg(a++, *vis.lsh);
-        shade_.setArg(a++, rpat_);
-        shade_.setArg(a++, rlob_);
+        // regular's patterns; any valid buffer otherwise (the kernel reads them only with NF_ENV_GLOSSY 5)
+        const bool regular = regular_bytes_ > 0;
+        shade_.setArg(a++, regular ? rpat_ : pyr_);
+        shade_.setArg(a++, regular ? rlob_ : pyr_);
         shade_.setArg(a++, static_cast<float>(d.env_regular_eps));
+        shade_.setArg(a++, static_cast<float>(d.env_k > 0.0 ? d.env_k : 1.0));  // regular: no per-filter K
       },
       "environment kernel arguments");
   const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));

@@ -50,7 +50,7 @@ class EnvironmentContribution final : public Contribution {
   // K for a filter: env_k, or when env_k is 0 the per-filter default (box 4, gauss4/gauss6 1).
   static double resolved_k(double env_k, const std::string& filter);
   // Device bytes of the environment for a W x H map (both pyramids, tables, `pixels` outputs):
-  // the `render --dry-run` estimate.
+  // the `render --dry-run` estimate (without env_glossy regular's patterns: 16 bytes per pattern sample).
   static std::size_t estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels);
 
   // Introspection (tests, stats).

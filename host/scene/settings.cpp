@@ -160,7 +160,8 @@ std::vector<Setting> declare() {
           [](auto& r) -> auto& { return r.env_regular_eps; }),
       nonnegative_real(
           "env_k", "env_k", 1e6, "environment", R,
-          "K: level bias of the filtered lookup, l = log4(K W H / (N p J)); 0 = per filter (box 4, gauss 1)",
+          "K: level bias of the filtered lookup, l = log4(K W H / (N p J)); 0 = per filter (box 4, gauss 1); "
+          "regular: factor on its samples' solid angle (0 = 1)",
           [](auto& r) -> auto& { return r.env_k; }),
       choice(
           "env_kernel", "env_kernel", {"point", "integral"}, "environment", R,
