@@ -241,7 +241,8 @@ void run(const Options& o) {
         machine.git_commit, wall.ms() / 1000.0);
     md << fmt::format(
         "Setup: {} visible points of a sphere seen from +z, one Kurt lobe, ks = 1, r0 = 1, alpha = 0 (Fresnel and "
-        "shadowing off), kd = 0; gauss6 pyramids, env_regular_eps 0.1, regular-1 = regular with env_k 0.25 (one level sharper), fis K = 1; "
+        "shadowing off), kd = 0; gauss6 pyramids, env_regular_eps 0.1, regular-1 = regular with env_k 0.25 (one "
+        "level sharper), fis K = 1; "
         "error = RMS over points and "
         "channels / mean of the reference (NRMSE); regular and fis one frame (deterministic), mc the mean square "
         "of {} frames; reference = mc, N = 4096, mean of {} frames (its NRMSE in the last column). `samples` of "
