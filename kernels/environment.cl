@@ -5,7 +5,7 @@
    GGX specular lobe, or the Kurt material's lobes) estimated from N directions l_i with density p:
      L_o ~= (1/N) sum_i f_s(l_i, v) (n.l_i) L(l_i) / p(l_i).
 
-   Options:  NF_ENV_GLOSSY     0 mc | 1 fis | 2 fis-rotated | 3 env-is | 4 env-fis
+   Options:  NF_ENV_GLOSSY     0 mc | 1 fis | 2 fis-rotated | 3 env-is | 4 env-fis | 5 regular
              NF_ENV_KERNEL     0 point | 1 integral (env-fis kernel size)
              NF_ENV_PARAM      0 latlong | 1 paraboloid (the pyramid the filtered lookups read)
              NF_ENV_DIFFUSE    0 sh | 1 mc
@@ -216,6 +216,8 @@ typedef struct {
   __global const NfKurtMaterial* km;
   float w[NF_KURT_MAX_LOBES + 1]; /* kurt: nf_kurt_weights */
   float ws;                       /* kurt: 1 - w[0], the lobes' share */
+  int mat;                        /* kurt: the material table index */
+  __global const float4* vis;     /* NF_ENV_VIS: this pixel's visibility coefficients */
 } EnvGlossy;
 
 /* Kurt lobes only: f_s(l, v) (n.l) = sum_j ks_j F_j D_j (n.l) / (4 (v.h) ((n.l)(n.v))^alpha_j)
@@ -297,6 +299,91 @@ static float env_glossy_sample(const EnvGlossy* g, float2 u, float3* l) {
   return pdf;
 }
 
+/* ------------------------------------------------ regular sampling (Luksch et al. 2014 §5-7) -- */
+/* docs/regular-sampling.md. A pattern of N half vectors h_i in the lobe's frame (t, b, n), built
+   on the host (render/regular_pattern.h); the estimator of Luksch Eq. 9 with the constant
+   half-vector density p_h = (1/N) sum_i D(h_i) (Eq. 18) and p(l_i) = p_h / (4 l_i.h_i) (Eq. 17):
+     L_lobe = (1/N) sum_i f(l_i) (n.l_i) Lbar(l_i) / p(l_i) = sum_i f(l_i) (n.l_i) Lbar 4 (v.h_i) / sum_i D(h_i)
+   (l_i.h_i = v.h_i for a reflection). Lbar is the pyramid lookup over the sample's solid angle
+     Omega_i = (A / N) (v.h_i) / (v.n),  A = pi tan a_x tan a_y  (Eq. 14-15),
+   a_x, a_y the angles between the lobe centre l_c = reflect(v, n) and the reflections of the
+   border half vectors at the threshold eps0 along t and b; (v.h_i)/(v.n) is the ratio of the
+   direction densities of Eq. 17 at the lobe centre and at the sample (the half-vector ->
+   direction change), times K = env_k (1 when env_k is 0: log4 K levels of MIP bias). env_filtered
+   turns Omega_i into l_i = log4(Omega_i / texel solid angle), the texel's solid angle from J of the
+   lookup's parametrisation (latlong or paraboloid).
+   kind 1 (GGX, alpha): the isotropic unit pattern (cos ph, sin ph, theta / theta_max) scaled by
+   theta_max = atan(alpha sqrt(eps0^(-1/2) - 1)), where the GGX slope density falls to eps0 of
+   its peak (alpha plays the role of m); D = the GGX D, f = the GGX specular lobe.
+   kind 2 (Kurt lobe j, ks_j inside f): the lobe's own pattern (hx, hy, hz). */
+static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __global const float4* pat, float4 rec,
+                               float eps0, float k) {
+  const int off = (int)rec.x, count = (int)rec.y;
+  if (count <= 0) return (float3)(0.0f);
+  float3 t, b;
+  float mx, my, ggx_tmax = 0.0f;
+  NfKurtLobe L = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  if (g->kind == 1) {
+    nf_onb(g->n, &t, &b);
+    mx = my = g->alpha;
+    ggx_tmax = atan(g->alpha * sqrt(fmax(rsqrt(eps0) - 1.0f, 0.0f)));
+  } else {
+    nf_kurt_frame(g->n, g->t, &t, &b);
+    L = g->km->lobe[j];
+    mx = nf_kurt_m(L.mx);
+    my = nf_kurt_m(L.my);
+  }
+  const float3 n = g->n, v = g->v;
+  const float nv = fmax(dot(n, v), 1e-4f);
+  /* Eq. 14-15: the lobe ellipse from the border half vectors (tan th = sqrt(-ln eps0) m for
+     Beckmann, alpha sqrt(eps0^(-1/2) - 1) for GGX) along t and b */
+  const float kb = g->kind == 1 ? sqrt(fmax(rsqrt(eps0) - 1.0f, 0.0f)) : sqrt(-log(eps0));
+  const float3 lc = nf_reflect(v, n);
+  const float3 hxw = normalize(n + kb * mx * t), hyw = normalize(n + kb * my * b);
+  const float ax = fmin(acos(clamp(dot(lc, nf_reflect(v, hxw)), -1.0f, 1.0f)), 1.3f);
+  const float ay = fmin(acos(clamp(dot(lc, nf_reflect(v, hyw)), -1.0f, 1.0f)), 1.3f);
+  /* K A / N: env_k (when > 0) as the MIP bias of the paper, log4 K levels */
+  const float area = k * NF_PI * tan(ax) * tan(ay) / (float)count;
+  float3 num = (float3)(0.0f);
+  float den = 0.0f;
+  for (int i = 0; i < count; ++i) {
+    const float4 e = pat[off + i];
+    float3 hl;
+    if (g->kind == 1) {
+      const float th = e.z * ggx_tmax, st = sin(th);
+      hl = (float3)(st * e.x, st * e.y, cos(th));
+    } else {
+      hl = e.xyz;
+    }
+    const float D = g->kind == 1 ? nf_ggx_d(hl.z, g->alpha) : nf_kurt_d(hl.x, hl.y, hl.z, mx, my);
+    den += D;
+    const float3 h = hl.x * t + hl.y * b + hl.z * n;
+    const float vh = dot(v, h);
+    if (!(vh > 0.0f)) continue;
+    const float3 l = nf_reflect(v, h);
+    const float nl = dot(n, l);
+    if (!(nl > 0.0f)) continue;
+    const float omega = fmin(area * vh / nv, 4.0f * NF_PI);
+    const float3 Lb = env_filtered(m, l, fmax(omega, 1e-12f));
+    float3 f;
+    if (g->kind == 1) {
+      f = env_specular_cos(n, v, l, g->alpha, g->base, g->metallic);
+    } else {
+      /* ks_j F_j D_j (n.l) / (4 (v.h) ((n.l)(n.v))^alpha_j) */
+      const float r0 = clamp(L.r0, 0.0f, 1.0f), al = clamp(L.alpha, 0.0f, 1.0f);
+      const float vhc = fmax(fmin(vh, 1.0f), 1e-6f), q = 1.0f - vhc, q5 = q * q * q * q * q;
+      f = fmax((float3)(L.ks_r, L.ks_g, L.ks_b), 0.0f) *
+          ((r0 + (1.0f - r0) * q5) * D * nl / (4.0f * vhc * pow(nl * nv, al)));
+    }
+#if NF_ENV_VIS
+    f *= nf_env_vis_factor(g->vis, l, nl);
+#endif
+    num += f * Lb * (4.0f * vh);
+  }
+  const float3 r = den > 0.0f ? num / den : (float3)(0.0f);
+  return all(isfinite(r)) ? r : (float3)(0.0f);
+}
+
 /* The piece of a normalised CDF (n + 1 entries) holding t, by bisection, and the position inside
    it (zero-mass pieces are never returned for t < cdf[n] since cdf[lo] <= t < cdf[lo + 1]). */
 static int env_pick(__global const float* cdf, int n, float t, float* frac) {
@@ -349,7 +436,8 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
                         int n_samples, float k_bias, uint frame, uint seed, float4 cam_f, float4 cam_r, float4 cam_u,
                         int2 cam_wh, __global float4* out, __global const float4* fpyr, __global const int4* flv,
                         int flevels, __global const NfKurtMaterial* kurt, int kurt_count,
-                        __global const float4* vis16, __global const float4* lsh16) {
+                        __global const float4* vis16, __global const float4* lsh16, __global const float4* rpat,
+                        __global const float4* rlob, float reps, float rk) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const EnvMap m = {pyr, lv, levels, rot, fpyr, flv, flevels};
@@ -376,6 +464,8 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
   g.metallic = s.metallic;
   g.km = kurt;
   g.ws = 0.0f;
+  g.mat = 0;
+  g.vis = vis16 + 4 * p;
   g.kind = s.brdf == NF_BRDF_GGX ? 1 : 0;
   const float3 n = g.n, v = g.v, base = g.base;
   const int ggx = g.kind == 1;
@@ -384,7 +474,8 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
   float3 wd = s.brdf == NF_BRDF_LAMBERT ? base : (s.brdf == NF_BRDF_IRRADIANCE ? (float3)(NF_PI) : (float3)(0.0f));
   if (s.brdf == NF_BRDF_KURT && s.metallic >= 0.0f && s.metallic < (float)kurt_count) {
     /* shared/surface.h: base = world tangent, metallic = table index; diffuse kd, glossy the lobes */
-    g.km = kurt + (int)s.metallic;
+    g.mat = (int)s.metallic;
+    g.km = kurt + g.mat;
     g.t = base;
     wd = fmax((float3)(g.km->kd_r, g.km->kd_g, g.km->kd_b), 0.0f);
     nf_kurt_weights(g.km, dot(n, v), g.w);
@@ -421,6 +512,15 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
     }
   }
 #endif
+#if NF_ENV_GLOSSY == 5
+  /* regular sampling: one pattern per Kurt lobe, or the GGX lobe's unit pattern after the table */
+  if (g.kind == 1) {
+    lo += env_regular_lobe(&m, &g, 0, rpat, rlob[kurt_count * NF_KURT_MAX_LOBES], reps, rk);
+  } else if (g.kind == 2) {
+    const int count = clamp(g.km->count, 0, NF_KURT_MAX_LOBES);
+    for (int j = 0; j < count; ++j) lo += env_regular_lobe(&m, &g, j, rpat, rlob[g.mat * NF_KURT_MAX_LOBES + j], reps, rk);
+  }
+#else
   if (g.kind != 0) {
 #if NF_ENV_GLOSSY == 1
     /* one Cranley-Patterson shift per frame shared by every pixel (none on frame 0) */
@@ -481,6 +581,7 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       lo += f * L * (inv_n / pdf);
     }
   }
+#endif
   /* no NaN or Inf leaves: a non-finite estimate (never expected) is written as 0 */
   if (!all(isfinite(lo))) lo = (float3)(0.0f);
   out[p] = (float4)(lo, 0.0f);

@@ -12,6 +12,7 @@
 #include "reference/ray_scene.h"
 #include "render/kurt_table.h"
 #include "render/local_environment.h"
+#include "render/regular_pattern.h"
 
 namespace nf::render {
 namespace {
@@ -22,7 +23,8 @@ int glossy_index(const std::string& s) {
   if (s == "fis-rotated") return 2;
   if (s == "env-is") return 3;
   if (s == "env-fis") return 4;
-  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is | env-fis)", s));
+  if (s == "regular") return 5;
+  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is | env-fis | regular)", s));
 }
 
 int filter_index(const std::string& s) {
@@ -120,6 +122,61 @@ const std::vector<std::uint8_t>& EnvironmentContribution::local_pixels(std::size
 void EnvironmentContribution::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
   kurt_ = cl::upload(rt_, table, "uploading the environment's kurt material table");
   kurt_count_ = static_cast<int>(table.size());
+  kurt_host_ = table;
+  regular_budget_ = -1;  // the patterns follow the table
+}
+
+void EnvironmentContribution::set_regular(int budget, double eps0) {
+  if (budget == regular_budget_ && eps0 == regular_eps_) return;
+  std::vector<cl_float4> pat, lob;
+  regular_counts_.clear();
+  auto add = [&](const RegularPattern& p, bool unit) {
+    lob.push_back(cl_float4{{static_cast<float>(pat.size()), static_cast<float>(p.size()), 0.0f, 0.0f}});
+    regular_counts_.push_back(p.size());
+    for (const glm::dvec3& h : p.h) {
+      if (unit) {  // (cos phi, sin phi, theta / theta_max): the kernel scales theta per pixel
+        const double st = std::hypot(h.x, h.y), th = std::atan2(st, h.z);
+        const double c = st > 0.0 ? h.x / st : 1.0, sn = st > 0.0 ? h.y / st : 0.0;
+        pat.push_back(
+            cl_float4{{static_cast<float>(c), static_cast<float>(sn), static_cast<float>(th / p.theta_max), 0.0f}});
+      } else {
+        pat.push_back(cl_float4{{static_cast<float>(h.x), static_cast<float>(h.y), static_cast<float>(h.z), 0.0f}});
+      }
+    }
+  };
+  auto clamp_m = [](float m) { return std::clamp(static_cast<double>(m), double(NF_KURT_MIN_M), 1.0); };
+  for (const NfKurtMaterial& m : kurt_host_) {
+    const int count = std::clamp(m.count, 0, NF_KURT_MAX_LOBES);
+    double wsum = 0.0;
+    std::array<double, NF_KURT_MAX_LOBES> w{};
+    for (int j = 0; j < count; ++j) {
+      const NfKurtLobe& l = m.lobe[j];
+      w[static_cast<std::size_t>(j)] = std::max({0.0f, l.ks_r, l.ks_g, l.ks_b});
+      wsum += w[static_cast<std::size_t>(j)];
+    }
+    for (int j = 0; j < NF_KURT_MAX_LOBES; ++j) {
+      if (j >= count) {
+        lob.push_back(cl_float4{{0, 0, 0, 0}});
+        regular_counts_.push_back(0);
+        continue;
+      }
+      const double share = wsum > 0.0 ? w[static_cast<std::size_t>(j)] / wsum : 1.0 / count;
+      const int nj = std::max(1, static_cast<int>(std::lround(budget * share)));
+      add(regular_pattern_for_budget(nj, eps0, clamp_m(m.lobe[j].mx), clamp_m(m.lobe[j].my)), false);
+    }
+  }
+  add(regular_pattern_for_budget(budget, eps0, 1.0, 1.0), true);  // GGX, after the table
+  rpat_ = cl::upload(rt_, pat, "uploading the regular sampling patterns");
+  rlob_ = cl::upload(rt_, lob, "uploading the regular sampling pattern table");
+  regular_bytes_ = (pat.size() + lob.size()) * sizeof(cl_float4);
+  regular_budget_ = budget;
+  regular_eps_ = eps0;
+}
+
+int EnvironmentContribution::regular_samples(int material, int lobe) const {
+  const std::size_t i =
+      material < 0 ? regular_counts_.size() - 1 : static_cast<std::size_t>(material * NF_KURT_MAX_LOBES + lobe);
+  return i < regular_counts_.size() ? regular_counts_[i] : 0;
 }
 
 double EnvironmentContribution::resolved_k(double env_k, const std::string& filter) {
@@ -350,6 +407,14 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   set_filter(d.env_filter);  // first: a new filter with a new parametrisation builds once
   set_param(d.env_param);
+  if (d.env_glossy == "regular") {
+    set_regular(d.env_samples, d.env_regular_eps);
+  } else if (regular_bytes_ > 0) {  // patterns only while in use
+    rpat_ = ::cl::Buffer();
+    rlob_ = ::cl::Buffer();
+    regular_bytes_ = 0;
+    regular_budget_ = -1;
+  }
   const auto options_for = [&](bool background, bool vis) {
     return fmt::format(
         "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
@@ -530,6 +595,12 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
         shade_.setArg(a++, kurt_count_);
         shade_.setArg(a++, *vis.coeffs);
         shade_.setArg(a++, *vis.lsh);
+        // regular's patterns; any valid buffer otherwise (the kernel reads them only with NF_ENV_GLOSSY 5)
+        const bool regular = regular_bytes_ > 0;
+        shade_.setArg(a++, regular ? rpat_ : pyr_);
+        shade_.setArg(a++, regular ? rlob_ : pyr_);
+        shade_.setArg(a++, static_cast<float>(d.env_regular_eps));
+        shade_.setArg(a++, static_cast<float>(d.env_k > 0.0 ? d.env_k : 1.0));  // regular: no per-filter K
       },
       "environment kernel arguments");
   const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
@@ -551,7 +622,8 @@ std::size_t EnvironmentContribution::device_bytes() const {
   for (const auto& l : locals_)
     if (l->env) local += l->env->device_bytes() + (l->any ? l->pixels.size() * sizeof(NfSurface) : 0);
   return pyr_bytes_ + ppyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16 +
-         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial) + vis_.device_bytes() + local;
+         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial) + vis_.device_bytes() + local +
+         regular_bytes_;
 }
 
 }  // namespace nf::render

@@ -2,7 +2,7 @@
 // Environment lighting as a contribution of the frame (docs/environment.md): a lat-long map
 // uploaded once, its filtered pyramid and order-2 SH projection built by OpenCL
 // (kernels/environment.cl), and per frame the diffuse (SH or cosine Monte Carlo) and glossy
-// (mc | fis | fis-rotated | env-is | env-fis) estimates on Step 0's surfaces, plus the background
+// (mc | fis | fis-rotated | env-is | env-fis | regular) estimates on Step 0's surfaces, plus the background
 // seen by camera rays that miss the geometry. The filtered lookups read the lat-long pyramid or a
 // dual-paraboloid one (env_param); Kurt materials read the material table (render/kurt_table.h).
 #include <array>
@@ -51,10 +51,17 @@ class EnvironmentContribution final : public Contribution {
   void set_param(const std::string& param);
   // The Kurt material table (one entry per scene material, render/kurt_table.h).
   void set_kurt_table(const std::vector<NfKurtMaterial>& table);
+  // env_glossy regular (docs/regular-sampling.md): builds the patterns (render/regular_pattern.h)
+  // of every Kurt lobe for its share of the budget N (N max(ks_j) / sum_k max(ks_k), at least 1)
+  // and the GGX lobe's isotropic unit pattern for N; prepare() calls it when N, eps0 or the table
+  // change.
+  void set_regular(int budget, double eps0);
+  // Samples of the pattern in use for Kurt lobe `lobe` of table entry `material` (-1, -1: GGX).
+  int regular_samples(int material, int lobe) const;
   // K for a filter: env_k, or when env_k is 0 the per-filter default (box 4, gauss4/gauss6 1).
   static double resolved_k(double env_k, const std::string& filter);
   // Device bytes of the environment for a W x H map (both pyramids, tables, `pixels` outputs):
-  // the `render --dry-run` estimate.
+  // the `render --dry-run` estimate (without env_glossy regular's patterns: 16 bytes per pattern sample).
   static std::size_t estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels);
 
   // Introspection (tests, stats).
@@ -100,6 +107,12 @@ class EnvironmentContribution final : public Contribution {
   std::vector<glm::ivec2> pdims_;  // paraboloid levels (2 S_k, S_k); empty until used
   std::vector<int> poffsets_;
   ::cl::Buffer ppyr_, plv_, kurt_;
+  std::vector<NfKurtMaterial> kurt_host_;
+  ::cl::Buffer rpat_, rlob_;         // regular patterns: half vectors, per-lobe (offset, count)
+  std::vector<int> regular_counts_;  // per rlob_ entry
+  int regular_budget_ = -1;
+  double regular_eps_ = -1.0;
+  std::size_t regular_bytes_ = 0;
   int kurt_count_ = 0;
   std::size_t pyr_bytes_ = 0, table_bytes_ = 0, out_bytes_ = 0, ppyr_bytes_ = 0;
   std::array<glm::dvec3, 9> sh_{};

@@ -150,17 +150,22 @@ std::vector<Setting> declare() {
           "MiB of device memory for A_m(p) kept across progressive frames (0 = recompute every frame)",
           [](auto& r) -> auto& { return r.pixel_cache; }),
       choice(
-          "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is", "env-fis"}, "environment", R,
+          "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is", "env-fis", "regular"}, "environment", R,
           "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling, "
-          "filtered map sampling",
+          "filtered map sampling, Luksch 2014 regular pattern (docs/regular-sampling.md)",
           [](auto& r) -> auto& { return r.env_glossy; }),
       integer(
           "env_samples", "env_samples", 1, 4096, "environment", R,
           "N: environment directions per pixel per frame (glossy, and diffuse with env_diffuse mc)",
           [](auto& r) -> auto& { return r.env_samples; }),
+      positive_real(
+          "env_regular_eps", "env_regular_eps", 0.999, "environment", R,
+          "eps0 of env_glossy regular: the pattern spans the lobe down to D = eps0 D(peak) (Luksch Eq. 11)",
+          [](auto& r) -> auto& { return r.env_regular_eps; }),
       nonnegative_real(
           "env_k", "env_k", 1e6, "environment", R,
-          "K: level bias of the filtered lookup, l = log4(K W H / (N p J)); 0 = per filter (box 4, gauss 1)",
+          "K: level bias of the filtered lookup, l = log4(K W H / (N p J)); 0 = per filter (box 4, gauss 1); "
+          "regular: factor on its samples' solid angle (0 = 1)",
           [](auto& r) -> auto& { return r.env_k; }),
       choice(
           "env_kernel", "env_kernel", {"point", "integral"}, "environment", R,

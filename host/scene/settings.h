@@ -37,8 +37,9 @@ struct RenderSettings {
   int pixel_cache = 1024;  // MiB for A_m(p) kept across progressive frames; 0 = off
   TonemapParams tonemap;   // exposure, gamma
   // environment (docs/environment.md)
-  std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis
+  std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis | regular
   int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame
+  double env_regular_eps = 0.1;         // eps0 of the regular pattern (Luksch 2014 Eq. 11), (0, 0.999]
   double env_k = 0.0;                   // K, the filtered lookup's level bias; 0 = per filter (box 4, else 1)
   std::string env_kernel = "point";     // point | integral (env-fis kernel size, Tokuyoshi 2016 Eq. 1 / 3)
   std::string env_filter = "box";       // box | gauss4 | gauss6 (pyramid filter)
