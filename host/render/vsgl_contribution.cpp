@@ -127,6 +127,7 @@ VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene)
     : rt_(rt), scene_(scene), sampler_(rt), shadows_(std::make_unique<VsglShadows>(rt)) {
   kurt_ = kurt_table(scene.geometry.materials);
   kurt_buf_ = upload_rw(rt_, kurt_, "uploading the Kurt material table (indirect)");
+  sampler_.set_mean_direction(true);  // each texel's incident direction (kernels/vsgl.cl vsgl_texels)
 }
 
 VsglContribution::~VsglContribution() = default;
@@ -166,6 +167,8 @@ void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& 
         k.setArg(6, f4(view.forward));
         k.setArg(7, pix);
         k.setArg(8, pyr);
+        k.setArg(9, sampler_.mean_direction() ? sampler_.direction() : irradiance);
+        k.setArg(10, sampler_.mean_direction() ? 1 : 0);
       },
       "VSGL texel kernel arguments");
   rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
