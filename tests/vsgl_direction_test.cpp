@@ -6,7 +6,7 @@
 // sum_m Phi_m = 1, so L = L0 exactly); then vsgl_texels' glossy lobe axis, the mirror of
 // normalise(D), for a texel lit from the side. Statistical checks: per-component z-tests over
 // independent replicates (Philox sampler, fixed seeds), |z| < 5: two-sided false-failure rate
-// 5.7e-7 per component, under 1e-5 for the whole file.
+// 5.7e-7 per component (normal approximation; 256 replicates), about 2e-5 for the 39 in this file.
 #include <gtest/gtest.h>
 
 #include <cmath>
