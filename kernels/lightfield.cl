@@ -43,6 +43,21 @@
 #ifndef NF_HAS_VIS
 #define NF_HAS_VIS 0
 #endif
+/* -DNF_MEAN_DIRECTION=1: the kernels also add sum_k w_k l_k per surface to a float4 buffer (last
+   argument; w_k the sample's luminance term of the estimate, l_k its unit direction to the light, in
+   the surfaces' frame), docs/indirect.md "Incident direction". Off: no argument, no cost. */
+#ifndef NF_MEAN_DIRECTION
+#define NF_MEAN_DIRECTION 0
+#endif
+#if NF_MEAN_DIRECTION
+#define NF_DIR_PARAMS , vf *adx, vf *ady, vf *adz
+#define NF_DIR_PASS , &dx, &dy, &dz
+#define NF_DIR_KARG , __global float4 *dir
+#else
+#define NF_DIR_PARAMS
+#define NF_DIR_PASS
+#define NF_DIR_KARG
+#endif
 /* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 /* Methods that draw uniformly on B_m(p) (uniform, uniform-equal). */
 #define NF_UNIFORM_BOX (NF_METHOD == NF_METHOD_UNIFORM || NF_METHOD == NF_METHOD_UNIFORM_EQUAL)
@@ -931,7 +946,7 @@ NF_INLINE vf nf_sample(const NfCtx* c, const NfLuminaire* L, __global const long
 NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, int m, vi K, vf inv_p, vf Am,
                         const NfBox* b, float intensity, __global const long* sat, __global const float* quantum,
                         __global const float4* chroma, __global const uint* vis, __global const float* t3, vf* ar,
-                        vf* ag, vf* ab) {
+                        vf* ag, vf* ab NF_DIR_PARAMS) {
   const int i = m % L->count_x, j = m / L->count_x;
   vi has = K > 0;
 #if NF_HAS_VIS
@@ -956,6 +971,9 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
 #endif
   vf accr = (vf)(0.0f), accg = (vf)(0.0f), accb = (vf)(0.0f);
   vf blr = (vf)(0.0f), blg = (vf)(0.0f), blb = (vf)(0.0f);
+#if NF_MEAN_DIRECTION
+  vf sdx = (vf)(0.0f), sdy = (vf)(0.0f), sdz = (vf)(0.0f);
+#endif
   vi itx = (vi)(0), ity = (vi)(0);
   for (int k = 0; ANY((vi)(k) < K); ++k) {
     const vi act = (vi)(k) < K;
@@ -973,6 +991,13 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
       blr += SEL((vf)(0.0f), g * rr * cr, use);
       blg += SEL((vf)(0.0f), g * rg * cg, use);
       blb += SEL((vf)(0.0f), g * rb * cb, use);
+#if NF_MEAN_DIRECTION
+      /* w_k: the sample's luminance term (Rec. 709 weights of rho_k c_m); same scale as the sum below */
+      const vf wk = SEL((vf)(0.0f), g * (0.2126f * rr * cr + 0.7152f * rg * cg + 0.0722f * rb * cb), use);
+      sdx += wk * wx;
+      sdy += wk * wy;
+      sdz += wk * wz;
+#endif
     }
     if ((k & 255) == 255) {
       accr += blr;
@@ -989,9 +1014,33 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   *ar += SEL((vf)(0.0f), accr * scale, fin);
   *ag += SEL((vf)(0.0f), accg * scale, fin);
   *ab += SEL((vf)(0.0f), accb * scale, fin);
+#if NF_MEAN_DIRECTION
+  const vi dfin = fin & isfinite(sdx * scale) & isfinite(sdy * scale) & isfinite(sdz * scale);
+  *adx += SEL((vf)(0.0f), sdx * scale, dfin);
+  *ady += SEL((vf)(0.0f), sdy * scale, dfin);
+  *adz += SEL((vf)(0.0f), sdz * scale, dfin);
+#endif
 }
 
 /* ---------------------------------------------------------------- kernels ----------------- */
+
+#if NF_MEAN_DIRECTION
+/* Adds the lanes' direction sums (luminaire frame) to dir[] in the surfaces' frame: a direction maps
+   to the luminaire frame by A = M[:, 0:3], so back by A^-1 = N^T (N = I->normal = A^-T). */
+NF_INLINE void nf_dir_store(const NfInstance* I, uint first, int count, vf dx, vf dy, vf dz, __global float4* dir) {
+  float x[NF_LANES], y[NF_LANES], z[NF_LANES];
+  VSTORE(dx, x);
+  VSTORE(dy, y);
+  VSTORE(dz, z);
+  const float* N = I->normal;
+  for (int l = 0; l < NF_LANES; ++l) {
+    if (first + (uint)l >= (uint)count || !(x[l] != 0.0f || y[l] != 0.0f || z[l] != 0.0f)) continue;
+    const float3 w = (float3)(N[0] * x[l] + N[4] * y[l] + N[8] * z[l], N[1] * x[l] + N[5] * y[l] + N[9] * z[l],
+                              N[2] * x[l] + N[6] * y[l] + N[10] * z[l]);
+    if (all(isfinite(w))) dir[first + l] += (float4)(w, 0.0f);
+  }
+}
+#endif
 
 /* Index of the first surface of this work-item: work-groups in the permuted order of
    NfSampleParams::group_mul, work-items contiguous inside a group. */
@@ -1021,7 +1070,8 @@ __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
 }
 
 /* Step 2, per-image pass: recomputes A_m(p) and B_m(p), K_m from the A(p) of Step 1, samples, Eq. 14. */
-__kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __global float4* rgb, __global uint* kcount) {
+__kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __global float4* rgb,
+                             __global uint* kcount NF_DIR_KARG) {
   const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   float a[NF_LANES];
@@ -1041,7 +1091,13 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   const vi K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
   if (!ANY(K > 0)) return;
   vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
-  nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl);
+#if NF_MEAN_DIRECTION
+  vf dx = (vf)(0.0f), dy = (vf)(0.0f), dz = (vf)(0.0f);
+#endif
+  nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
+#if NF_MEAN_DIRECTION
+  nf_dir_store(&I, first, P.count, dx, dy, dz, dir);
+#endif
   float rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
   int kk[NF_LANES];
   VSTORE(r, rr);
@@ -1067,7 +1123,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
    B_m(p) is recomputed only for images that get samples; with the pixel cache, loop 1 reads
    A_m(p) from the last frame instead of computing it. */
 __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* rgb, __global uint* kcount,
-                       __global float* am_cache, const int cache_mode, const int cache_stride) {
+                       __global float* am_cache, const int cache_mode, const int cache_stride NF_DIR_KARG) {
   const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   NfCtx c;
@@ -1093,6 +1149,9 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
   if (!ANY(A > 0.0f)) return;
   vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
   vi total = (vi)(0);
+#if NF_MEAN_DIRECTION
+  vf dx = (vf)(0.0f), dy = (vf)(0.0f), dz = (vf)(0.0f);
+#endif
   for (int m = 0; m < M; ++m) {
     NfBox b;
     vf Am, inv_p;
@@ -1108,9 +1167,12 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
       K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
-    nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl);
+    nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
     total += K;
   }
+#if NF_MEAN_DIRECTION
+  nf_dir_store(&I, first, P.count, dx, dy, dz, dir);
+#endif
   float aa[NF_LANES], rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
   int kk[NF_LANES];
   VSTORE(A, aa);

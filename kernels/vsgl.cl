@@ -54,11 +54,14 @@ NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt,
    pix^2 cos^3(a) (a off axis) and its area on the surface A = pix^2 cos^3(a) r^2 / |n.w|,
    |n.w| clamped to >= 0.05 (87 degrees; see the docs for the flux it drops).
    Phi = E A, E the light-field estimator's irradiance on the texel (W m^-2, or the luminaire's
-   units x m^-2). The photon's incident direction w' is the direction to `origin` (the centre of
-   the luminaire's U grid), not the flux-weighted mean over the luminaire (docs/indirect.md). */
+   units x m^-2). The photon's incident direction w' (reversed: wl, towards the light) is the
+   flux-weighted mean direction of the estimator's samples, wl = normalise(sum_k w_k l_k) from `dir`
+   (docs/indirect.md "Incident direction"), or the direction to `origin` (the centre of the
+   luminaire's U grid) where has_dir is 0 or the sum is ~0. */
 __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4* irradiance,
                           __global const NfKurtMaterial* kurt, const int kurt_count, const int size, const float4 origin,
-                          const float4 fwd, const float pix, __global float4* pyr) {
+                          const float4 fwd, const float pix, __global float4* pyr, __global const float4* dir,
+                          const int has_dir) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= size || y >= size) return;
   const int t = y * size + x;
@@ -71,9 +74,18 @@ __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4*
     const float3 yv = p - origin.xyz;
     const float r2 = dot(yv, yv);
     const float r = sqrt(r2);
-    const float3 wl = r > 0.0f ? -yv / r : n; /* towards the luminaire: the photon's w' reversed */
+    const float3 wc = r > 0.0f ? -yv / r : n; /* towards the RSM camera (the U grid's centre) */
     const float ca = r > 0.0f ? fmax(dot(yv / r, fwd.xyz), 0.0f) : 0.0f;
-    const float area = pix * pix * ca * ca * ca * r2 / fmax(fabs(dot(n, wl)), 0.05f);
+    const float area = pix * pix * ca * ca * ca * r2 / fmax(fabs(dot(n, wc)), 0.05f);
+    /* towards the luminaire: the photon's w' reversed. The weights add up to sum_k w_k = nf_lum(e)
+       (BRDF `irradiance`); |sum_k w_k l_k| below 1e-6 of that is "~0" (samples from opposite sides
+       cancel) and keeps the fallback. */
+    float3 wl = wc;
+    if (has_dir) {
+      const float3 d = dir[t].xyz;
+      const float dl = length(d);
+      if (all(isfinite(d)) && dl > 1e-6f * nf_lum(fmax(e, (float3)(0.0f))) && dl > 0.0f) wl = d / dl;
+    }
     float3 rd, rs;
     float lh;
     nf_vpl_material(s, kurt, kurt_count, &rd, &rs, &lh);

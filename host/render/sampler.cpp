@@ -181,6 +181,15 @@ NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire&
 
 void Sampler::ensure(int count) {
   count_ = count;
+  if (mean_direction_ && count > dir_capacity_) {
+    const int cap = std::max(count, 1);
+    cl::call(
+        [&] {
+          dir_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(cap) * 4 * sizeof(float));
+        },
+        "Sampler: creating the direction buffer");
+    dir_capacity_ = cap;
+  }
   if (count <= capacity_) return;
   const int cap = std::max(count, 1);
   cl::call(
@@ -312,6 +321,11 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
         q.enqueueFillBuffer(a_, zf, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr, &clears.back());
         clears.emplace_back();
         q.enqueueFillBuffer(k_, zu, 0, static_cast<std::size_t>(count) * sizeof(nf_uint), nullptr, &clears.back());
+        if (mean_direction_) {
+          clears.emplace_back();
+          q.enqueueFillBuffer(dir_, zf, 0, static_cast<std::size_t>(count) * 4 * sizeof(float), nullptr,
+                              &clears.back());
+        }
       },
       "Sampler: clearing outputs");
   const int L = lanes(s);
@@ -332,7 +346,8 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
     const DeviceLuminaire& lum = *li.luminaire;
     const bool vis = li.visibility != nullptr && li.vis_words > 0;
-    const std::string opts = build_options(s, lum.has_chroma(), vis, L);
+    const std::string opts =
+        build_options(s, lum.has_chroma(), vis, L) + (mean_direction_ ? " -DNF_MEAN_DIRECTION=1" : "");
     NfSampleParams p = params(s, lum, count, vis ? li.vis_words : 0);
     if (s.structure == Structure::fused) {
       ::cl::Kernel& k = kernel("lf_fused", opts);
@@ -345,6 +360,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
           bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count, lum.num_images(), use_cache);
       st.cache_reads += mode == kCacheRead ? 1 : 0;
       st.cache_writes += mode == kCacheWrite ? 1 : 0;
+      if (mean_direction_) k.setArg(kSpecificArgs + 6, dir_);
       step2.push_back(rt_.launch(k, global, local_range(k)));
       continue;
     }
@@ -373,6 +389,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     k2.setArg(kSpecificArgs, A);
     k2.setArg(kSpecificArgs + 1, rgb_);
     k2.setArg(kSpecificArgs + 2, k_);
+    if (mean_direction_) k2.setArg(kSpecificArgs + 3, dir_);
     for (int m = 0; m < lum.num_images(); ++m) {
       p.image = m;
       k2.setArg(0, sizeof(NfSampleParams), &p);
@@ -402,6 +419,15 @@ std::vector<glm::vec4> Sampler::read_radiance() {
   if (count_ > 0)
     cl::call([&] { rt_.queue().enqueueReadBuffer(rgb_, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data()); },
              "Sampler: reading radiance");
+  return out;
+}
+
+std::vector<glm::vec4> Sampler::read_direction() {
+  if (!mean_direction_) fail("Sampler::read_direction: the mean direction is off (set_mean_direction)");
+  std::vector<glm::vec4> out(count_);
+  if (count_ > 0)
+    cl::call([&] { rt_.queue().enqueueReadBuffer(dir_, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data()); },
+             "Sampler: reading the mean direction");
   return out;
 }
 

@@ -64,6 +64,14 @@ class Sampler {
   int count() const { return count_; }
 
   std::vector<glm::vec4> read_radiance();
+  // With set_mean_direction(true), run() also accumulates per surface the luminance-weighted sum of
+  // the sample directions, sum_k w_k l_k (l_k unit, towards the light, in the surfaces' frame; w_k the
+  // sample's luminance term of the estimate), kernels built with -DNF_MEAN_DIRECTION=1
+  // (docs/indirect.md "Incident direction"). float4 (x, y, z, 0); undefined while it is off.
+  void set_mean_direction(bool on) { mean_direction_ = on; }
+  bool mean_direction() const { return mean_direction_; }
+  const ::cl::Buffer& direction() const { return dir_; }
+  std::vector<glm::vec4> read_direction();
   std::vector<float> read_a();
   std::vector<std::uint32_t> read_k();
   std::uint64_t total_samples();  // sum of read_k()
@@ -104,8 +112,9 @@ class Sampler {
   cl::Runtime& rt_;
   ::cl::Buffer halton3_, no_vis_, kurt_;
   int kurt_count_ = 0;
-  ::cl::Buffer rgb_, a_, k_, a_inst_;
-  int count_ = 0, capacity_ = 0;
+  ::cl::Buffer rgb_, a_, k_, a_inst_, dir_;
+  int count_ = 0, capacity_ = 0, dir_capacity_ = 0;
+  bool mean_direction_ = false;
   std::map<std::string, ::cl::Kernel> kernels_;
   struct PixelCache {
     ::cl::Buffer am;  // float [num_images x stride]

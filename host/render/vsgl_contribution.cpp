@@ -127,6 +127,7 @@ VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene)
     : rt_(rt), scene_(scene), sampler_(rt), shadows_(std::make_unique<VsglShadows>(rt)) {
   kurt_ = kurt_table(scene.geometry.materials);
   kurt_buf_ = upload_rw(rt_, kurt_, "uploading the Kurt material table (indirect)");
+  sampler_.set_mean_direction(true);  // each texel's incident direction (kernels/vsgl.cl vsgl_texels)
 }
 
 VsglContribution::~VsglContribution() = default;
@@ -152,7 +153,7 @@ void VsglContribution::ensure_gl(int size) {
 }
 
 void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size,
-                                  const RsmView& view, const ::cl::Buffer& pyr) {
+                                  const RsmView& view, const ::cl::Buffer& pyr, const ::cl::Buffer* dir) {
   ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_texels");
   const float pix = static_cast<float>(2.0 * view.tan_half / size);
   cl::call(
@@ -166,6 +167,8 @@ void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& 
         k.setArg(6, f4(view.forward));
         k.setArg(7, pix);
         k.setArg(8, pyr);
+        k.setArg(9, dir ? *dir : irradiance);
+        k.setArg(10, dir ? 1 : 0);
       },
       "VSGL texel kernel arguments");
   rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
@@ -274,7 +277,7 @@ bool VsglContribution::build(const FrameInputs& in) {
     // 3. quantities and pyramid
     timer.reset();
     r.pyr = pyramid_buffer(size);
-    run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr);
+    run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr, &sampler_.direction());
     r.offsets = run_pyramid(r.pyr, size);
     cl::call([&] { rt_.queue().finish(); }, "VSGL pyramid");
     times_.pyramid_ms += timer.ms();

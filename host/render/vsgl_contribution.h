@@ -109,8 +109,10 @@ class VsglContribution final : public Contribution {
     std::vector<int> offsets;
   };
   void ensure_gl(int size);
+  // dir: the estimator's sum_k w_k l_k per texel (Sampler::direction()), or null: w' is the
+  // direction to the U grid's centre (texel_quantities, docs/indirect.md "Incident direction").
   void run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size, const RsmView& view,
-                  const ::cl::Buffer& pyr);
+                  const ::cl::Buffer& pyr, const ::cl::Buffer* dir = nullptr);
   std::vector<int> run_pyramid(const ::cl::Buffer& pyr, int size);
   void run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size, glm::dvec3 origin,
                     const VsglSettings& s, const ::cl::Buffer& out);
