@@ -23,4 +23,4 @@ if [ $# -gt 0 ] || [ "${NEARFIELD_CI_SANITIZERS:-1}" = 0 ]; then
   exit 0
 fi
 echo "run_tests: the loaders' tests under ASan + UBSan and a short fuzz run of every loader (build-fuzz/)"
-"$here/scripts/run_fuzz.sh" "${NEARFIELD_FUZZ_SECONDS:-20}"
+"$here/scripts/run_fuzz.sh" "${NEARFIELD_FUZZ_SECONDS:-10}"

@@ -57,7 +57,7 @@ std::string camera_json(glm::dvec3 pos, glm::dvec3 dir, int res, double fov) {
 }
 
 // Floor, a panel luminaire 1 m up facing down, the far sky, and (optionally) the gold ball with a
-// local map of 64 x 32 texels.
+// local map of 64 x 32 texels, glow on (its luminaire texels are compared with the camera's view).
 // With `plate`: a shadow-casting plate between the panel and the floor (umbra around
 // (-1, 0, -0.6)), and shadow maps.
 nf::scene::Scene lit_scene(const fs::path& dir, bool ball, const std::string& camera, int frames = 16,
@@ -67,7 +67,7 @@ nf::scene::Scene lit_scene(const fs::path& dir, bool ball, const std::string& ca
              "transform": { "translate": [-0.5, 0.5, -0.3] } })";
   const std::string ball_json = fmt::format(
       R"(, {{ "name": "ball", "type": "sphere", "radius": 0.1, "material": "gold",
-              "transform": {{ "translate": [{}, {}, {}] }}, "local_environment": {{ "size": 64, "frames": {} }} }})",
+              "transform": {{ "translate": [{}, {}, {}] }}, "local_environment": {{ "size": 64, "frames": {}, "glow": true }} }})",
       kBall.x, kBall.y, kBall.z, frames);
   return nf::scene::parse_scene(
       fmt::format(R"({{

@@ -20,6 +20,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "luminaire/box_stats.h"
 #include "luminaire/farfield.h"
 #include "luminaire/generator.h"
 #include "luminaire/geometry.h"
@@ -36,43 +37,19 @@ namespace {
 using namespace nf::lum;
 constexpr double kPi = std::numbers::pi, kDeg = kPi / 180.0;
 
-// Box statistics as bench/sweep/closeup.h `box_stats` computes them for the report: a Lambertian
+// Box statistics (luminaire/box_stats.h) over the points the bench report uses: a Lambertian
 // wall 2 delta in front of S covering +-40 degrees plus half the image, a 16 x 16 grid of points,
 // per image with light in its box B_m(p): the box width in pixels and the CV of Y_m over the box,
 // both weighted by ~A_m(p).
-struct BoxStats {
-  double box_pixels = 0, cv = 0;
-};
 BoxStats box_stats(const Luminaire& l) {
   const double dist = 2.0 * l.delta;
   const double half = dist * std::tan(40.0 * kDeg) + 0.25 * std::max(l.image.size.x, l.image.size.y);
-  std::vector<std::vector<float>> y(static_cast<std::size_t>(l.num_images()));
-  for (int m = 0; m < l.num_images(); ++m) y[m] = luminance_image(l, m);
-  const int nx = l.image.resolution[0], grid = 16;
-  double w_sum = 0, px_sum = 0, cv_sum = 0;
+  const int grid = 16;
+  std::vector<glm::dvec3> points;
   for (int gy = 0; gy < grid; ++gy)
-    for (int gx = 0; gx < grid; ++gx) {
-      const glm::dvec3 p(half * (1.0 - 2.0 * (gx + 0.5) / grid), half * (1.0 - 2.0 * (gy + 0.5) / grid), dist);
-      for (int m = 0; m < l.num_images(); ++m) {
-        const PixelBox b = to_pixels(l.image, projected_box(l, m, p));
-        if (b.empty()) continue;
-        const int a0 = static_cast<int>(std::floor(b.a0)), a1 = static_cast<int>(std::ceil(b.a1));
-        const int r0 = static_cast<int>(std::floor(b.r0)), r1 = static_cast<int>(std::ceil(b.r1));
-        double s = 0, s2 = 0, n = 0;
-        for (int r = r0; r < r1; ++r)
-          for (int a = a0; a < a1; ++a) {
-            const double v = y[m][static_cast<std::size_t>(r) * nx + a];
-            s += v, s2 += v * v, n += 1;
-          }
-        if (!(s > 0) || n < 1) continue;
-        const double mean = s / n, var = std::max(0.0, s2 / n - mean * mean);
-        const double w = s * (b.a1 - b.a0) * (b.r1 - b.r0) / n;
-        w_sum += w;
-        px_sum += w * std::sqrt((b.a1 - b.a0) * (b.r1 - b.r0));
-        cv_sum += w * std::sqrt(var) / mean;
-      }
-    }
-  return w_sum > 0 ? BoxStats{px_sum / w_sum, cv_sum / w_sum} : BoxStats{};
+    for (int gx = 0; gx < grid; ++gx)
+      points.emplace_back(half * (1.0 - 2.0 * (gx + 0.5) / grid), half * (1.0 - 2.0 * (gy + 0.5) / grid), dist);
+  return nf::lum::box_stats(l, points);
 }
 
 // A preset at its own resolution, generated once per test program.

@@ -9,6 +9,7 @@
 #include "bench/sweep/target.h"
 #include "cl/runtime.h"
 #include "kernels/shared/surface.h"
+#include "luminaire/box_stats.h"
 #include "luminaire/luminaire.h"
 #include "render/device_luminaire.h"
 #include "render/sampler.h"
@@ -33,10 +34,7 @@ std::vector<NfSurface> closeup_surfaces(const CloseupGeometry& g, int res);
 //   cv          coefficient of variation (std / mean) of Y_m over the box's pixels
 // With importance sampling by Y_m, the part of the variance that comes from Y_m's variation
 // inside the box (relative variance cv^2) is what `ours` removes.
-struct BoxStats {
-  double box_pixels = 0, cv = 0;
-  int boxes = 0;
-};
+using BoxStats = lum::BoxStats;  // luminaire/box_stats.h
 BoxStats box_stats(const lum::Luminaire& l, const CloseupGeometry& g, int grid = 16);
 
 // Fingerprint of a luminaire's content (parameters and every pixel): reference cache keys.

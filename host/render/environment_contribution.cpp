@@ -451,8 +451,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     ls.declared.env_background = "hide";
     for (auto& l : locals_) {
       if (!l->any) continue;
-      const FrameInputs local{in.rt,       l->masked,       in.count,      ls, in.frame, in.lights, in.camera, nullptr,
-                              in.geometry, in.view_version, in.host_lights};
+      const FrameInputs local{in.rt,   l->masked,   in.count,        ls,      in.frame,      in.lights, in.camera,
+                              nullptr, in.geometry, in.view_version, nullptr, in.host_lights};
       ContributionFrame lf;
       l->env->prepare(local);
       const std::vector<glm::vec4> lrgb = l->env->shade(local, lf);
@@ -486,7 +486,8 @@ void EnvironmentContribution::update_locals(const FrameInputs& in, ContributionF
       ts.declared.env_visibility = "none";
       ts.declared.env_background = "hide";
       const LocalEnvironmentMap::FarShade far_shade = [&](const ::cl::Buffer& buf, int count, std::uint32_t frame) {
-        const FrameInputs t{in.rt, buf, count, ts, frame, in.lights, nullptr, nullptr, in.geometry, 0, in.host_lights};
+        const FrameInputs t{in.rt,   buf,     count,       ts, frame,   in.lights,
+                            nullptr, nullptr, in.geometry, 0,  nullptr, in.host_lights};
         ContributionFrame tf;
         return shade(t, tf);
       };
