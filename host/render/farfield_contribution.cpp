@@ -60,7 +60,8 @@ FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<sc
   const std::vector<NfKurtMaterial> table = kurt_table(materials);
   kurt_ = cl::upload(rt_, table, "uploading the far-field lights' kurt material table");
   kurt_count_ = static_cast<int>(table.size());
-  vis_ = cl::upload(rt_, std::vector<std::uint32_t>{}, "far-field visibility placeholder");
+  // Without shadow maps the kernel takes this one-word buffer and never reads it (OpenCL has no empty buffers).
+  vis_ = cl::upload(rt_, std::vector<std::uint32_t>{}, "far-field visibility (unused without shadow maps)");
 }
 
 FarfieldContribution::~FarfieldContribution() = default;
