@@ -5,7 +5,8 @@
 # loader for SECONDS (default 20, label "fuzz"). Findings (crash-*, leak-*, timeout-*) land in the
 # build directory; the corpus grown so far is kept in build-fuzz/fuzz-corpus/ between runs.
 # scripts/run_tests.sh runs this after the normal suite (docs/robustness.md).
-#   scripts/run_fuzz.sh [SECONDS]       e.g. scripts/run_fuzz.sh 3600 for the long run (docs/robustness.md)
+# NEARFIELD_FUZZ_SEED (default 1) fixes libFuzzer's seed so a run repeats; 0 draws a random one.
+#   scripts/run_fuzz.sh [SECONDS]       e.g. NEARFIELD_FUZZ_SEED=0 scripts/run_fuzz.sh 3600 for the long run (docs/robustness.md)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${NEARFIELD_FUZZ_BUILD_DIR:-$here/build-fuzz}"
@@ -16,6 +17,7 @@ launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARFIELD_FUZZ=ON \
   -DNEARFIELD_BUILD_TESTS=OFF -DNEARFIELD_BUILD_BENCH=OFF -DNF_FUZZ_SECONDS="$seconds" \
+  -DNF_FUZZ_SEED="${NEARFIELD_FUZZ_SEED:-1}" \
   -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 "${launcher[@]}"
 cmake --build "$build" --parallel "$jobs" --target fuzz_all sanitize_ci
 cd "$build"

@@ -134,4 +134,20 @@ TEST(RobustnessFuzzFindings, LightToolsExtremesNormaliseOrAreRefused) {
       {"flux.ray", "flux sums beyond"});
 }
 
+
+// A rotationally symmetric IES file whose one C plane is not at C = 0 (the fuzzer turned "0" into
+// "1"): the plane stands for every C, so it reads as C = 0 with the same intensities everywhere.
+TEST(RobustnessFuzzFindings, IesSingleCPlaneAtAnyAngleIsRotational) {
+  const auto dir = nf::testing::temp_dir("fuzz_ies_rot");
+  const auto g = nf::lum::read_ies(write(dir, "rot.ies",
+                                         "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n"
+                                         "0 90 180\n45\n300 200 100\n"));
+  EXPECT_EQ(g.symmetry, "rotational");
+  ASSERT_EQ(g.c.size(), 1u);
+  EXPECT_EQ(g.c[0], 0.0);
+  EXPECT_DOUBLE_EQ(g.intensity(0.0, 90.0), 200.0);
+  EXPECT_DOUBLE_EQ(g.intensity(45.0, 90.0), 200.0);
+  EXPECT_DOUBLE_EQ(g.intensity(300.0, 45.0), 250.0);  // linear in gamma between 300 and 200
+}
+
 }  // namespace

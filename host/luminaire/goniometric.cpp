@@ -98,6 +98,7 @@ void expand_symmetry(Goniometric& g, const std::string& where) {
   const std::size_t ng = g.gamma.size();
   if (g.symmetry == "rotational") {
     if (g.c.size() != 1) fail(fmt::format("{}: rotational symmetry needs one C plane, found {}", where, g.c.size()));
+    g.c[0] = 0.0;  // the one plane stands for every C, whatever angle the file gives it (LM-63 writes 0)
     return;
   }
   auto close_circle = [&] {
