@@ -1087,8 +1087,8 @@ def write_report(out, meta, P, R, B, micro):
     red = reductions(meta, P)
     if red:
         L.append("")
-        L.append("> **Reduced run.** The machine's load (above) made the full plan too slow for the time this run "
-                 "had, so it ran with " + "; ".join(red) + " (the command line above). The errors of a smaller image "
+        L.append("> **Reduced run.** The full plan (about an hour or more on this 2-core machine, more when it is "
+                 "shared) did not fit the time this run had, so it ran with " + "; ".join(red) + " (the command line above). The errors of a smaller image "
                  "are of the same estimators; the studies left out keep their figures in earlier reports "
                  "(git history of this file).")
     L.append("")
