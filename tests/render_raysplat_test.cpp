@@ -45,6 +45,7 @@
 #include "luminaire/io.h"
 #include "luminaire/rayset.h"
 #include "reference/irradiance.h"
+#include "render/stats.h"
 #include "render_support.h"
 #include "support/testing.h"
 
@@ -169,6 +170,15 @@ TEST(RenderRaySplat, FloorIrradianceMatchesTheRays) {
     EXPECT_NEAR(mean, e[k], tol) << "bin " << k;
     EXPECT_GT(count[k], 2000) << "bin " << k;  // the splat's noise stays below ~2 %
   }
+  // `render --stats` names the luminaire's photometric units (docs/rendering.md).
+  const render::RenderStats st = renderer->stats();
+  ASSERT_EQ(st.luminaires.size(), 1u);
+  EXPECT_EQ(st.luminaires[0].units, "photometric");
+  EXPECT_EQ(st.luminaires[0].radiance_unit, "cd/m^2");
+  const std::string json = render::to_json(st);
+  EXPECT_NE(json.find(R"("units": "photometric")"), std::string::npos);
+  EXPECT_NE(json.find(R"("radiance_unit": "cd/m^2")"), std::string::npos);
+  EXPECT_NE(render::summary(st).find("photometric (cd/m^2)"), std::string::npos) << render::summary(st);
   std::printf("%.1f s\n", timer.ms() / 1000.0);
 }
 
