@@ -6,6 +6,8 @@
 #include <regex>
 #include <sstream>
 
+#include "luminaire/rayset.h"
+#include "luminaire/rayset_tm25.h"
 #include "support/testing.h"
 
 namespace {
@@ -31,7 +33,7 @@ TEST(LuminaireCli, GenAndInfo) {
   r = run_nearfield("luminaire info '" + (dir / "led-rgb.json").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* key : {"4 x 4 basis functions", "48 x 48 pixels", "delta       0.2 m", "bspline2", "radiance",
-                          "R,G,B", "flux", "device data", "precompute"})
+                          "R,G,B", "flux", "device data", "precompute", "units       radiometric", " W (estimate"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
   r = run_nearfield("luminaire gen --preset nope -o '" + dir.string() + "'");
   EXPECT_NE(r.exit_code, 0);
@@ -39,6 +41,46 @@ TEST(LuminaireCli, GenAndInfo) {
   r = run_nearfield("luminaire info '" + (dir / "missing.json").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("missing.json"), std::string::npos) << r.err;
+}
+
+// A small square Lambertian emitter (1 mm, +z) written as TM-25 in lumens or watts, imported and
+// summarised: `luminaire info` names the units the rays carried (docs/luminaire-format.md).
+TEST(LuminaireCli, ImportedUnitsInInfo) {
+  const auto dir = nf::testing::temp_dir("cli_lum_units");
+  for (const auto kind : {nf::lum::FluxKind::luminous, nf::lum::FluxKind::radiant}) {
+    nf::lum::RaySet rs;
+    rs.kind = kind;
+    rs.format = "generated";
+    const int n = 40;  // n x n positions x 8 directions, deterministic
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < 8; ++k) {
+          const double s2 = (k + 0.5) / 8.0, phi = 2.399963 * (i * n + j + k);  // sin^2 theta uniform
+          const double st = std::sqrt(s2), ct = std::sqrt(1.0 - s2);
+          rs.add({(i + 0.5) / n * 1e-3 - 0.5e-3, (j + 0.5) / n * 1e-3 - 0.5e-3, 0.0},
+                 {st * std::cos(phi), st * std::sin(phi), ct}, 1.0 / (n * n * 8));
+        }
+    const bool lm = kind == nf::lum::FluxKind::luminous;
+    const auto rays = dir / (lm ? "lm.TM25RAY" : "w.TM25RAY");
+    nf::lum::write_tm25(rays, rs);
+    auto r = run_nearfield("luminaire import '" + rays.string() + "' --grid 4x4 --resolution 12 --axis 0,0,1 -o '" +
+                           dir.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto manifest = dir / (lm ? "lm.json" : "w.json");
+    r = run_nearfield("luminaire info '" + manifest.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::regex flux(lm ? R"(flux +\S+ lm \(estimate; luminance; pixels are radiance in cd/m\^2\))"
+                             : R"(flux +\S+ W \(estimate; luminance; pixels are radiance in W/\(m\^2 sr\)\))");
+    EXPECT_TRUE(std::regex_search(r.out, flux)) << r.out;
+    EXPECT_NE(r.out.find(lm ? "units       photometric (flux lm, intensity cd, radiance cd/m^2 = nit)"
+                            : "units       radiometric (flux W, intensity W/sr, radiance W/(m^2 sr))"),
+              std::string::npos)
+        << r.out;
+    // The far field written from it says the same.
+    r = run_nearfield("luminaire farfield '" + manifest.string() + "' -o '" + (dir / "ff.ies").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find(lm ? " cd, flux " : " W/sr, flux "), std::string::npos) << r.out;
+  }
 }
 
 // Lambert's formula for the panel (L0 = 100 on [-0.1, 0.1]^2) straight below p, normal -z:

@@ -66,9 +66,10 @@ TEST(LuminaireImport, GeometryFollowsTheRays) {
   const auto& l = f.imp.luminaire;
   const auto& r = f.imp.report;
   EXPECT_EQ(l.reconstruction, nf::lum::Reconstruction::radiance);
-  EXPECT_NEAR(r.frame.ez.z, 1.0, 1e-3);       // mean direction of a Lambertian disk: +z (2e5 rays)
-  EXPECT_NEAR(r.frame.origin.z, 0.0, 1e-5);   // the sampled axis tilts by ~1e-3 over the 2 mm disk
-  EXPECT_NEAR(l.image.size.x, 4e-3, 0.2e-3);  // the disk's diameter, trimmed quantiles and whole pixels
+  EXPECT_EQ(l.units, nf::lum::Units::photometric);  // the rays carry lumens
+  EXPECT_NEAR(r.frame.ez.z, 1.0, 1e-3);             // mean direction of a Lambertian disk: +z (2e5 rays)
+  EXPECT_NEAR(r.frame.origin.z, 0.0, 1e-5);         // the sampled axis tilts by ~1e-3 over the 2 mm disk
+  EXPECT_NEAR(l.image.size.x, 4e-3, 0.2e-3);        // the disk's diameter, trimmed quantiles and whole pixels
   // 98 % of a Lambertian emitter's flux lies inside |tan| <= ~4.5 (per axis): sin^2 at 77-80 deg.
   EXPECT_GT(r.tan_max, 3.0);
   EXPECT_LT(r.tan_max, 8.0);
@@ -166,6 +167,7 @@ TEST(LuminaireImport, OsramMeasurementWithDefaults) {
   const auto imp = nf::lum::import_rays(rays, o);
   const auto& rep = imp.report;
   EXPECT_EQ(rep.kind, FluxKind::luminous);
+  EXPECT_EQ(imp.luminaire.units, nf::lum::Units::photometric);
   EXPECT_NEAR(rep.frame.ez.z, 1.0, 0.05);  // the LED emits along its +z
   EXPECT_GT(rep.kept_flux, 0.95 * rep.total_flux);
   // Far field per 10-degree ring against the rays' histogram, as for the disk (4 sigma; the

@@ -61,6 +61,7 @@ void expect_same(const Luminaire& a, const Luminaire& b) {
   EXPECT_EQ(a.provenance, b.provenance);
   EXPECT_EQ(a.delta, b.delta);
   EXPECT_EQ(a.reconstruction, b.reconstruction);
+  EXPECT_EQ(a.units, b.units);
   EXPECT_EQ(a.basis.kind, b.basis.kind);
   EXPECT_EQ(a.basis.count, b.basis.count);
   EXPECT_EQ(a.basis.origin, b.basis.origin);
@@ -133,6 +134,28 @@ TEST(LuminaireIo, RoundTripIsBitExact) {
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos);
 }
 
+// "units" (docs/luminaire-format.md): written, read back, and absent in older files = radiometric.
+TEST(LuminaireIo, UnitsRoundTripAndDefault) {
+  const auto dir = nf::testing::temp_dir("lum_io_units");
+  Luminaire l = tiny(1);
+  EXPECT_EQ(l.units, nf::lum::Units::radiometric);  // the default
+  for (const auto units : {nf::lum::Units::photometric, nf::lum::Units::radiometric}) {
+    l.units = units;
+    nf::lum::write_luminaire(dir / "u.json", l);
+    EXPECT_EQ(load(dir / "u.json")["units"], nf::lum::to_string(units));
+    EXPECT_EQ(nf::lum::read_luminaire(dir / "u.json").units, units);
+    EXPECT_EQ(nf::lum::read_manifest(dir / "u.json").units, units);
+  }
+  l.units = nf::lum::Units::photometric;
+  nf::lum::write_luminaire(dir / "old.json", l);
+  auto j = load(dir / "old.json");
+  j.erase("units");  // a file written before the key existed
+  save(dir / "old.json", j);
+  EXPECT_EQ(nf::lum::read_luminaire(dir / "old.json").units, nf::lum::Units::radiometric);
+  EXPECT_STREQ(nf::lum::unit_names(nf::lum::Units::photometric).radiance, "cd/m^2");
+  EXPECT_STREQ(nf::lum::unit_names(nf::lum::Units::radiometric).flux, "W");
+}
+
 TEST(LuminaireIo, HalfStorageRoundsToHalf) {
   const auto dir = nf::testing::temp_dir("lum_io_half");
   Luminaire l = tiny(3);
@@ -193,6 +216,9 @@ TEST_F(LuminaireIoBad, ManifestFieldErrors) {
   EXPECT_HAS(with([](auto& j) { j["format"] = "ies"; }), "'format'");
   EXPECT_HAS(with([](auto& j) { j["basis"]["kind"] = "cubic"; }), "unknown 'basis.kind' \"cubic\"");
   EXPECT_HAS(with([](auto& j) { j["reconstruction"] = "lumigraph"; }), "unknown 'reconstruction' \"lumigraph\"");
+  EXPECT_HAS(with([](auto& j) { j["units"] = "candela"; }), "t.json: unknown 'units' \"candela\"");
+  EXPECT_HAS(with([](auto& j) { j["units"] = "Photometric"; }), "unknown 'units' \"Photometric\"");
+  EXPECT_HAS(with([](auto& j) { j["units"] = 1; }), "t.json: 'units' must be a string");
   EXPECT_HAS(with([](auto& j) { j["basis"]["count"] = {0, 2}; }), "'basis.count' must hold positive counts");
   EXPECT_HAS(with([](auto& j) { j["basis"]["count"] = {3}; }), "'basis.count' must be an array of 2 integers");
   EXPECT_HAS(with([](auto& j) { j["basis"]["cell"] = {0.01, 0.0}; }), "'basis.cell' must be positive");

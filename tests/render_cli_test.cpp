@@ -78,6 +78,10 @@ TEST(RenderCli, WritesExrPngAndStatsWithSettingsInTheMetadata) {
   EXPECT_GT(j["samples"]["total"].get<double>(), 0.0);
   EXPECT_TRUE(j["phases_ms"].contains("total"));
   EXPECT_TRUE(j["first_frame"]["fig10_percent"].contains("sampling_shading"));
+  // the synthetic preset's units (an imported lm file says photometric: tests/render_raysplat_test.cpp)
+  ASSERT_EQ(j["luminaires"].size(), 1u);
+  EXPECT_EQ(j["luminaires"][0]["units"], "radiometric");
+  EXPECT_EQ(j["luminaires"][0]["radiance_unit"], "W/(m^2 sr)");
   expect_only(dir, {"scene.json", "out.exr", "out.png", "stats.json"});
 }
 

@@ -98,9 +98,11 @@ void run_farfield(const std::string& file, const std::string& out) {
           lum::farfield_intensity(l, {std::sin(gr) * std::cos(cr), std::sin(gr) * std::sin(cr), std::cos(gr)}));
     }
   lum::write_ies(out, g, "far field of nearfield luminaire " + l.name);
+  const lum::UnitNames un = lum::unit_names(l.units);
   std::printf(
-      "wrote %s: %zu x %zu intensities, peak %.6g, flux %.6g (the light field's unit; lm when it is photometric)\n",
-      out.c_str(), g.c.size(), g.gamma.size(), *std::max_element(g.cd.begin(), g.cd.end()), g.lumens());
+      "wrote %s: %zu x %zu intensities, peak %.6g %s, flux %.6g %s%s\n", out.c_str(), g.c.size(), g.gamma.size(),
+      *std::max_element(g.cd.begin(), g.cd.end()), un.intensity, g.lumens(), un.flux,
+      l.units == lum::Units::radiometric ? " (radiometric: the .ies file's cd and lm columns hold W/sr and W)" : "");
 }
 
 void run_info(const std::string& file) {
@@ -122,8 +124,15 @@ void run_info(const std::string& file) {
               l.image.file.c_str(), l.image.scale);
   std::printf("reconstruct %s\n", lum::to_string(l.reconstruction));
   std::printf("channels    %s\n", l.channels == 3 ? "R,G,B (luminance + chroma)" : "Y (monochrome)");
-  std::printf("flux        %.6g W%s (luminance; pixels in W/m^2 per m^2 of filter, resp. W/m^2/sr)\n",
-              flux_estimate(l, pc), l.reconstruction == lum::Reconstruction::radiance ? " (estimate)" : "");
+  const lum::UnitNames un = lum::unit_names(l.units);
+  std::printf("units       %s (flux %s, intensity %s, radiance %s%s)\n", lum::to_string(l.units), un.flux, un.intensity,
+              un.radiance, l.units == lum::Units::photometric ? " = nit" : "");
+  if (l.reconstruction == lum::Reconstruction::radiance)
+    std::printf("flux        %.6g %s (estimate; luminance; pixels are radiance in %s)\n", flux_estimate(l, pc), un.flux,
+                un.radiance);
+  else
+    std::printf("flux        %.6g %s (luminance; pixels in %s per m^2 of filter)\n", flux_estimate(l, pc), un.flux,
+                un.irradiance);
   std::printf("device data %.2f MiB (SAT %.2f MiB, chroma %.2f MiB)\n", static_cast<double>(pc.bytes()) / 1048576.0,
               static_cast<double>(pc.sat.size() * 8) / 1048576.0,
               static_cast<double>(pc.chroma.size() * 4) / 1048576.0);

@@ -21,6 +21,7 @@
 
 #include "app/command.h"
 #include "app/output_checks.h"
+#include "app/render_estimate.h"
 #include "cl/runtime.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
@@ -74,70 +75,6 @@ void apply_overrides(const RenderCmd& o, scene::Scene& s) {
   }
 }
 
-// Bytes a render will need, estimated before anything is allocated (docs/robustness.md).
-// Per pixel: the frame's G-buffer, accumulation, tone-mapped and per-pixel sampling buffers,
-// measured as ~270 bytes per pixel in all at 6000 x 3375 on PoCL (host and device buffers in the
-// same memory), of which ~200 are device buffers and ~70 host copies. Luminaires: their images
-// and precomputed tables from the manifests (3 channels assumed, the EXR is not opened here);
-// presets are small and left out. Meshes: ~100 bytes per triangle on each side. Environment
-// (docs/environment.md): on the device its pyramids (lat-long, and paraboloid when env_param asks
-// for it), sampling tables and output (EnvironmentContribution::estimate_bytes, from the map's
-// header); on the host the loaded map and its tables in double, ~48 bytes per texel.
-struct RenderEstimate {
-  std::uint64_t host = 0, device = 0;
-  std::uint64_t per_pixel = 0, luminaires_host = 0, luminaires_device = 0, geometry = 0;
-  std::uint64_t environment_host = 0, environment_device = 0;
-};
-constexpr std::uint64_t kHostBytesPerPixel = 70, kDeviceBytesPerPixel = 200, kBytesPerTriangle = 100;
-
-RenderEstimate estimate_render(const scene::Scene& s) {
-  RenderEstimate e;
-  const std::uint64_t pixels = static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
-  e.per_pixel = mul_sat(pixels, kHostBytesPerPixel + kDeviceBytesPerPixel);  // both sides, for display
-  for (std::size_t i = 0; i < s.luminaires.size(); ++i) {
-    const auto& l = s.luminaires[i];
-    if (l.manifest.empty()) continue;
-    lum::LuminaireMemory m;
-    try {  // name the scene and the instance, as loading the luminaire does
-      m = lum::estimate_memory(lum::read_manifest(l.manifest), 3);
-    } catch (const Error& err) {
-      fail(fmt::format("{}: /luminaires/{} ('{}'): {}", s.file.string(), i, l.name, err.what()));
-    }
-    e.luminaires_host = add_sat(e.luminaires_host, m.host());
-    e.luminaires_device = add_sat(e.luminaires_device, m.device());
-  }
-  if (s.environment) {
-    std::pair<int, int> wh;
-    try {
-      wh = read_image_size(s.environment->file);
-    } catch (const Error& err) {
-      fail(fmt::format("{}: /environment: {}", s.file.string(), err.what()));
-    }
-    const std::uint64_t texels = static_cast<std::uint64_t>(wh.first) * static_cast<std::uint64_t>(wh.second);
-    e.environment_host = mul_sat(texels, 48);
-    e.environment_device = render::EnvironmentContribution::estimate_bytes(
-        wh.first, wh.second, s.render.env_param == "paraboloid", static_cast<std::size_t>(pixels));
-  }
-  e.geometry = mul_sat(scene::count(s).triangles, kBytesPerTriangle);
-  e.host =
-      add_sat(add_sat(add_sat(mul_sat(pixels, kHostBytesPerPixel), e.luminaires_host), e.geometry), e.environment_host);
-  e.device = add_sat(add_sat(add_sat(mul_sat(pixels, kDeviceBytesPerPixel), e.luminaires_device), e.geometry),
-                     e.environment_device);
-  return e;
-}
-
-// Refuses a render that cannot fit. A CPU device (PoCL) shares the host's memory, so host and
-// device needs add up there.
-void check_render_memory(const std::string& where, const RenderEstimate& e, const cl::DeviceInfo& device) {
-  const bool shared = device.type == "CPU";
-  const std::uint64_t host_need = shared ? add_sat(e.host, e.device) : e.host;
-  check_memory(where, "rendering this scene (image, luminaires, geometry)", host_need, available_host_memory(),
-               shared ? "host memory (shared with the OpenCL CPU device)" : "host memory");
-  if (!shared)
-    check_memory(where, "rendering this scene on the OpenCL device", e.device,
-                 static_cast<std::uint64_t>(device.global_mem_bytes), "device memory on " + device.name);
-}
-
 void run_render(const RenderCmd& o) {
   Timer total;
   if (o.out.empty() && !o.dry_run) fail("render: -o OUT.exr is required (or --dry-run)");
@@ -163,12 +100,13 @@ void run_render(const RenderCmd& o) {
                 scene.camera.width, scene.camera.height, scene.luminaires.size(), scene::count(scene).triangles);
     std::printf(
         "estimate    host %s, device %s%s (pixels %s, luminaires %s host + %s device, geometry %s, environment %s "
-        "host + %s device)\n",
+        "host + %s device, far-field lights %s device, local environment maps %s host + %s device)\n",
         format_bytes(estimate.host).c_str(), format_bytes(estimate.device).c_str(),
         shared ? " (same memory: CPU device)" : "", format_bytes(estimate.per_pixel).c_str(),
         format_bytes(estimate.luminaires_host).c_str(), format_bytes(estimate.luminaires_device).c_str(),
         format_bytes(estimate.geometry).c_str(), format_bytes(estimate.environment_host).c_str(),
-        format_bytes(estimate.environment_device).c_str());
+        format_bytes(estimate.environment_device).c_str(), format_bytes(estimate.farfield_device).c_str(),
+        format_bytes(estimate.local_host).c_str(), format_bytes(estimate.local_device).c_str());
     std::printf("available   host %s, device %s (%s)\n", format_bytes(available_host_memory()).c_str(),
                 format_bytes(runtime.info().global_mem_bytes).c_str(), runtime.info().name.c_str());
     check_render_memory(o.scene, estimate, runtime.info());

@@ -316,6 +316,7 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   lum.name = o.name;
   lum.delta = delta;
   lum.reconstruction = Reconstruction::radiance;
+  lum.units = rays.kind == FluxKind::luminous ? Units::photometric : Units::radiometric;
   lum.basis = b;
   lum.image.origin = s0;
   lum.image.size = {nx * pix, ny * pix};

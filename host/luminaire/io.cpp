@@ -102,6 +102,20 @@ void parse_manifest(const json& j, const std::string& file, Luminaire& l) {
     l.reconstruction = Reconstruction::radiance;
   else
     fail(fmt::format("{}: unknown 'reconstruction' \"{}\" (expected goesele2003 or radiance)", file, rec));
+  // Optional: files written before the key existed are radiometric.
+  const auto units = j.find("units");
+  if (units == j.end()) {
+    l.units = Units::radiometric;
+  } else {
+    if (!units->is_string()) fail(fmt::format("{}: 'units' must be a string (radiometric or photometric)", file));
+    const std::string u = units->get<std::string>();
+    if (u == "radiometric")
+      l.units = Units::radiometric;
+    else if (u == "photometric")
+      l.units = Units::photometric;
+    else
+      fail(fmt::format("{}: unknown 'units' \"{}\" (expected radiometric or photometric)", file, u));
+  }
 
   const json& b = r.at(j, "", "basis");
   const std::string kind = r.string(b, "basis", "kind");
@@ -135,6 +149,7 @@ nlohmann::ordered_json make_manifest(const Luminaire& l, const std::string& imag
   j["provenance"] = l.provenance;
   j["delta"] = l.delta;
   j["reconstruction"] = to_string(l.reconstruction);
+  j["units"] = to_string(l.units);
   auto& b = j["basis"];
   b["kind"] = to_string(l.basis.kind);
   b["count"] = {l.basis.count[0], l.basis.count[1]};
@@ -388,6 +403,7 @@ void write_images(OutputTransaction& tx, const std::filesystem::path& path, cons
 
 const char* to_string(BasisKind k) { return k == BasisKind::bspline2 ? "bspline2" : "quadratic2"; }
 const char* to_string(Reconstruction r) { return r == Reconstruction::goesele2003 ? "goesele2003" : "radiance"; }
+const char* to_string(Units u) { return u == Units::radiometric ? "radiometric" : "photometric"; }
 
 void validate_geometry(const Luminaire& l, const std::string& where) {
   const auto range = fmt::format("[{:g}, {:g}] m", kMinLength, kMaxLength);

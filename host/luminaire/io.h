@@ -44,8 +44,9 @@ constexpr double kMaxPixel = 1e30;
 void validate_structure(const Luminaire& l, const std::string& where);
 void validate_geometry(const Luminaire& l, const std::string& where);  // the same without the images
 
-// "bspline2" / "quadratic2", "goesele2003" / "radiance".
+// "bspline2" / "quadratic2", "goesele2003" / "radiance", "radiometric" / "photometric".
 const char* to_string(BasisKind k);
 const char* to_string(Reconstruction r);
+const char* to_string(Units u);
 
 }  // namespace nf::lum

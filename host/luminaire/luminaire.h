@@ -16,6 +16,19 @@ namespace nf::lum {
 
 enum class BasisKind { bspline2, quadratic2 };
 enum class Reconstruction { goesele2003, radiance };
+// What the pixels measure (docs/luminaire-format.md, "units"): radiometric quantities (flux in W,
+// radiance in W/(m^2 sr)) or their photometric equivalents (lm, cd/m^2), e.g. a light field
+// imported from a ray file whose flux is in lumens. The numbers are used alike; only names differ.
+enum class Units { radiometric, photometric };
+
+// The names of the luminaire's quantities in `u`.
+struct UnitNames {
+  const char* flux;        // W | lm
+  const char* intensity;   // W/sr | cd
+  const char* radiance;    // W/(m^2 sr) | cd/m^2
+  const char* irradiance;  // W/m^2 | lx
+};
+UnitNames unit_names(Units u);
 
 struct Basis {
   BasisKind kind = BasisKind::bspline2;
@@ -37,6 +50,7 @@ struct Luminaire {
   std::string name, description, provenance;
   double delta = 1.0;
   Reconstruction reconstruction = Reconstruction::goesele2003;
+  Units units = Units::radiometric;
   Basis basis;
   ImageGrid image;
   int channels = 1;  // 1: Y only (monochrome); 3: R,G,B

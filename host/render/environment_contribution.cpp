@@ -196,6 +196,14 @@ std::size_t EnvironmentContribution::estimate_bytes(int width, int height, bool 
   return b + pixels * 16 + 9 * 16;  // output radiance, SH coefficients
 }
 
+std::size_t EnvironmentContribution::local_surface_bytes(std::size_t pixels) { return pixels * sizeof(NfSurface); }
+
+std::size_t EnvironmentContribution::estimate_local_bytes(int size, bool paraboloid, std::size_t pixels,
+                                                          std::size_t kurt_entries) {
+  return estimate_bytes(size, size / 2, paraboloid, pixels) + kurt_table_bytes(kurt_entries) +
+         local_surface_bytes(pixels);
+}
+
 // Level sizes: (W, H), then halved (rounded down, at least 1) until 1 x 1; all in one buffer.
 void EnvironmentContribution::upload() {
   const int w = map_.width(), h = map_.height();
@@ -621,10 +629,9 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
 std::size_t EnvironmentContribution::device_bytes() const {
   std::size_t local = 0;
   for (const auto& l : locals_)
-    if (l->env) local += l->env->device_bytes() + (l->any ? l->pixels.size() * sizeof(NfSurface) : 0);
+    if (l->env) local += l->env->device_bytes() + (l->any ? local_surface_bytes(l->pixels.size()) : 0);
   return pyr_bytes_ + ppyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16 +
-         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial) + vis_.device_bytes() + local +
-         regular_bytes_;
+         kurt_table_bytes(static_cast<std::size_t>(kurt_count_)) + vis_.device_bytes() + local + regular_bytes_;
 }
 
 }  // namespace nf::render

@@ -63,6 +63,13 @@ class EnvironmentContribution final : public Contribution {
   // Device bytes of the environment for a W x H map (both pyramids, tables, `pixels` outputs):
   // the `render --dry-run` estimate (without env_glossy regular's patterns: 16 bytes per pattern sample).
   static std::size_t estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels);
+  // Device bytes of one local environment map of `size` x size/2 texels (docs/local-environment.md)
+  // for `pixels` camera pixels, as device_bytes() counts it once built: the map's own environment
+  // (estimate_bytes: pyramids, tables, output), its Kurt table of `kurt_entries` materials and the
+  // camera surfaces with the other pixels masked (counted whether or not the object is in view).
+  static std::size_t estimate_local_bytes(int size, bool paraboloid, std::size_t pixels, std::size_t kurt_entries);
+  // The masked camera surfaces of a local map (one NfSurface per pixel).
+  static std::size_t local_surface_bytes(std::size_t pixels);
 
   // Introspection (tests, stats).
   int levels() const { return static_cast<int>(dims_.size()); }

@@ -56,7 +56,7 @@ FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<sc
   lights_buf_ = cl::upload(rt_, lights_, "uploading the far-field lights");
   angles_ = cl::upload(rt_, angles, "uploading the far-field lights' angles");
   cd_ = cl::upload(rt_, cd, "uploading the far-field lights' intensity tables");
-  table_bytes_ = lights_.size() * sizeof(NfFarfieldLight) + (angles.size() + cd.size()) * sizeof(float);
+  table_bytes_ = table_bytes(lights);
   const std::vector<NfKurtMaterial> table = kurt_table(materials);
   kurt_ = cl::upload(rt_, table, "uploading the far-field lights' kurt material table");
   kurt_count_ = static_cast<int>(table.size());
@@ -96,14 +96,14 @@ void FarfieldContribution::update_visibility(const FrameInputs& in, Contribution
   if (vis_valid_ && in.view_version != 0 && in.view_version == vis_version_) return;
   Timer t;
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 0)), nl = maps_.size();
-  std::vector<std::uint32_t> bits(std::max<std::size_t>(n * nl, 1), 0u);
+  std::vector<std::uint32_t> bits(visibility_bytes(n, nl) / sizeof(std::uint32_t), 0u);
   for (std::size_t k = 0; k < nl; ++k) {
     const std::vector<std::uint32_t> v = maps_[k]->visibility(*in.gbuffer);  // one word per pixel
     if (v.size() != n) fail(fmt::format("far-field shadow map {}: {} visibility words for {} pixels", k, v.size(), n));
     for (std::size_t p = 0; p < n; ++p) bits[p * nl + k] = v[p] & 1u;
   }
   vis_ = cl::upload(rt_, bits, "uploading the far-field visibility");
-  vis_bytes_ = bits.size() * sizeof(std::uint32_t);
+  vis_bytes_ = visibility_bytes(n, nl);
   vis_version_ = in.view_version;
   vis_valid_ = true;
   f.parts_ms.emplace_back("visibility", t.ms());
@@ -121,10 +121,10 @@ ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<g
   update_visibility(in, f);
   Timer wall;
   const std::size_t n = static_cast<std::size_t>(std::max(in.count, 1));
-  if (out_bytes_ != n * sizeof(cl_float4)) {
-    cl::call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4)); },
+  if (out_bytes_ != output_bytes(n)) {
+    cl::call([&] { out_ = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, output_bytes(n)); },
              "far-field output buffer");
-    out_bytes_ = n * sizeof(cl_float4);
+    out_bytes_ = output_bytes(n);
   }
   cl::call(
       [&] {
@@ -159,8 +159,28 @@ ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<g
 }
 
 std::size_t FarfieldContribution::device_bytes() const {
-  return table_bytes_ + out_bytes_ + vis_bytes_ +
-         static_cast<std::size_t>(std::max(kurt_count_, 1)) * sizeof(NfKurtMaterial);
+  return table_bytes_ + out_bytes_ + vis_bytes_ + kurt_table_bytes(static_cast<std::size_t>(kurt_count_));
+}
+
+std::size_t FarfieldContribution::table_bytes(const std::vector<scene::FarfieldLightRef>& lights) {
+  std::size_t values = 0;  // C angles, gamma angles and the nc x ng intensities of each table
+  for (const auto& l : lights)
+    if (l.table) values += l.table->c.size() + l.table->gamma.size() + l.table->cd.size();
+  return lights.size() * sizeof(NfFarfieldLight) + values * sizeof(float);
+}
+
+std::size_t FarfieldContribution::output_bytes(std::size_t pixels) {
+  return std::max<std::size_t>(pixels, 1) * sizeof(cl_float4);
+}
+
+std::size_t FarfieldContribution::visibility_bytes(std::size_t pixels, std::size_t lights) {
+  return std::max<std::size_t>(pixels * lights, 1) * sizeof(std::uint32_t);
+}
+
+std::size_t FarfieldContribution::estimate_bytes(const std::vector<scene::FarfieldLightRef>& lights, std::size_t pixels,
+                                                 bool shadow_maps, std::size_t kurt_entries) {
+  return table_bytes(lights) + output_bytes(pixels) + (shadow_maps ? visibility_bytes(pixels, lights.size()) : 0) +
+         kurt_table_bytes(kurt_entries);
 }
 
 }  // namespace nf::render

@@ -35,6 +35,16 @@ class FarfieldContribution final : public Contribution {
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
   std::size_t device_bytes() const override;
 
+  // Device bytes, shared by the constructor, add() and the `render --dry-run` estimate: the light
+  // records and their angle and intensity tables; the output (one float4 per surface pixel); the
+  // visibility bits with shadow maps (one word per pixel and light; 0 without: the one-word
+  // placeholder is not counted); the Kurt table of `kurt_entries` materials.
+  static std::size_t table_bytes(const std::vector<scene::FarfieldLightRef>& lights);
+  static std::size_t output_bytes(std::size_t pixels);
+  static std::size_t visibility_bytes(std::size_t pixels, std::size_t lights);
+  static std::size_t estimate_bytes(const std::vector<scene::FarfieldLightRef>& lights, std::size_t pixels,
+                                    bool shadow_maps, std::size_t kurt_entries);
+
   // The device records of the lights and their tables, as uploaded (tests).
   const std::vector<NfFarfieldLight>& device_lights() const { return lights_; }
   // Whether the last frame used shadow maps (tests).

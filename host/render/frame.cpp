@@ -14,6 +14,7 @@
 #include "gl/shadow_maps.h"
 #include "gl/step0.h"
 #include "gl/tonemap.h"
+#include "luminaire/io.h"
 #include "render/cl_shadow_visibility.h"
 #include "render/contributions.h"
 #include "render/luminaire_contribution.h"
@@ -588,6 +589,8 @@ RenderStats Renderer::stats() {
     l.res_y = src.luminaire.image.resolution[1];
     l.channels = src.luminaire.channels;
     l.chroma = devices_[i]->has_chroma();
+    l.units = lum::to_string(src.luminaire.units);
+    l.radiance_unit = lum::unit_names(src.luminaire.units).radiance;
     l.load_ms = src.load_ms;
     l.precompute_ms = src.precomputed.precompute_ms;
     l.device_bytes = devices_[i]->bytes();

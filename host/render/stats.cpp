@@ -111,6 +111,8 @@ std::string to_json(const RenderStats& s, const std::vector<std::pair<std::strin
                     {"image_resolution", {l.res_x, l.res_y}},
                     {"channels", l.channels},
                     {"chroma", l.chroma},
+                    {"units", l.units},
+                    {"radiance_unit", l.radiance_unit},
                     {"load_ms", round3(l.load_ms)},
                     {"precompute_ms", round3(l.precompute_ms)},
                     {"device_bytes", l.device_bytes}});
@@ -180,8 +182,9 @@ std::string summary(const RenderStats& s) {
       100 * b.accumulation / total, 100 * b.other / total);
   for (const auto& l : s.luminaires)
     out += fmt::format(
-        "luminaire {}: {} instance(s), {} images of {}x{}, load {:.1f} ms, precompute {:.1f} ms, {:.1f} MiB\n", l.label,
-        l.instances, l.images, l.res_x, l.res_y, l.load_ms, l.precompute_ms,
+        "luminaire {}: {} instance(s), {} images of {}x{}, {} ({}), load {:.1f} ms, precompute {:.1f} ms, {:.1f} "
+        "MiB\n",
+        l.label, l.instances, l.images, l.res_x, l.res_y, l.units, l.radiance_unit, l.load_ms, l.precompute_ms,
         static_cast<double>(l.device_bytes) / 1048576.0);
   out += fmt::format("memory: {:.1f} MiB in {} buffers\n", static_cast<double>(bytes) / 1048576.0, s.memory.size());
   return out;

@@ -67,6 +67,8 @@ struct LuminaireStats {
   std::string label;  // "car2 (preset)" or the manifest path
   int instances = 0, images = 0, res_x = 0, res_y = 0, channels = 1;
   bool chroma = false;
+  std::string units = "radiometric";         // the manifest's "units" (docs/luminaire-format.md)
+  std::string radiance_unit = "W/(m^2 sr)";  // of its pixels and of the rendered radiance: or cd/m^2
   double load_ms = 0, precompute_ms = 0;
   std::size_t device_bytes = 0;
 };

@@ -1,0 +1,83 @@
+#include "app/render_estimate.h"
+
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/memory.h"
+#include "luminaire/io.h"
+#include "luminaire/memory_estimate.h"
+#include "render/environment_contribution.h"
+#include "render/farfield_contribution.h"
+#include "render/kurt_table.h"
+
+namespace nf::app {
+
+RenderEstimate estimate_render(const scene::Scene& s) {
+  RenderEstimate e;
+  const std::uint64_t pixels = static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
+  e.per_pixel = mul_sat(pixels, kHostBytesPerPixel + kDeviceBytesPerPixel);  // both sides, for display
+  for (std::size_t i = 0; i < s.luminaires.size(); ++i) {
+    const auto& l = s.luminaires[i];
+    if (l.manifest.empty()) continue;
+    lum::LuminaireMemory m;
+    try {  // name the scene and the instance, as loading the luminaire does
+      m = lum::estimate_memory(lum::read_manifest(l.manifest), 3);
+    } catch (const Error& err) {
+      fail(fmt::format("{}: /luminaires/{} ('{}'): {}", s.file.string(), i, l.name, err.what()));
+    }
+    e.luminaires_host = add_sat(e.luminaires_host, m.host());
+    e.luminaires_device = add_sat(e.luminaires_device, m.device());
+  }
+  const bool paraboloid = s.render.env_param == "paraboloid";
+  const std::size_t kurt_entries = s.geometry.materials.size();  // render::kurt_table: one entry per material
+  const auto n = static_cast<std::size_t>(pixels);
+  if (s.environment) {
+    std::pair<int, int> wh;
+    try {
+      wh = read_image_size(s.environment->file);
+    } catch (const Error& err) {
+      fail(fmt::format("{}: /environment: {}", s.file.string(), err.what()));
+    }
+    const std::uint64_t texels = static_cast<std::uint64_t>(wh.first) * static_cast<std::uint64_t>(wh.second);
+    e.environment_host = mul_sat(texels, kEnvironmentHostBytesPerTexel);
+    e.environment_device = render::EnvironmentContribution::estimate_bytes(wh.first, wh.second, paraboloid, n) +
+                           render::kurt_table_bytes(kurt_entries);
+  }
+  if (!s.farfield_lights.empty())
+    e.farfield_device =
+        render::FarfieldContribution::estimate_bytes(s.farfield_lights, n, s.needs_shadow_maps(), kurt_entries);
+  for (const auto& local : s.local_environments) {
+    const std::uint64_t texels = static_cast<std::uint64_t>(local.size) * static_cast<std::uint64_t>(local.size / 2);
+    e.local_host = add_sat(e.local_host, mul_sat(texels, kEnvironmentHostBytesPerTexel));
+    e.local_device = add_sat(
+        e.local_device, render::EnvironmentContribution::estimate_local_bytes(local.size, paraboloid, n, kurt_entries));
+  }
+  if (!s.local_environments.empty() && !s.environment)  // the far pass still runs, on a black 2 x 1 map
+    e.local_device = add_sat(e.local_device, render::EnvironmentContribution::estimate_bytes(2, 1, paraboloid, n) +
+                                                 render::kurt_table_bytes(kurt_entries));
+  e.geometry = mul_sat(scene::count(s).triangles, kBytesPerTriangle);
+  e.host = add_sat(
+      add_sat(add_sat(add_sat(mul_sat(pixels, kHostBytesPerPixel), e.luminaires_host), e.geometry), e.environment_host),
+      e.local_host);
+  e.device =
+      add_sat(add_sat(add_sat(add_sat(add_sat(mul_sat(pixels, kDeviceBytesPerPixel), e.luminaires_device), e.geometry),
+                              e.environment_device),
+                      e.farfield_device),
+              e.local_device);
+  return e;
+}
+
+void check_render_memory(const std::string& where, const RenderEstimate& e, const cl::DeviceInfo& device) {
+  const bool shared = device.type == "CPU";
+  const std::uint64_t host_need = shared ? add_sat(e.host, e.device) : e.host;
+  check_memory(where, "rendering this scene (image, luminaires, geometry)", host_need, available_host_memory(),
+               shared ? "host memory (shared with the OpenCL CPU device)" : "host memory");
+  if (!shared)
+    check_memory(where, "rendering this scene on the OpenCL device", e.device,
+                 static_cast<std::uint64_t>(device.global_mem_bytes), "device memory on " + device.name);
+}
+
+}  // namespace nf::app

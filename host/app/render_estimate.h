@@ -1,0 +1,42 @@
+#pragma once
+// Bytes a render will need, estimated from the scene before anything is allocated (`render
+// --dry-run`, and the check every render makes first; docs/robustness.md).
+#include <cstdint>
+#include <string>
+
+#include "cl/runtime.h"
+#include "scene/scene.h"
+
+namespace nf::app {
+
+// Per pixel: the frame's G-buffer, accumulation, tone-mapped and per-pixel sampling buffers,
+// measured as ~270 bytes per pixel in all at 6000 x 3375 on PoCL (host and device buffers in the
+// same memory), of which ~200 are device buffers and ~70 host copies. Luminaires: their images
+// and precomputed tables from the manifests (3 channels assumed, the EXR is not opened here);
+// presets are small and left out. Meshes: ~100 bytes per triangle on each side. Environment
+// (docs/environment.md): on the device its pyramids (lat-long, and paraboloid when env_param asks
+// for it), sampling tables, output (EnvironmentContribution::estimate_bytes, from the map's
+// header) and Kurt table; on the host the loaded map and its tables in double, ~48 bytes per texel. Far-field
+// lights (docs/photometry.md): their tables, output and (with shadow maps) visibility bits
+// (FarfieldContribution::estimate_bytes). Local environment maps (docs/local-environment.md): per
+// map its own environment, Kurt table and masked camera surfaces on the device
+// (EnvironmentContribution::estimate_local_bytes), ~48 bytes per texel on the host; without a far
+// environment the black stand-in's output too.
+struct RenderEstimate {
+  std::uint64_t host = 0, device = 0;
+  std::uint64_t per_pixel = 0, luminaires_host = 0, luminaires_device = 0, geometry = 0;
+  std::uint64_t environment_host = 0, environment_device = 0;
+  std::uint64_t farfield_device = 0;
+  std::uint64_t local_host = 0, local_device = 0;
+};
+constexpr std::uint64_t kHostBytesPerPixel = 70, kDeviceBytesPerPixel = 200, kBytesPerTriangle = 100;
+constexpr std::uint64_t kEnvironmentHostBytesPerTexel = 48;
+
+// Reads the luminaire manifests and the environment map's header (errors name the scene).
+RenderEstimate estimate_render(const scene::Scene& s);
+
+// Refuses a render that cannot fit. A CPU device (PoCL) shares the host's memory, so host and
+// device needs add up there.
+void check_render_memory(const std::string& where, const RenderEstimate& e, const cl::DeviceInfo& device);
+
+}  // namespace nf::app
