@@ -120,7 +120,9 @@ void run_reference_cmd(const ReferenceCmd& o) {
   const auto& st = run.result.stats;
   ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
                         {"nearfield:scene", o.scene},
-                        {"nearfield:content", "linear radiance, W m^-2 sr^-1 (the luminaires' units): CPU reference"},
+                        {"nearfield:content",
+                         "linear radiance in the luminaires' units: W m^-2 sr^-1 (radiometric) or cd m^-2 "
+                         "(photometric; render --stats names each luminaire's): CPU reference"},
                         {"nearfield:reference_cache_key", run.key},
                         {"nearfield:samples", std::to_string(st.samples)},
                         {"nearfield:rays", std::to_string(st.rays())},

@@ -138,7 +138,9 @@ void run_render(const RenderCmd& o) {
   render::RenderStats stats = renderer.stats();
   ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
                         {"nearfield:scene", o.scene},
-                        {"nearfield:content", "linear radiance, W m^-2 sr^-1 (the luminaires' units)"},
+                        {"nearfield:content",
+                         "linear radiance in the luminaires' units: W m^-2 sr^-1 (radiometric) or cd m^-2 "
+                         "(photometric; render --stats names each luminaire's)"},
                         {"nearfield:cl_device", stats.cl_device},
                         {"nearfield:gl_renderer", stats.gl_renderer},
                         {"nearfield:frames", std::to_string(renderer.frames())},

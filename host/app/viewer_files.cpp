@@ -82,7 +82,9 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
   ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
                         {"nearfield:scene", original_.file.string()},
                         {"nearfield:source", "nearfield view"},
-                        {"nearfield:content", "linear radiance, W m^-2 sr^-1 (the luminaires' units)"},
+                        {"nearfield:content",
+                         "linear radiance in the luminaires' units: W m^-2 sr^-1 (radiometric) or cd m^-2 "
+                         "(photometric; render --stats names each luminaire's)"},
                         {"nearfield:gl_renderer", renderer_->gl_renderer()},
                         {"nearfield:frames", std::to_string(renderer_->frames())},
                         {"nearfield:samples", std::to_string(renderer_->total_times().samples)},
