@@ -209,7 +209,7 @@ TEST(ViewScriptCommands, MaterialEditsFollowTheGrammar) {
       {"material floor base_color 0.5 1.5 0", "material 'floor': /base_color/1: 1.5 is out of range [0, 1]"},
       {"material floor roughness 0.5", "roughness: material 'floor' is lambert; roughness applies to ggx"},
       {"material wood type ggx", "no material 'wood'"},
-      {"material floor remove-lobe 0", "material 'floor' is lambert"},
+      {"material floor remove-lobe 0", "remove-lobe: material 'floor' is lambert"},
   };
   for (const auto& [line, want] : refused) {
     const nf::scene::Material before = state.materials[0];
