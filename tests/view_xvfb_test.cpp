@@ -151,7 +151,7 @@ TEST(ViewXvfb, ScriptedMaterialEditsAreSavedAndRenderAlike) {
         "set spp 4\nset sampler halton\nset seed 3\nframes 1\n"
         "material post type kurt\nmaterial post add-lobe\nmaterial post lobe 0 mx 0.05\n"
         "material post lobe 0 ks 0.9 0.8 0.7\nmaterial floor base_color 0.2 0.5 0.3\nmaterial gold roughness 0.6\n"
-        "frames 2\nsave " +
+        "section materials on\nframes 2\nsave " +
             at + "view.exr\nsave-scene " + at + "view.json\nquit\n");
   const auto v =
       run_nearfield("view " + quote(scene) + " --window 128x72 --scale 1 --script " + quote(dir / "script.txt"));
