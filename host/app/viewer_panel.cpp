@@ -93,7 +93,7 @@ struct Panel {
   void display();
   void camera();
   void luminaires();
-  void materials();
+  void materials(bool open_all);
   void material(const scene::Material& m);
   void statistics();
   void files();
@@ -112,7 +112,9 @@ void Panel::draw() {
     if (section("Display", "display", true)) display();
     if (section("Camera", "camera", false)) camera();
     if (section("Luminaires", "luminaires", false)) luminaires();
-    if (section("Materials", "materials", false)) materials();
+    const auto scripted = s.open_sections.find("materials");  // `section materials on` opens every entry too
+    const bool open_all = scripted != s.open_sections.end() && scripted->second;
+    if (section("Materials", "materials", false)) materials(open_all);
     if (section("Statistics", "statistics", true)) statistics();
     if (section("Files", "files", false)) files();
     if (section("Shortcuts", "shortcuts", false)) shortcuts();
@@ -248,11 +250,12 @@ void Panel::rendering() {
 
 // One collapsible entry per scene material; every change is an edit in the `material` script
 // command's words (app/material_edit.h) through ViewerActions::material.
-void Panel::materials() {
+void Panel::materials(bool open_all) {
   if (s.materials.empty()) ImGui::TextDisabled("the scene has no materials");
   for (std::size_t i = 0; i < s.materials.size(); ++i) {
     const scene::Material& m = s.materials[i];
     ImGui::PushID(static_cast<int>(i));
+    if (open_all) ImGui::SetNextItemOpen(true);
     if (ImGui::TreeNode("material", "%s (%s)", m.name.c_str(), scene::material_kind_name(m.kind))) {
       material(m);
       ImGui::TreePop();
