@@ -132,23 +132,9 @@ SceneGpu::SceneGpu(const scene::Geometry& g) : materials_(g.materials) {
     glVertexArrayAttribBinding(vao_, a, 0);
   }
 
-  // Textures: sRGB for base colour, linear for metallic-roughness; only those in use.
   srgb_tex_.assign(g.textures.size(), 0);
   linear_tex_.assign(g.textures.size(), 0);
-  for (const auto& mat : g.materials) {
-    const auto check = [&](int t) {
-      if (t >= static_cast<int>(g.textures.size()))
-        fail(fmt::format("material '{}': texture {} out of range", mat.name, t));
-    };
-    check(mat.base_color_texture);
-    check(mat.metallic_roughness_texture);
-    if (mat.base_color_texture >= 0 && !srgb_tex_[static_cast<std::size_t>(mat.base_color_texture)])
-      srgb_tex_[static_cast<std::size_t>(mat.base_color_texture)] =
-          upload_texture(g.textures[static_cast<std::size_t>(mat.base_color_texture)], true, texture_bytes_);
-    if (mat.metallic_roughness_texture >= 0 && !linear_tex_[static_cast<std::size_t>(mat.metallic_roughness_texture)])
-      linear_tex_[static_cast<std::size_t>(mat.metallic_roughness_texture)] =
-          upload_texture(g.textures[static_cast<std::size_t>(mat.metallic_roughness_texture)], false, texture_bytes_);
-  }
+  upload_textures(g);
   glCreateTextures(GL_TEXTURE_2D, 1, &white_);
   glTextureStorage2D(white_, 1, GL_RGBA8, 1, 1);
   const std::uint8_t white[4] = {255, 255, 255, 255};
@@ -173,6 +159,32 @@ SceneGpu::SceneGpu(const scene::Geometry& g) : materials_(g.materials) {
     triangles_ += mesh.triangle_count();
     if (d.index_count > 0) draws_.push_back(d);
   }
+}
+
+// Textures: sRGB for base colour, linear for metallic-roughness; only those in use, once each.
+void SceneGpu::upload_textures(const scene::Geometry& g) {
+  for (const auto& mat : g.materials) {
+    const auto check = [&](int t) {
+      if (t >= static_cast<int>(g.textures.size()))
+        fail(fmt::format("material '{}': texture {} out of range", mat.name, t));
+    };
+    check(mat.base_color_texture);
+    check(mat.metallic_roughness_texture);
+    if (mat.base_color_texture >= 0 && !srgb_tex_[static_cast<std::size_t>(mat.base_color_texture)])
+      srgb_tex_[static_cast<std::size_t>(mat.base_color_texture)] =
+          upload_texture(g.textures[static_cast<std::size_t>(mat.base_color_texture)], true, texture_bytes_);
+    if (mat.metallic_roughness_texture >= 0 && !linear_tex_[static_cast<std::size_t>(mat.metallic_roughness_texture)])
+      linear_tex_[static_cast<std::size_t>(mat.metallic_roughness_texture)] =
+          upload_texture(g.textures[static_cast<std::size_t>(mat.metallic_roughness_texture)], false, texture_bytes_);
+  }
+}
+
+void SceneGpu::set_materials(const scene::Geometry& g) {
+  if (g.materials.size() != materials_.size())
+    fail(fmt::format("set_materials: {} materials for a scene with {}", g.materials.size(), materials_.size()));
+  if (g.textures.size() != srgb_tex_.size()) fail("set_materials: the scene's textures changed");
+  upload_textures(g);
+  materials_ = g.materials;
 }
 
 SceneGpu::~SceneGpu() {

@@ -62,8 +62,12 @@ class SceneGpu {
   std::size_t triangle_count() const { return triangles_; }
   std::vector<MemoryItem> memory() const;
   const std::vector<scene::Material>& materials() const { return materials_; }
+  // Replaces the materials (the same count; edited at run time, render::Renderer::set_material)
+  // and uploads the textures they use that are not on the GPU yet; needs a current context.
+  void set_materials(const scene::Geometry& geometry);
 
  private:
+  void upload_textures(const scene::Geometry& geometry);
   struct DrawItem {
     int base_vertex = 0;
     std::size_t first_index = 0;

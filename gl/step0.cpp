@@ -19,6 +19,11 @@ Step0::Step0(const scene::Scene& scene, std::vector<ShadowMapSpec> shadow_specs)
 
 Step0::~Step0() = default;
 
+void Step0::set_materials(const scene::Geometry& geometry) {
+  scene_->set_materials(geometry);
+  materials_ = geometry.materials;
+}
+
 void Step0::run(const scene::Camera& camera) {
   timings_ = {};
   maps_rendered_ = false;

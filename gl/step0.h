@@ -42,6 +42,9 @@ class Step0 {
   // Whether the last run() rendered the shadow maps (they were invalid).
   bool shadow_maps_rendered() const { return maps_rendered_; }
   void invalidate_shadow_maps() { shadow_maps_valid_ = false; }
+  // Replaces the materials (edited at run time); the next run() draws the G-buffer with them.
+  // Shadow maps do not depend on materials and stay valid. Needs a current context.
+  void set_materials(const scene::Geometry& geometry);
 
   bool has_shadow_maps() const { return !shadow_maps_.empty(); }
   // One NfSurface per pixel (row 0 at the top); see GBuffer::read_surfaces.

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "scene/material_json.h"
 #include "scene/scene.h"
 #include "scene/scene_writer.h"
 #include "support/testing.h"
@@ -162,6 +163,77 @@ TEST(SceneWriter, RelativeFilesAreRebasedToTheNewFolder) {
   const auto same =
       nlohmann::json::parse(scene_json(text, dir / "src", original, state_of(original), dir / "src" / "."));
   EXPECT_EQ(same["luminaires"][0]["manifest"], "lum/l.json");
+}
+
+// Edited materials (the viewer's Materials panel): written where the file defines them (named
+// and inline), read back equal (same_material: bit-identical floats); a texture and an unchanged
+// Kurt tangent keep their text; untouched materials keep theirs; materials the file does not
+// define (the built-in default) are refused by name.
+TEST(SceneWriter, EditedMaterialsRoundTrip) {
+  const fs::path dir = nf::testing::temp_dir("scene_writer_materials");
+  nf::Image tex(2, 2, 3);
+  tex.pixels.assign(12, 0.5f);
+  nf::write_png(dir / "tex.png", tex);
+  const std::string text = R"({
+    "camera": { "position": [0, 1, 3], "target": [0, 0, 0], "fov_y": 50, "resolution": [8, 8] },
+    "materials": { "a": { "type": "lambert", "base_color": [0.1, 0.2, 0.3] },
+                   "t": { "type": "lambert", "base_color_texture": "tex.png" },
+                   "k": { "type": "kurt", "tangent": [0, 0, 2], "lobes": [ { "ks": [1, 1, 1], "mx": 0.1, "my": 0.2 } ] },
+                   "keep": { "type": "ggx", "roughness": 0.30 } },
+    "objects": [ { "type": "plane", "material": "a" }, { "type": "box", "material": "t" },
+                 { "type": "sphere", "material": "k" }, { "type": "disk", "material": "keep" },
+                 { "type": "box", "material": { "type": "ggx", "metallic": 1 } },
+                 { "type": "box" } ]
+  })";
+  std::ofstream(dir / "scene.json") << text;
+  const Scene original = load_scene(dir / "scene.json");
+  auto find = [](const Scene& s, const std::string& name) -> std::size_t {
+    for (std::size_t i = 0; i < s.geometry.materials.size(); ++i)
+      if (s.geometry.materials[i].name == name) return i;
+    return s.geometry.materials.size();
+  };
+  SceneState st = state_of(original);
+  auto& ms = st.materials;
+  Material& a = ms.at(find(original, "a"));
+  a.kind = MaterialKind::ggx;  // lambert -> ggx
+  a.metallic = 0.3f;
+  a.roughness = 0.123456f;
+  Material& t = ms.at(find(original, "t"));
+  t.base_color = {0.9f, 0.8f, 0.7f};  // keeps its texture
+  Material& k = ms.at(find(original, "k"));
+  k.kurt_lobes[0].alpha = 0.7f;  // the tangent stays [0, 0, 2] in the file
+  k.kurt_lobes.push_back(KurtLobe{});
+  Material& inl = ms.at(find(original, "box4/material"));
+  ASSERT_EQ(inl.source, "/objects/4/material");
+  inl.roughness = 0.01f;
+  const fs::path out = dir / "saved.json";
+  save_scene(original, st, out);
+  const auto j = nlohmann::json::parse(slurp(out));
+  EXPECT_EQ(j["materials"]["a"],
+            nlohmann::json::parse(
+                R"({"type": "ggx", "base_color": [0.1, 0.2, 0.3], "metallic": 0.3, "roughness": 0.123456})"));
+  EXPECT_EQ(j["materials"]["t"]["base_color_texture"], "tex.png");
+  EXPECT_EQ(j["materials"]["k"]["tangent"], nlohmann::json::array({0, 0, 2}));
+  EXPECT_EQ(j["materials"]["keep"], nlohmann::json::parse(R"({"type": "ggx", "roughness": 0.30})"));
+  EXPECT_EQ(j["objects"][4]["material"]["roughness"], 0.01);
+  const Scene back = load_scene(out);
+  ASSERT_EQ(back.geometry.materials.size(), ms.size());
+  for (std::size_t i = 0; i < ms.size(); ++i)
+    EXPECT_TRUE(same_material(back.geometry.materials[i], ms[i]))
+        << ms[i].name << ": " << material_json(ms[i]).dump() << " vs "
+        << material_json(back.geometry.materials[i]).dump();
+  // the built-in default is not in the file
+  st = state_of(original);
+  st.materials.at(find(original, "default")).base_color = glm::vec3(0.1f);
+  try {
+    save_scene(original, st, dir / "refused.json");
+    ADD_FAILURE() << "an edited default material was saved";
+  } catch (const nf::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("material 'default' was edited but is not defined in the scene file"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "refused.json"));
 }
 
 TEST(SceneWriter, EulerDecompositionRoundTrips) {

@@ -16,6 +16,7 @@
 #include "app/view_script.h"
 #include "app/viewer_state.h"
 #include "core/error.h"
+#include "scene/material_json.h"
 
 namespace {
 
@@ -41,6 +42,11 @@ ViewerState two_luminaires() {
   b.euler = {0.0, 180.0, 0.0};
   s.lums = s.lums_home = {a, b};
   s.lums_file = {a.matrix(), b.matrix()};
+  nf::scene::Material floor;  // as the scene loader makes a ggx material
+  floor.name = "floor";
+  floor.kind = nf::scene::MaterialKind::ggx;
+  floor.roughness = 0.5f;
+  s.materials = {floor};
   return s;
 }
 
@@ -57,6 +63,7 @@ std::string fingerprint(const ViewerState& s, const ScriptRunner& r, const Saved
     v(l.euler);
     o << l.intensity << ';';
   }
+  for (const auto& m : s.materials) o << nf::scene::material_json(m).dump() << ';';
   o << static_cast<int>(s.display) << s.panel << ';';
   for (const auto& [k, on] : s.open_sections) o << k << on << ';';
   o << s.capture.string() << ';' << s.quit << ';' << r.frames_due() << ';';
@@ -155,6 +162,74 @@ TEST(ViewScriptCommands, RunnerSpreadsMotionOverFramesAndStopsAtQuit) {
   EXPECT_FALSE(runner.step(state, saved));
   EXPECT_TRUE(state.quit);
   EXPECT_FALSE(runner.done());  // quit before the last command: `frames 9` never runs
+}
+
+// `material NAME FIELD VALUE...` (app/material_edit.h): every field, type changes, and errors
+// that name the script line, the material and the field.
+TEST(ViewScriptCommands, MaterialEditsFollowTheGrammar) {
+  ViewerState state = two_luminaires();
+  SavedFiles saved;
+  auto run = [&](const std::string& text) {
+    ScriptRunner runner(parse_script(text, "m.txt"));
+    while (!runner.done()) runner.step(state, saved);
+  };
+  run("material floor base_color 0.1 0.2 0.3\nmaterial floor metallic 1\nmaterial floor roughness 0.25\n");
+  const nf::scene::Material& m = state.materials[0];
+  EXPECT_EQ(m.base_color, glm::vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(m.metallic, 1.0f);
+  EXPECT_EQ(m.roughness, 0.25f);
+  run("material floor type kurt\nmaterial floor add-lobe\nmaterial floor add-lobe\nmaterial floor lobe 1 mx 0.05\n"
+      "material floor lobe 1 ks 2 1 0.5\nmaterial floor lobe 1 alpha 0.3\nmaterial floor lobe 0 r0 0.9\n"
+      "material floor lobe 0 my 0.7\nmaterial floor remove-lobe 0\nmaterial floor diffuse 0.5 0.4 0.3\n");
+  EXPECT_EQ(m.kind, nf::scene::MaterialKind::kurt);
+  EXPECT_EQ(m.base_color, glm::vec3(0.5f, 0.4f, 0.3f));  // k_d
+  ASSERT_EQ(m.kurt_lobes.size(), 1u);                    // lobe 1 became lobe 0
+  EXPECT_EQ(m.kurt_lobes[0].mx, 0.05f);
+  EXPECT_EQ(m.kurt_lobes[0].my, 0.1f);  // the new lobe's default
+  EXPECT_EQ(m.kurt_lobes[0].ks, glm::vec3(2.0f, 1.0f, 0.5f));
+  EXPECT_EQ(m.kurt_lobes[0].alpha, 0.3f);
+  EXPECT_EQ(m.metallic, 0.0f);  // kurt: as the loader makes it
+  run("material floor type lambert\n");
+  EXPECT_EQ(m.kind, nf::scene::MaterialKind::lambert);
+  EXPECT_TRUE(m.kurt_lobes.empty());
+  EXPECT_EQ(m.roughness, 1.0f);
+
+  // parse time: fields and value counts
+  for (const char* bad : {"material floor shininess 3", "material floor base_color 1 2", "material floor type wood",
+                          "material floor lobe 0 sheen 1", "material floor roughness x", "material floor"}) {
+    try {
+      parse_script(std::string("frames 1\n") + bad + "\n", "m.txt");
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const nf::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("m.txt:2: material"), std::string::npos) << e.what();
+    }
+  }
+  // run time: ranges (the loader's messages), kinds, names, lobes
+  const std::vector<std::pair<std::string, std::string>> refused{
+      {"material floor base_color 0.5 1.5 0", "material 'floor': /base_color/1: 1.5 is out of range [0, 1]"},
+      {"material floor roughness 0.5", "roughness: material 'floor' is lambert; roughness applies to ggx"},
+      {"material wood type ggx", "no material 'wood'"},
+      {"material floor remove-lobe 0", "remove-lobe: material 'floor' is lambert"},
+  };
+  for (const auto& [line, want] : refused) {
+    const nf::scene::Material before = state.materials[0];
+    try {
+      run("frames 1\n" + line + "\n");
+      ADD_FAILURE() << "accepted: " << line;
+    } catch (const nf::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("m.txt:2: material: " + want), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(nf::scene::material_json(state.materials[0]), nf::scene::material_json(before)) << line;
+  }
+  run("material floor type kurt\nmaterial floor add-lobe\n");
+  try {
+    run("material floor lobe 0 mx 0\n");
+    ADD_FAILURE() << "m_x 0 accepted";
+  } catch (const nf::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("m.txt:1: material: material 'floor': /lobes/0/mx: 0 is out of range"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(ViewScriptCommands, RunnerIsDoneAfterTheLastCommand) {

@@ -140,6 +140,57 @@ TEST(ViewXvfb, ScriptedViewMatchesHeadlessRenderOfTheSavedScene) {
   EXPECT_GT(diff, 1.0);
 }
 
+// Materials edited by script (docs/viewer.md, `material`): the saved scene holds the edits and
+// `nearfield render` of it reproduces the view (same argument as above: 1e-5 relative).
+TEST(ViewXvfb, ScriptedMaterialEditsAreSavedAndRenderAlike) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = nf::testing::temp_dir("view_materials");
+  const fs::path scene = copy_default_scene(dir);
+  const std::string at = dir.string() + "/";
+  write(dir / "script.txt",
+        "set spp 4\nset sampler halton\nset seed 3\nframes 1\n"
+        "material post type kurt\nmaterial post add-lobe\nmaterial post lobe 0 mx 0.05\n"
+        "material post lobe 0 ks 0.9 0.8 0.7\nmaterial floor base_color 0.2 0.5 0.3\nmaterial gold roughness 0.6\n"
+        "section materials on\nframes 2\nsave " +
+            at + "view.exr\nsave-scene " + at + "view.json\nquit\n");
+  const auto v =
+      run_nearfield("view " + quote(scene) + " --window 128x72 --scale 1 --script " + quote(dir / "script.txt"));
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  const auto saved = nlohmann::json::parse(slurp(dir / "view.json"));
+  const auto& ms = saved["materials"];
+  EXPECT_EQ(ms["post"]["type"], "kurt");
+  EXPECT_EQ(ms["post"]["lobes"][0]["mx"], 0.05);
+  EXPECT_EQ(ms["post"]["lobes"][0]["ks"], nlohmann::json::array({0.9, 0.8, 0.7}));
+  EXPECT_EQ(ms["floor"]["base_color"], nlohmann::json::array({0.2, 0.5, 0.3}));
+  EXPECT_EQ(ms["gold"]["roughness"], 0.6);
+  EXPECT_EQ(ms["wall"],
+            nlohmann::json::parse(R"({"type": "lambert", "base_color": [0.75, 0.74, 0.70]})"));  // untouched
+
+  const auto r =
+      run_nearfield("-q render " + quote(dir / "view.json") + " -o " + quote(dir / "ref.exr") + " --frames 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nf::Image a = nf::read_image(dir / "view.exr"), b = nf::read_image(dir / "ref.exr");
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  double max_rel = 0.0, sum = 0.0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+    const double d = std::fabs(a.pixels[i] - b.pixels[i]);
+    max_rel = std::max(max_rel, d / std::max(1e-3, std::fabs(static_cast<double>(b.pixels[i]))));
+    sum += b.pixels[i];
+  }
+  EXPECT_GT(sum, 0.0) << "the reference is black";
+  EXPECT_LE(max_rel, 1e-5) << "viewer with edited materials and the render of its saved scene disagree";
+  std::printf("edited materials, viewer vs render: max relative difference %.3g\n", max_rel);
+
+  // An edit the scene format refuses stops the script with the line, the material and the field.
+  write(dir / "bad.txt", "frames 1\nmaterial gold roughness 1.5\nquit\n");
+  const auto bad =
+      run_nearfield("view " + quote(scene) + " --window 64x36 --scale 1 --script " + quote(dir / "bad.txt"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("bad.txt:2: material: material 'gold': /roughness: 1.5 is out of range [0, 1]"),
+            std::string::npos)
+      << bad.err;
+}
+
 TEST(ViewXvfb, ScriptsMayNotOverwriteTheViewedScene) {
   REQUIRE_DISPLAY();
   const fs::path dir = nf::testing::temp_dir("view_refuse");

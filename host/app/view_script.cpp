@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "app/material_edit.h"
 #include "app/view_settings.h"
 #include "core/error.h"
 
@@ -80,6 +81,23 @@ void check_luminaire(const Script& s, const ScriptCommand& c) {
     fail(fmt::format("{}: luminaire {}: expected 3 numbers and an optional frame count", s.where(c), what));
   if (what == "intensity" && !(script_number(s, c, 2) >= 0.0))
     fail(fmt::format("{}: luminaire intensity: must be >= 0", s.where(c)));
+}
+
+// material NAME FIELD VALUE...: the grammar of app/material_edit.h.
+void check_material(const Script& s, const ScriptCommand& c) {
+  try {
+    check_material_edit(std::vector<std::string>(c.args.begin() + 1, c.args.end()));
+  } catch (const Error& e) {
+    fail(fmt::format("{}: material: {}", s.where(c), e.what()));
+  }
+}
+
+void material_command(ScriptContext& x) {
+  auto& ms = x.state.materials;
+  const std::string& name = x.text(0);
+  const auto it = std::find_if(ms.begin(), ms.end(), [&](const nf::scene::Material& m) { return m.name == name; });
+  if (it == ms.end()) fail(fmt::format("no material '{}' in the scene", name));
+  apply_material_edit(*it, std::vector<std::string>(x.command.args.begin() + 1, x.command.args.end()));
 }
 
 void check_display(const Script& s, const ScriptCommand& c) {
@@ -229,6 +247,14 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "1 translate 0.7 0.72 0.05",
        check_luminaire,
        luminaire_command},
+      {"material",
+       {A::text, A::text},
+       {A::text, A::text, A::text, A::text, A::text},
+       "NAME FIELD VALUE...",
+       "edit a scene material: type, base_color, diffuse, metallic, roughness, lobe J FIELD, add-lobe, remove-lobe",
+       "floor roughness 0.3",
+       check_material,
+       material_command},
       {"display",
        {A::text},
        {},
@@ -312,8 +338,8 @@ ScriptCommand parse_line(const Script& s, const std::vector<std::string>& words,
 }  // namespace
 
 const std::vector<std::string>& panel_sections() {
-  static const std::vector<std::string> names{"rendering",  "display", "camera",   "luminaires",
-                                              "statistics", "files",   "shortcuts"};
+  static const std::vector<std::string> names{"rendering", "display",    "camera", "luminaires",
+                                              "materials", "statistics", "files",  "shortcuts"};
   return names;
 }
 

@@ -21,6 +21,8 @@
 //   luminaire I rotate RX RY RZ [N]  absolute Euler angles (degrees, R = Rz Ry Rx, as in
 //                                 scenes); with N, interpolated over N frames
 //   luminaire I intensity V
+//   material NAME FIELD VALUE...  edit a material (app/material_edit.h: type, base_color, diffuse,
+//                                 metallic, roughness, lobe J ks|r0|mx|my|alpha, add-lobe, remove-lobe)
 //   display image|A|K             what the window shows (K and A in false colour)
 //   panel on|off                  the ImGui panel
 //   section NAME on|off           open or close a panel section (panel_sections())

@@ -4,6 +4,7 @@
 // saving files and the status line. Interactive: errors go to the panel's status line.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace nf::app {
 
@@ -13,6 +14,9 @@ class ViewerActions {
   // apply_setting (view_settings.h); an error goes to the status line, the settings stay.
   virtual void set(const std::string& name, const std::string& value) = 0;
   virtual void restart() = 0;  // restart the accumulation
+  // An edit of material `name` in the words of app/material_edit.h (the `material` script
+  // command's); an error goes to the status line, the material stays.
+  virtual void material(const std::string& name, const std::vector<std::string>& edit) = 0;
   // kind "image", "scene" or "screenshot": asks (ViewerState::pending) before overwriting.
   virtual void request_save(const std::string& kind, const std::filesystem::path& path) = 0;
   // `confirmed`: the user agreed to overwrite (the scene file being viewed, or an existing file).

@@ -113,6 +113,7 @@ void Viewer::write_scene(const fs::path& path, bool confirmed) {
     st.luminaires.push_back(l);
   }
   st.render = render_settings(state_.settings.frame);
+  st.materials = renderer_->scene().geometry.materials;  // as rendered (sync() pushed the edits)
   scene::save_scene(original_, st, json);
   status(fmt::format("saved {}", json.string()));
 }

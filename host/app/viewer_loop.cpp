@@ -18,12 +18,14 @@
 
 #include <fmt/format.h>
 
+#include "app/material_edit.h"
 #include "app/viewer_panel.h"
 #include "app/vsgl_debug_view.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timer.h"
 #include "gl/tonemap.h"
+#include "scene/material_json.h"
 #include "scene/scene_writer.h"
 
 namespace nf::app {
@@ -69,6 +71,8 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
   original_.camera = scene.camera;
   original_.luminaires = scene.luminaires;
   original_.render = scene.render;
+  original_.geometry.materials = scene.geometry.materials;  // saving writes the edited ones
+  state_.materials = scene.geometry.materials;
 
   state_.settings.frame = render::frame_settings(scene.render);
   state_.settings.scale = o.scale;
@@ -229,6 +233,17 @@ void Viewer::sync() {
     if (scripted()) throw;
     status(e.what(), true);
   }
+  // Materials: each edited one (a bad value leaves the renderer's and goes back into the state).
+  for (std::size_t i = 0; i < state_.materials.size() && i < renderer_->material_count(); ++i) {
+    if (scene::same_material(state_.materials[i], renderer_->material(i))) continue;
+    try {
+      renderer_->set_material(i, state_.materials[i]);
+    } catch (const Error& e) {
+      if (scripted()) throw;
+      status(e.what(), true);
+    }
+    state_.materials[i] = renderer_->material(i);
+  }
   if (!synced_camera_ || cam.width != synced_camera_->width || cam.height != synced_camera_->height)
     state_.redisplay = true;
   synced_camera_ = cam;
@@ -246,6 +261,17 @@ void Viewer::set(const std::string& name, const std::string& value) {
 }
 
 void Viewer::restart() { renderer_->reset(); }
+
+void Viewer::material(const std::string& name, const std::vector<std::string>& edit) {
+  auto& ms = state_.materials;
+  const auto it = std::find_if(ms.begin(), ms.end(), [&](const scene::Material& m) { return m.name == name; });
+  try {
+    if (it == ms.end()) fail(fmt::format("no material '{}' in the scene", name));
+    apply_material_edit(*it, edit);
+  } catch (const Error& e) {
+    status(fmt::format("material {}: {}", name, e.what()), true);
+  }
+}
 
 void Viewer::status(const std::string& text, bool error) {
   state_.status = text;

@@ -42,6 +42,7 @@ class Viewer final : public ViewerActions, public ScriptActions {
   // ViewerActions (input and panel)
   void set(const std::string& name, const std::string& value) override;
   void restart() override;
+  void material(const std::string& name, const std::vector<std::string>& edit) override;
   void request_save(const std::string& kind, const std::filesystem::path& path) override;
   void perform_save(const std::string& kind, const std::filesystem::path& path, bool confirmed) override;
   void status(const std::string& text, bool error = false) override;

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "render/stats.h"
+#include "scene/material_json.h"
 #include "scene/settings.h"
 
 namespace nf::app {
@@ -92,6 +93,8 @@ struct Panel {
   void display();
   void camera();
   void luminaires();
+  void materials(bool open_all);
+  void material(const scene::Material& m);
   void statistics();
   void files();
   void shortcuts();
@@ -109,6 +112,9 @@ void Panel::draw() {
     if (section("Display", "display", true)) display();
     if (section("Camera", "camera", false)) camera();
     if (section("Luminaires", "luminaires", false)) luminaires();
+    const auto scripted = s.open_sections.find("materials");  // `section materials on` opens every entry too
+    const bool open_all = scripted != s.open_sections.end() && scripted->second;
+    if (section("Materials", "materials", false)) materials(open_all);
     if (section("Statistics", "statistics", true)) statistics();
     if (section("Files", "files", false)) files();
     if (section("Shortcuts", "shortcuts", false)) shortcuts();
@@ -171,6 +177,13 @@ void Panel::environment(const scene::RenderSettings& d) {
   ImGui::Separator();
   ImGui::TextUnformatted("environment");
   choice("env glossy", "env_glossy", d.env_glossy);
+  if (d.env_glossy == "regular") {  // eps0 in (0, 0.999] (scene/settings.cpp)
+    float eps = static_cast<float>(d.env_regular_eps);
+    if (ImGui::InputFloat("eps0 (regular)", &eps, 0.01f, 0.1f, "%.3g", ImGuiInputTextFlags_EnterReturnsTrue))
+      a.set("env_regular_eps", fmt::format("{}", std::clamp(eps, 1e-6f, 0.999f)));
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("the regular pattern spans each lobe down to D = eps0 D(peak) (docs/regular-sampling.md)");
+  }
   int n = d.env_samples;
   if (ImGui::InputInt("env samples N", &n, 1, 16)) a.set("env_samples", std::to_string(std::clamp(n, 1, 4096)));
   float k = static_cast<float>(d.env_k);
@@ -233,6 +246,83 @@ void Panel::rendering() {
   if (ImGui::InputInt("max frames (0: none)", &max_frames))
     a.set("max_frames", std::to_string(std::max(max_frames, 0)));
   if (ImGui::Button("restart accumulation (C)")) a.restart();
+}
+
+// One collapsible entry per scene material; every change is an edit in the `material` script
+// command's words (app/material_edit.h) through ViewerActions::material.
+void Panel::materials(bool open_all) {
+  if (s.materials.empty()) ImGui::TextDisabled("the scene has no materials");
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const scene::Material& m = s.materials[i];
+    ImGui::PushID(static_cast<int>(i));
+    if (open_all) ImGui::SetNextItemOpen(true);
+    if (ImGui::TreeNode("material", "%s (%s)", m.name.c_str(), scene::material_kind_name(m.kind))) {
+      material(m);
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+}
+
+void Panel::material(const scene::Material& m) {
+  const std::string name = m.name;  // `m` may change under an edit
+  auto edit = [&](std::vector<std::string> words) { a.material(name, words); };
+  auto num = [](float x) { return fmt::format("{}", x); };  // shortest text that reads back to x
+  auto rgb = [&](const char* label, const glm::vec3& c, bool hdr, std::vector<std::string> head) {
+    float rgb_v[3] = {c.r, c.g, c.b};
+    const ImGuiColorEditFlags flags = ImGuiColorEditFlags_Float | (hdr ? ImGuiColorEditFlags_HDR : 0);
+    if (ImGui::ColorEdit3(label, rgb_v, flags)) {
+      for (float x : rgb_v) head.push_back(num(hdr ? std::max(x, 0.0f) : std::clamp(x, 0.0f, 1.0f)));
+      edit(head);
+    }
+  };
+  auto slider = [&](const char* label, float value, float lo, float hi, std::vector<std::string> head,
+                    ImGuiSliderFlags flags = 0) {
+    if (ImGui::SliderFloat(label, &value, lo, hi, "%.4g", flags | ImGuiSliderFlags_AlwaysClamp)) {
+      head.push_back(num(value));
+      edit(head);
+    }
+  };
+  if (ImGui::BeginCombo("type", scene::material_kind_name(m.kind))) {
+    for (const char* k : {"lambert", "ggx", "kurt"})
+      if (ImGui::Selectable(k, k == std::string(scene::material_kind_name(m.kind)))) edit({"type", k});
+    ImGui::EndCombo();
+  }
+  switch (m.kind) {
+    case scene::MaterialKind::lambert:
+    case scene::MaterialKind::ggx:
+      rgb("base colour", m.base_color, false, {"base_color"});
+      if (m.base_color_texture >= 0) ImGui::TextDisabled("(x texture %d)", m.base_color_texture);
+      if (m.kind == scene::MaterialKind::ggx) {
+        slider("metallic", m.metallic, 0.0f, 1.0f, {"metallic"});
+        slider("roughness", m.roughness, 0.0f, 1.0f, {"roughness"});
+      }
+      break;
+    case scene::MaterialKind::kurt: {
+      rgb("k_d", m.base_color, false, {"diffuse"});
+      for (std::size_t j = 0; j < m.kurt_lobes.size(); ++j) {
+        const scene::KurtLobe l = m.kurt_lobes[j];
+        const std::string js = std::to_string(j);
+        ImGui::PushID(static_cast<int>(j));
+        ImGui::Separator();
+        ImGui::Text("lobe %zu", j);
+        ImGui::SameLine();
+        if (ImGui::SmallButton("remove")) {
+          edit({"remove-lobe", js});  // the lobes shifted: draw them on the next frame
+          ImGui::PopID();
+          break;
+        }
+        rgb("k_s", l.ks, true, {"lobe", js, "ks"});
+        slider("r0", l.r0, 0.0f, 1.0f, {"lobe", js, "r0"});
+        slider("m_x", l.mx, 1e-3f, 1.0f, {"lobe", js, "mx"}, ImGuiSliderFlags_Logarithmic);
+        slider("m_y", l.my, 1e-3f, 1.0f, {"lobe", js, "my"}, ImGuiSliderFlags_Logarithmic);
+        slider("alpha", l.alpha, 0.0f, 1.0f, {"lobe", js, "alpha"});
+        ImGui::PopID();
+      }
+      if (m.kurt_lobes.size() < 4 && ImGui::Button("add lobe")) edit({"add-lobe"});
+      break;
+    }
+  }
 }
 
 void Panel::display() {

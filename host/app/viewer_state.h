@@ -15,6 +15,7 @@
 
 #include "app/orbit_camera.h"
 #include "app/view_settings.h"
+#include "scene/geometry.h"
 
 namespace nf::app {
 
@@ -41,6 +42,9 @@ struct ViewerState {
   std::vector<LuminaireEdit> lums, lums_home;  // current and the scene file's placements
   std::vector<glm::dmat4> lums_file;           // the scene file's matrices (kept bit for bit)
   int selected = 0;                            // luminaire edited by the panel and Ctrl+drag
+  // The scene's materials as the panel and scripts edit them (app/material_edit.h); the frame
+  // loop pushes the ones that differ into the renderer (render::Renderer::set_material).
+  std::vector<scene::Material> materials;
   DisplayMode display = DisplayMode::image;
   bool false_log = true;  // false colour on a log scale
   bool panel = true;

@@ -88,6 +88,12 @@ class Contribution {
   virtual void prepare(const FrameInputs& in) = 0;
   // Computes this frame's radiance (W m^-2 sr^-1, float4 per surface) and adds it into `radiance`.
   virtual ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) = 0;
+  // A material changed (render::Renderer::set_material): `materials` are the scene's new ones,
+  // also what FrameInputs::geometry holds from now on. Rebuilds what depends on them (material
+  // tables, anything shaded with them) on the next frame; state that depends only on the
+  // surfaces' geometry (positions, normals) may stay, since the Renderer keeps the view version
+  // when nothing but a material changed (docs/rendering.md, "Editing materials").
+  virtual void set_materials(const std::vector<scene::Material>& materials) = 0;
   // Device memory the contribution holds (bytes), for the stats.
   virtual std::size_t device_bytes() const = 0;
 };

@@ -119,6 +119,17 @@ const std::vector<std::uint8_t>& EnvironmentContribution::local_pixels(std::size
   return locals_.at(i)->pixels;
 }
 
+void EnvironmentContribution::set_materials(const std::vector<scene::Material>& materials) {
+  materials_ = materials;
+  set_kurt_table(kurt_table(materials_));
+  for (auto& l : locals_) {
+    l->builder->set_materials(materials_);
+    l->key.clear();         // rebuild the map
+    l->pixels_version = 0;  // re-read the surfaces (their material parameters) for `masked`
+    l->pixels_count = -1;
+  }
+}
+
 void EnvironmentContribution::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
   kurt_ = cl::upload(rt_, table, "uploading the environment's kurt material table");
   kurt_count_ = static_cast<int>(table.size());

@@ -42,6 +42,10 @@ class EnvironmentContribution final : public Contribution {
   void prepare(const FrameInputs& in) override;
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
   std::size_t device_bytes() const override;
+  // The Kurt table (and the regular patterns that follow it); every local map is rebuilt on the
+  // next frame (its texels are shaded with the materials) and the objects' masked surfaces are
+  // read again. The far map's pyramids, SH and visibility fit depend on no material and stay.
+  void set_materials(const std::vector<scene::Material>& materials) override;
 
   // Rebuilds the pyramids with `box`, `gauss4` or `gauss6` (docs/environment.md) when it differs;
   // prepare() calls it with the env_filter setting.

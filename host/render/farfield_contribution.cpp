@@ -57,14 +57,18 @@ FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<sc
   angles_ = cl::upload(rt_, angles, "uploading the far-field lights' angles");
   cd_ = cl::upload(rt_, cd, "uploading the far-field lights' intensity tables");
   table_bytes_ = table_bytes(lights);
-  const std::vector<NfKurtMaterial> table = kurt_table(materials);
-  kurt_ = cl::upload(rt_, table, "uploading the far-field lights' kurt material table");
-  kurt_count_ = static_cast<int>(table.size());
+  set_materials(materials);
   // Without shadow maps the kernel takes this one-word buffer and never reads it (OpenCL has no empty buffers).
   vis_ = cl::upload(rt_, std::vector<std::uint32_t>{}, "far-field visibility (unused without shadow maps)");
 }
 
 FarfieldContribution::~FarfieldContribution() = default;
+
+void FarfieldContribution::set_materials(const std::vector<scene::Material>& materials) {
+  const std::vector<NfKurtMaterial> table = kurt_table(materials);
+  kurt_ = cl::upload(rt_, table, "uploading the far-field lights' kurt material table");
+  kurt_count_ = static_cast<int>(table.size());
+}
 
 // The shadow map of a far-field light: gl::ShadowMaps with one cell whose reference light is the
 // light itself (local origin), looking along local +z with a symmetric frustum of 75 degrees per

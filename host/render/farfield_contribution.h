@@ -34,6 +34,8 @@ class FarfieldContribution final : public Contribution {
   void prepare(const FrameInputs& in) override;
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
   std::size_t device_bytes() const override;
+  // The Kurt table; the shadow maps and their visibility depend on the geometry only and stay.
+  void set_materials(const std::vector<scene::Material>& materials) override;
 
   // Device bytes, shared by the constructor, add() and the `render --dry-run` estimate: the light
   // records and their angle and intensity tables; the output (one float4 per surface pixel); the

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +20,7 @@
 #include "render/contributions.h"
 #include "render/luminaire_contribution.h"
 #include "render/sampler.h"
+#include "scene/material_json.h"
 
 namespace nf::render {
 
@@ -183,6 +185,32 @@ void Renderer::set_luminaire_intensity(std::size_t i, double intensity) {
   reset();
 }
 
+std::size_t Renderer::material_index(const std::string& name) const {
+  const auto& ms = scene_.geometry.materials;
+  for (std::size_t i = 0; i < ms.size(); ++i)
+    if (ms[i].name == name) return i;
+  std::vector<std::string> names;
+  for (const auto& m : ms) names.push_back("'" + m.name + "'");
+  fail(fmt::format("no material '{}' in the scene (it has {})", name,
+                   names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
+}
+
+void Renderer::set_material(std::size_t i, const scene::Material& m) {
+  auto& ms = scene_.geometry.materials;
+  if (i >= ms.size()) fail(fmt::format("material {} out of range ({} materials)", i, ms.size()));
+  scene::Material edit = m;
+  edit.name = ms[i].name;
+  edit.source = ms[i].source;
+  edit = scene::checked_material(edit, scene_.geometry.textures.size());  // throws before anything changes
+  if (scene::same_material(edit, ms[i])) return;
+  ms[i] = std::move(edit);
+  context_->make_current();  // Step 0 and the indirect light hold GL copies
+  if (step0_) step0_->set_materials(scene_.geometry);
+  for (auto& c : contributions_) c->set_materials(ms);
+  materials_dirty_ = true;
+  reset();
+}
+
 void Renderer::reset() {
   frames_ = 0;
   std::fill(sum_.begin(), sum_.end(), 0.0);
@@ -280,7 +308,7 @@ void Renderer::upload_visibility(StepTimes& t) {
   t.visibility_upload_ms += timer.ms();
 }
 
-void Renderer::update_view(StepTimes& t) {
+void Renderer::update_view(StepTimes& t, bool keep_version) {
   Timer timer;
   std::vector<ViewInstance> vi;
   for (const auto& inst : instances_) vi.push_back({&sources_[inst.source].luminaire, inst.to_world, inst.intensity});
@@ -311,7 +339,7 @@ void Renderer::update_view(StepTimes& t) {
     cl::check(e.err(), "uploading the surfaces");
   }
   t.surfaces_upload_ms += timer.ms();
-  ++view_version_;
+  if (!keep_version || view_version_ == 0) ++view_version_;
   view_dirty_ = false;
 }
 
@@ -376,8 +404,12 @@ const StepTimes& Renderer::render_frame() {
   if (!warm_) warm_up();
   t.build_ms = build.ms();
   Timer wall;
+  // A material edit alone redraws the G-buffer but keeps the view version (same geometry).
+  const bool only_materials = materials_dirty_ && !camera_dirty_ && !shadows_dirty_ && !view_dirty_;
+  if (materials_dirty_) camera_dirty_ = true;
+  materials_dirty_ = false;
   if (camera_dirty_ || shadows_dirty_) run_step0(t);
-  if (view_dirty_) update_view(t);
+  if (view_dirty_) update_view(t, only_materials);
   if (cl_vis_dirty_) cl_visibility(t);
   stage();
 

@@ -88,6 +88,20 @@ class Renderer {
   double luminaire_intensity(std::size_t i) const { return instances_.at(i).intensity; }
   void reset();  // restart the accumulation (also done by the changes above)
 
+  // ---- materials (docs/rendering.md, "Editing materials") -------------------------------------
+  std::size_t material_count() const { return scene_.geometry.materials.size(); }
+  const scene::Material& material(std::size_t i) const { return scene_.geometry.materials.at(i); }
+  // The index of the material called `name`; throws nf::Error naming the scene's materials.
+  std::size_t material_index(const std::string& name) const;
+  // Replaces material i (kind and parameters; its name and source stay). Validated by the scene
+  // loader's own code (scene::checked_material): a bad value throws nf::Error naming the material
+  // and the field, and nothing changes. Invalidates what depends on materials: the G-buffer (Step
+  // 0 redraws it; shadow maps and visibility stay valid), the Kurt tables of every contribution,
+  // the indirect light's RSMs and VSGLs, the local environment maps; restarts the accumulation.
+  // The luminaires' pixel cache (A_m(p)) is kept: it does not depend on the BRDF.
+  void set_material(std::size_t i, const scene::Material& m);
+  void set_material(const std::string& name, const scene::Material& m) { set_material(material_index(name), m); }
+
   // ---- frames -------------------------------------------------------------------------------
   // Renders one frame (Step 0 only when the camera, a luminaire or the visibility settings
   // changed; Steps 1-2 with sampling.frame = settings().sampling.frame + frames()) and adds it to
@@ -146,7 +160,9 @@ class Renderer {
   std::vector<LightInstance> lights() const;
   void warm_up();
   void run_step0(StepTimes& t);
-  void update_view(StepTimes& t);
+  // keep_version: only material parameters of the surfaces changed (same geometry), so state keyed
+  // on the view version (pixel cache, visibility fits) stays valid.
+  void update_view(StepTimes& t, bool keep_version = false);
   void upload_visibility(StepTimes& t);
   void cl_visibility(StepTimes& t);
   bool gl_visibility_pass() const { return settings_.declared.visibility_pass == "gl"; }
@@ -175,6 +191,7 @@ class Renderer {
   std::unique_ptr<gl::Tonemapper> tonemapper_;
 
   bool camera_dirty_ = true, shadows_dirty_ = true, view_dirty_ = true, warm_ = false;
+  bool materials_dirty_ = false;     // set_material: the G-buffer is redrawn on the next frame
   std::vector<NfSurface> surfaces_;  // Step 0's, luminaire pixels masked out
   std::vector<PixelKind> kinds_;
   LuminaireView view_;

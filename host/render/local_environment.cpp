@@ -167,6 +167,10 @@ LocalEnvironmentMap::LocalEnvironmentMap(cl::Runtime& rt, const scene::Geometry&
   for (const auto& v : verts) radius_ = std::max(radius_, glm::length(v - centre_));
 }
 
+void LocalEnvironmentMap::set_materials(const std::vector<scene::Material>& materials) {
+  sampler_.set_kurt_table(kurt_table(materials));
+}
+
 std::string LocalEnvironmentMap::key(const FrameInputs& in) const {
   SamplingSettings s = in.settings.sampling;
   s.frame = 0;

@@ -10,6 +10,10 @@ LuminaireContribution::LuminaireContribution(cl::Runtime& rt, const std::vector<
   sampler_.set_kurt_table(kurt_table(materials));
 }
 
+void LuminaireContribution::set_materials(const std::vector<scene::Material>& materials) {
+  sampler_.set_kurt_table(kurt_table(materials));
+}
+
 SamplingSettings LuminaireContribution::frame_sampling(const FrameInputs& in) const {
   SamplingSettings s = in.settings.sampling;
   s.frame = in.frame;

@@ -14,6 +14,9 @@ class LuminaireContribution final : public Contribution {
   void prepare(const FrameInputs& in) override;
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
   std::size_t device_bytes() const override;
+  // The Kurt table. The pixel cache stays: A_m(p) is the light field's energy over the pixel's
+  // boxes, a function of the surface point and the luminaire only, not of the BRDF.
+  void set_materials(const std::vector<scene::Material>& materials) override;
 
   // The last frame's A(p) and K(p) per surface (false-colour views, lit-pixel counts).
   std::vector<float> read_a() { return sampler_.read_a(); }

@@ -132,6 +132,14 @@ VsglContribution::VsglContribution(cl::Runtime& rt, const scene::Scene& scene)
 
 VsglContribution::~VsglContribution() = default;
 
+// scene_ is the Renderer's scene, whose materials are already the new ones.
+void VsglContribution::set_materials(const std::vector<scene::Material>& materials) {
+  kurt_ = kurt_table(materials);
+  kurt_buf_ = upload_rw(rt_, kurt_, "uploading the Kurt material table (indirect)");
+  if (scene_gpu_) scene_gpu_->set_materials(scene_.geometry);
+  key_.clear();
+}
+
 const std::vector<NfSurface>& VsglContribution::rsm_surfaces(int i) const {
   return rsms_.at(static_cast<std::size_t>(i)).surfaces;
 }

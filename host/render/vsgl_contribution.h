@@ -72,6 +72,9 @@ class VsglContribution final : public Contribution {
   void prepare(const FrameInputs& in) override;
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
   std::size_t device_bytes() const override;
+  // The Kurt table and the RSMs' materials: everything (RSMs, lighting, VSGLs, their shadow
+  // maps) is rebuilt on the next frame. Needs the GL context current.
+  void set_materials(const std::vector<scene::Material>& materials) override;
 
   // Builds (RSMs, lighting, pyramids, VSGLs) for these inputs if anything they depend on
   // changed; needs a current GL context. Returns true when it rebuilt.

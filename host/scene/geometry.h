@@ -55,6 +55,9 @@ struct Material {
   int metallic_roughness_texture = -1;  // index into Geometry::textures, -1 none
   std::vector<KurtLobe> kurt_lobes;     // kurt: 0..4 lobes
   glm::vec3 tangent{1.0f, 0.0f, 0.0f};  // kurt: m_x direction in the object's frame (projected onto each tangent plane)
+  // Where the scene file defines it (JSON pointer: "/materials/NAME" or "/objects/I/material");
+  // empty for glTF materials and the built-in "default" (saving an edited one is refused).
+  std::string source;
 };
 
 // Triangles in the mesh's own frame. normals.size() == positions.size(); uvs empty or the same size.

@@ -15,6 +15,7 @@
 #include "core/log.h"
 #include "scene/json_read.h"
 #include "scene/loaders.h"
+#include "scene/material_json.h"
 
 namespace nf::scene {
 namespace {
@@ -46,6 +47,12 @@ std::string join(const std::vector<std::string>& v) { return join_names(v); }
 class Parser {
  public:
   Parser(std::string name, fs::path base_dir) : name_(std::move(name)), base_(std::move(base_dir)) {}
+
+  // One material definition at `ptr` (materials edited at run time: checked_material).
+  Material material(const json& v, const std::string& ptr, const std::string& name, Geometry& g) {
+    geometry_ = &g;
+    return material_def(v, ptr, name);
+  }
 
   [[noreturn]] void error(const std::string& ptr, const std::string& message) const { where(ptr).fail(message); }
 
@@ -242,6 +249,7 @@ class Parser {
     for (auto it = v.begin(); it != v.end(); ++it) {
       if (it.key().empty()) error(ptr, "empty material name");
       g.materials.push_back(material_def(it.value(), at(ptr, it.key()), it.key()));
+      g.materials.back().source = at(ptr, it.key());
       material_index_[it.key()] = static_cast<int>(g.materials.size() - 1);
     }
   }
@@ -257,6 +265,7 @@ class Parser {
     }
     if (v.is_object()) {
       g.materials.push_back(material_def(v, ptr, object_name + "/material"));
+      g.materials.back().source = ptr;
       return static_cast<int>(g.materials.size() - 1);
     }
     error(ptr, fmt::format("expected a material name or an inline material object, got {}", type_name(v)));
@@ -502,6 +511,28 @@ bool is_rigid(const glm::dmat4& m, double tolerance) {
   if (glm::determinant(r) < 0.0) return false;
   return std::fabs(m[0][3]) <= tolerance && std::fabs(m[1][3]) <= tolerance && std::fabs(m[2][3]) <= tolerance &&
          std::fabs(m[3][3] - 1.0) <= tolerance;
+}
+
+Material checked_material(const Material& m, std::size_t texture_count) {
+  // The loader's own validation: the material's JSON parsed as the scene file's material would be.
+  const json j = json::parse(material_json(m).dump());
+  Parser parser(fmt::format("material '{}'", m.name), fs::path("."));
+  Geometry scratch;
+  Material out = parser.material(j, "", m.name, scratch);
+  const auto texture = [&](int t, const char* what) {
+    if (t < -1 || (t >= 0 && static_cast<std::size_t>(t) >= texture_count))
+      fail(fmt::format("material '{}': {} {} out of range ({} textures)", m.name, what, t, texture_count));
+    if (t >= 0 && m.kind == MaterialKind::kurt)
+      fail(fmt::format("material '{}': a kurt material has no {} (docs/materials.md)", m.name, what));
+  };
+  texture(m.base_color_texture, "base_color_texture");
+  texture(m.metallic_roughness_texture, "metallic_roughness_texture");
+  out.base_color_texture = m.base_color_texture;
+  out.metallic_roughness_texture = m.metallic_roughness_texture;
+  out.source = m.source;
+  if (m.kind == MaterialKind::kurt && std::fabs(glm::length(glm::dvec3(m.tangent)) - 1.0) <= 1e-6)
+    out.tangent = m.tangent;
+  return out;
 }
 
 Scene parse_scene(const std::string& json_text, const std::string& name, const std::filesystem::path& base_dir) {

@@ -85,6 +85,9 @@ Scene load_scene(const std::filesystem::path& file);
 // paths resolve against `base_dir`.
 Scene parse_scene(const std::string& json_text, const std::string& name, const std::filesystem::path& base_dir);
 
+// Materials edited at run time (the viewer, render::Renderer::set_material) are checked by the
+// loader's own code: scene::checked_material (scene/material_json.h).
+
 // Counts for logs and stats.
 struct SceneCounts {
   std::size_t objects = 0, instances = 0, meshes = 0, vertices = 0, triangles = 0, textures = 0, texture_bytes = 0;

@@ -12,6 +12,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "scene/material_json.h"
 
 namespace nf::scene {
 namespace {
@@ -129,6 +130,48 @@ void apply_luminaires(json& root, const Scene& original, const SceneState& state
   }
 }
 
+// The JSON object at RFC 6901 pointer `ptr` of `root`, nullptr if there is none.
+json* at_pointer(json& root, const std::string& ptr) {
+  try {
+    json& v = root.at(json::json_pointer(ptr));
+    return v.is_object() ? &v : nullptr;
+  } catch (const json::exception&) {
+    return nullptr;
+  }
+}
+
+// The edited materials where the file defines them (Material::source): the kind's parameters
+// rewritten; a kurt tangent and a base colour texture that did not change keep their text.
+void apply_materials(json& root, const Scene& original, const SceneState& state) {
+  if (state.materials.empty()) return;
+  const auto& orig = original.geometry.materials;
+  if (state.materials.size() != orig.size())
+    fail(fmt::format("saving a scene: {} materials for {} in the scene", state.materials.size(), orig.size()));
+  for (std::size_t i = 0; i < orig.size(); ++i) {
+    const Material &m = state.materials[i], &o = orig[i];
+    if (same_material(m, o)) continue;
+    json* def = o.source.empty() ? nullptr : at_pointer(root, o.source);
+    if (!def)
+      fail(
+          fmt::format("saving a scene: material '{}' was edited but is not defined in the scene file (a glTF "
+                      "file's material or the built-in default); define it under \"materials\" to save it",
+                      o.name));
+    json out = material_json(m);
+    if (m.kind == MaterialKind::kurt && o.kind == MaterialKind::kurt && m.tangent == o.tangent) {
+      if (def->contains("tangent"))
+        out["tangent"] = (*def)["tangent"];
+      else
+        out.erase("tangent");
+    }
+    if (m.base_color_texture >= 0) {
+      if (m.base_color_texture != o.base_color_texture || !def->contains("base_color_texture"))
+        fail(fmt::format("saving a scene: material '{}' has a texture the scene file does not name", o.name));
+      out["base_color_texture"] = (*def)["base_color_texture"];
+    }
+    *def = out;
+  }
+}
+
 // Two-space indentation with arrays of numbers and strings kept on one line.
 void write_json(std::string& out, const json& v, int indent) {
   const std::string pad(static_cast<std::size_t>(indent) * 2, ' '),
@@ -184,6 +227,7 @@ SceneState state_of(const Scene& scene) {
     s.luminaires.push_back(ls);
   }
   s.render = scene.render;
+  s.materials = scene.geometry.materials;
   return s;
 }
 
@@ -226,6 +270,7 @@ std::string scene_json(const std::string& source_text, const fs::path& source_di
   if (!root.is_object()) fail("saving a scene: the original scene file is not a JSON object");
   root["camera"] = camera_json(state.camera);
   apply_luminaires(root, original, state);
+  apply_materials(root, original, state);
   root["render"] = render_json(state.render);
   rebase_paths(root, canonical_dir(source_dir), canonical_dir(target_dir));
   std::string out;

@@ -8,6 +8,10 @@
 //   /luminaires/i         "intensity", and "transform" when the placement differs from the
 //                         original (translate + Euler "rotate" [rx, ry, rz], R = Rz Ry Rx)
 //   /render               always rewritten, every key explicit
+//   /materials/NAME, /objects/I/material
+//                         the materials whose parameters differ from the original's (edited
+//                         in the viewer): "type" and the kind's values (scene/material_json.h);
+//                         unchanged keys (a kurt tangent, a texture) keep their text
 // Everything else (objects, materials, environment, description, unknown-to-us formatting) is
 // kept. Relative file names (manifests, glTF files, textures, environment) are rebased so that
 // they still name the same files from the new file's folder.
@@ -38,12 +42,16 @@ struct SceneState {
   Camera camera;
   std::vector<LuminaireState> luminaires;  // one per luminaire instance, in file order
   RenderSettings render;
+  // One per scene material (Geometry::materials order), or empty: materials unchanged.
+  std::vector<Material> materials;
 };
 SceneState state_of(const Scene& scene);
 
 // The JSON text of the scene file `source_text` (read from folder `source_dir`; `original` is
 // what load_scene made of it) with `state` applied, for a file in folder `target_dir`.
-// Throws nf::Error when the luminaire counts differ or a transform is not rigid.
+// Throws nf::Error when the luminaire counts differ, a transform is not rigid, or an edited
+// material has no definition in the file (a glTF file's or the built-in default) or a texture
+// the file does not name.
 std::string scene_json(const std::string& source_text, const std::filesystem::path& source_dir, const Scene& original,
                        const SceneState& state, const std::filesystem::path& target_dir);
 
