@@ -15,6 +15,7 @@
 #include "scene/material_json.h"
 #include "scene/scene.h"
 #include "scene/scene_writer.h"
+#include "scene/settings.h"
 #include "support/testing.h"
 
 namespace {
@@ -70,6 +71,13 @@ SceneState edited(const Scene& s) {
   r.seed = 99;
   r.tonemap.exposure = 1.7;
   r.tonemap.gamma = 2.4;
+  r.pixel_cache = 7;
+  r.env_glossy = "regular";
+  r.env_regular_eps = 0.123456789;
+  r.env_visibility = "sh";
+  r.indirect = "vsgl";
+  r.vsgl_k = 2.5;
+  r.vsgl_shadowed = 3;
   return st;
 }
 
@@ -109,6 +117,10 @@ TEST(SceneWriter, RoundTripThroughLoadScene) {
   EXPECT_EQ(r.seed, 99u);
   EXPECT_EQ(r.tonemap.exposure, 1.7);
   EXPECT_EQ(r.tonemap.gamma, 2.4);
+  // Every declared setting comes back, the environment and indirect ones too (exact doubles).
+  EXPECT_EQ(r.env_regular_eps, 0.123456789);
+  EXPECT_EQ(r.indirect, "vsgl");
+  EXPECT_TRUE(same_settings(r, st.render));
   // Everything else is kept.
   EXPECT_EQ(back.description, original.description);
   EXPECT_EQ(back.geometry.instances.size(), original.geometry.instances.size());

@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "scene/material_json.h"
+#include "scene/settings.h"
 
 namespace nf::scene {
 namespace {
@@ -78,19 +79,22 @@ json camera_json(const Camera& c) {
               {"fov_y", c.fov_y_deg},        {"resolution", {c.width, c.height}}, {"near", c.near}};
 }
 
+// Every declared setting (scene/settings.h), at its path below "render", as the type it is
+// declared with: a saved view renders with exactly the settings it was seen with.
 json render_json(const RenderSettings& r) {
-  return json{{"method", r.method},
-              {"sampler", r.sampler},
-              {"spp", r.spp},
-              {"kmax", r.kmax},
-              {"search_depth", r.search_depth},
-              {"search", r.search},
-              {"balance", r.balance},
-              {"structure", r.structure},
-              {"visibility", r.visibility},
-              {"shadow_map_size", r.shadow_map_size},
-              {"seed", r.seed},
-              {"tonemap", {{"exposure", r.tonemap.exposure}, {"gamma", r.tonemap.gamma}}}};
+  json out = json::object();
+  for (const Setting& s : settings_table()) {
+    const std::string text = s.get(r);
+    json v;
+    if (s.type == SettingType::choice)
+      v = text;
+    else if (s.type == SettingType::integer)
+      v = std::stoll(text);
+    else
+      v = std::stod(text);  // fmt's shortest round-trip text: the same double back
+    out[json::json_pointer("/" + s.json_path)] = v;
+  }
+  return out;
 }
 
 json transform_json(const glm::dvec3& translate, const glm::dvec3& euler_deg) {
