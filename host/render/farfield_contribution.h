@@ -40,7 +40,7 @@ class FarfieldContribution final : public Contribution {
   // Device bytes, shared by the constructor, add() and the `render --dry-run` estimate: the light
   // records and their angle and intensity tables; the output (one float4 per surface pixel); the
   // visibility bits with shadow maps (one word per pixel and light; 0 without: the one-word
-  // placeholder is not counted); the Kurt table of `kurt_entries` materials.
+  // buffer the kernel gets then is not counted); the Kurt table of `kurt_entries` materials.
   static std::size_t table_bytes(const std::vector<scene::FarfieldLightRef>& lights);
   static std::size_t output_bytes(std::size_t pixels);
   static std::size_t visibility_bytes(std::size_t pixels, std::size_t lights);
