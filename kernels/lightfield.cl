@@ -127,9 +127,14 @@ NF_INLINE void nf_rotation(const NfSampleParams* P, vu pix, int m, vf* rx, vf* r
   *ry = nf_unit(nf_hashv(h ^ (vu)(0x5bd1e995U)));
 }
 
-/* Uniform number for the roulette decision of image m at each lane's pixel (all samplers). */
+/* Index of the block of P->roulette_block consecutive surfaces that shares the roulette decisions
+   (docs/sampling.md "Roulette blocks"). */
+NF_INLINE vu nf_roulette_block(const NfSampleParams* P, vu pix) { return pix / (vu)(P->roulette_block); }
+
+/* Uniform number for the roulette decision of image m at each lane's pixel (all samplers): one per
+   block of surfaces, image and frame, so the lanes of a work-item mostly take the same images. */
 NF_INLINE vf nf_roulette_u(const NfSampleParams* P, vu pix, int m) {
-  return nf_unit(nf_hash_pm(pix, m, nf_frame_key(P) ^ 0xa511e9b3U));
+  return nf_unit(nf_hash_pm(nf_roulette_block(P, pix), m, nf_frame_key(P) ^ 0xa511e9b3U));
 }
 
 /* ---------------------------------------------------------------- per-pixel context ------- */
@@ -849,12 +854,12 @@ NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global co
 /* K_m(p) (Eq. 12) from x = K A_m / A: paper rounds (may drop light), min1 keeps >= 1 sample,
    roulette keeps one sample with probability x < 1 and returns the weight 1/x in *inv_p.
    uniform-equal, ours-equal (paper Fig. 12 baseline; docs/sampling.md "Equal counts"): K / M
-   samples per lit image, the remainder to a block of images rotated per pixel and frame, the
+   samples per lit image, the remainder to a block of images rotated per roulette block and frame, the
    roulette M / K for K < M (common/equal_counts.h). The `balance` option does not apply. */
 NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, int M, vf Am, vf A, vf* inv_p) {
 #if NF_EQUAL_COUNTS
   (void)A;
-  const vu h = nf_hashv(pix ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
+  const vu h = nf_hashv(nf_roulette_block(P, pix) ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
   return nf_equal_count(h, P->spp, P->k_max, m, M, Am, inv_p);
 #else
   (void)M;

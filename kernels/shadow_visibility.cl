@@ -6,50 +6,70 @@
      q     = q0 + n * normal_texels * texel(q0.z)         (normal offset), texel(z) = z max(r - l, t - b) / size
      lit   if q0.z <= near or q.z <= near or q.xy / q.z is outside the frustum or the map texel is empty,
      else lit iff q.z <= near / depth + constant + depth_texels * texel(q.z)
-   One work-item per (surface, word of 32 cells): bit b of word w is cell 32 w + b. Maps: reversed-Z
-   depth near / z (0 = empty), map c at c * size^2, rows bottom up (as GL stores them). Background
-   surfaces (valid = 0) get 0. */
+   One work-item tests NF_LANES neighbouring surfaces (common/lanes.h) against every cell: the
+   cells' reference lights are the same for all lanes, the map reads are gathers. Bit b of word w
+   is cell 32 w + b. Maps: reversed-Z depth near / z (0 = empty), map c at c * size^2, rows
+   bottom up (as GL stores them). Background surfaces (valid = 0) get 0. */
+#include "common/lanes.h"
 #include "shared/surface.h"
 
 __kernel void shadow_visibility(__global const NfSurface* surfaces, int count, __global const float* maps,
                                 __global const float4* lights, float16 world_to_local, int cells, int words,
                                 int map_size, float4 frustum, float near_z, float4 bias, __global uint* vis) {
-  const int p = get_global_id(0), w = get_global_id(1);
-  if (p >= count || w >= words) return;
-  const NfSurface s = surfaces[p];
-  const size_t out = (size_t)p * (size_t)words + (size_t)w;
-  if (!s.valid) {
-    vis[out] = 0u;
-    return;
+  const int first = (int)get_global_id(0) * NF_LANES;
+  if (first >= count) return;
+  float a[7][NF_LANES];
+  int valid[NF_LANES];
+  for (int l = 0; l < NF_LANES; ++l) {
+    const int i = min(first + l, count - 1);
+    const NfSurface s = surfaces[i];
+    valid[l] = first + l < count && s.valid ? -1 : 0;
+    a[0][l] = s.px, a[1][l] = s.py, a[2][l] = s.pz, a[3][l] = s.nx, a[4][l] = s.ny, a[5][l] = s.nz;
   }
+  const vf px = VLOAD(a[0]), py = VLOAD(a[1]), pz = VLOAD(a[2]);
+  const vf nx = VLOAD(a[3]), ny = VLOAD(a[4]), nz = VLOAD(a[5]);
+#if NF_LANES == 1
+  const vi ok = valid[0] != 0;
+#else
+  const vi ok = VLOAD(valid);
+#endif
   /* world_to_local: rows 0-2 of the rigid world -> luminaire matrix (s0-s3, s4-s7, s8-sb). */
-  const float3 pw = (float3)(s.px, s.py, s.pz), nw = (float3)(s.nx, s.ny, s.nz);
-  const float3 r0 = world_to_local.s012, r1 = world_to_local.s456, r2 = world_to_local.s89a;
-  const float3 t = (float3)(world_to_local.s3, world_to_local.s7, world_to_local.sb);
-  const float3 pl = (float3)(dot(r0, pw), dot(r1, pw), dot(r2, pw)) + t;
-  const float3 nl = (float3)(dot(r0, nw), dot(r1, nw), dot(r2, nw));
+  const float16 M = world_to_local;
+  const vf plx = M.s0 * px + M.s1 * py + M.s2 * pz + M.s3;
+  const vf ply = M.s4 * px + M.s5 * py + M.s6 * pz + M.s7;
+  const vf plz = M.s8 * px + M.s9 * py + M.sa * pz + M.sb;
+  const vf nlx = M.s0 * nx + M.s1 * ny + M.s2 * nz, nly = M.s4 * nx + M.s5 * ny + M.s6 * nz;
+  const vf nlz = M.s8 * nx + M.s9 * ny + M.sa * nz;
   const float width = frustum.y - frustum.x, height = frustum.w - frustum.z;
   const float texel_per_z = fmax(width, height) / (float)map_size;
-  const size_t texels = (size_t)map_size * (size_t)map_size;
-  uint bits = 0u;
-  for (int b = 0; b < 32; ++b) {
-    const int cell = w * 32 + b;
-    if (cell >= cells) break;
-    const float3 q0 = pl - lights[cell].xyz;
-    int lit = 1;
-    if (q0.z > near_z) {
-      const float3 q = q0 + nl * (bias.z * texel_per_z * q0.z);
-      if (q.z > near_z) {
-        const float2 uv = ((float2)(q.x, q.y) / q.z - frustum.xz) / (float2)(width, height);
-        if (uv.x >= 0.0f && uv.y >= 0.0f && uv.x < 1.0f && uv.y < 1.0f) {
-          const int mx = min((int)(uv.x * (float)map_size), map_size - 1);
-          const int my = min((int)(uv.y * (float)map_size), map_size - 1);
-          const float d = maps[(size_t)cell * texels + (size_t)my * (size_t)map_size + (size_t)mx];
-          if (d > 0.0f) lit = q.z <= near_z / d + bias.x + bias.y * texel_per_z * q.z;
-        }
+  const long texels = (long)map_size * (long)map_size;
+  uint out[NF_LANES];
+  for (int w = 0; w < words; ++w) {
+    vu bits = (vu)(0u);
+    for (int b = 0; b < 32; ++b) {
+      const int cell = w * 32 + b;
+      if (cell >= cells) break;
+      const float4 lc = lights[cell];
+      const vf q0x = plx - lc.x, q0y = ply - lc.y, q0z = plz - lc.z;
+      const vf off = bias.z * texel_per_z * q0z;
+      const vf qx = q0x + nlx * off, qy = q0y + nly * off, qz = q0z + nlz * off;
+      const vi front = (q0z > near_z) & (qz > near_z);
+      const vf z = SEL((vf)(1.0f), qz, front);
+      const vf ux = (qx / z - frustum.x) / width, uy = (qy / z - frustum.z) / height;
+      const vi inside = front & (ux >= 0.0f) & (uy >= 0.0f) & (ux < 1.0f) & (uy < 1.0f);
+      vi shadowed = (vi)(0);
+      if (ANY(inside)) {
+        const vi mx = min(CVT_I(SEL((vf)(0.0f), ux, inside) * (float)map_size), map_size - 1);
+        const vi my = min(CVT_I(SEL((vf)(0.0f), uy, inside) * (float)map_size), map_size - 1);
+        const vl idx = (vl)((long)cell * texels) + CVT_L(my) * (long)map_size + CVT_L(mx);
+        const vf d = SEL((vf)(0.0f), GATHERF(maps, idx), inside);
+        const vf dd = SEL((vf)(1.0f), d, d > 0.0f);
+        shadowed = (d > 0.0f) & ((qz <= near_z / dd + bias.x + bias.y * texel_per_z * qz) == 0);
       }
+      bits |= SEL((vu)(1u << b), (vu)(0u), shadowed);
     }
-    if (lit) bits |= 1u << b;
+    bits = SEL((vu)(0u), bits, ok);
+    VSTORE(bits, out);
+    for (int l = 0; l < NF_LANES && first + l < count; ++l) vis[(size_t)(first + l) * (size_t)words + (size_t)w] = out[l];
   }
-  vis[out] = bits;
 }

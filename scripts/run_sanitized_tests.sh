@@ -9,8 +9,10 @@ build="${NEARFIELD_ASAN_BUILD_DIR:-$here/build-asan}"
 jobs="${NEARFIELD_JOBS:-$(nproc)}"
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNEARFIELD_SANITIZE=ON \
-  -DNEARFIELD_BUILD_BENCH=OFF "${launcher[@]}"
+# Debug with -O1: assertions stay on (RelWithDebInfo defines NDEBUG) and the ~300 sanitized
+# translation units compile faster than at -O2; ASan's documentation recommends -O1.
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-O1 \
+  -DCMAKE_C_FLAGS_DEBUG=-O1 -DNEARFIELD_SANITIZE=ON -DNEARFIELD_BUILD_BENCH=OFF "${launcher[@]}"
 cmake --build "$build" --parallel "$jobs"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1:detect_odr_violation=0"
 export LSAN_OPTIONS="suppressions=$here/tests/sanitize/lsan.supp:print_suppressions=0"

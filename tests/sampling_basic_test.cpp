@@ -16,7 +16,8 @@
 static_assert(sizeof(NfInstance) == 112);
 static_assert(offsetof(NfInstance, normal) == 48);
 static_assert(offsetof(NfInstance, intensity) == 96);
-static_assert(sizeof(NfSampleParams) == 48);
+static_assert(sizeof(NfSampleParams) == 52);
+static_assert(offsetof(NfSampleParams, roulette_block) == 48);
 static_assert(offsetof(NfSampleParams, seed) == 16);
 static_assert(offsetof(NfSampleParams, band) == 32);
 static_assert(offsetof(NfSampleParams, flux_total) == 40);
@@ -196,6 +197,49 @@ TEST(SamplingKernels, LanesAndStructuresAgree) {
   }
 }
 
+// Roulette blocks (docs/sampling.md): identical surfaces under the shared Halton sequence differ
+// only through the roulette, so with roulette_block = B the surfaces of one block of B are
+// identical (same K(p), same radiance) and blocks differ; with B = 1 neighbours differ. Both the
+// roulette of `ours` and the image rotation of `ours-equal` (K < M) follow the block.
+TEST(SamplingKernels, RouletteBlockSharesTheDecisions) {
+  nf::cl::Runtime rt;
+  const auto l = tiny(false);
+  const auto pc = lum::precompute(l, 1);
+  DeviceLuminaire dl(rt, pc);
+  Sampler sampler(rt);
+  const int count = 128;
+  const std::vector<NfSurface> surf(count, surface({0.01, -0.005, 0.08}, {0.1, 0.0, -1.0}));
+  const auto buf = upload_surfaces(rt, surf);
+  LightInstance li;
+  li.luminaire = &dl;
+  for (const Method method : {Method::ours, Method::ours_equal}) {
+    SamplingSettings s;
+    s.method = method;
+    s.sampler = SamplerKind::halton;
+    s.spp = 3;  // < M = 6 images: every image is a roulette draw
+    for (const int block : {1, 4, 16}) {
+      SCOPED_TRACE(testing::Message() << to_string(method) << " roulette_block " << block);
+      s.roulette_block = block;
+      const Output o = run_once(sampler, buf, count, li, s);
+      int same_in_block = 0, pairs_in_block = 0, blocks_differ = 0;
+      for (int i = 1; i < count; ++i) {
+        const bool same = o.k[i] == o.k[i - 1] && o.rgb[i] == o.rgb[i - 1];
+        if (i % block != 0) {
+          ++pairs_in_block;
+          same_in_block += same;
+        } else {
+          blocks_differ += !same;
+        }
+      }
+      EXPECT_EQ(same_in_block, pairs_in_block);
+      // neighbouring blocks draw independently: P(same) is well below 1/2 for these points, so
+      // at most 3/4 of the 127 (B = 1) or 31 (B = 4) or 7 (B = 16) boundaries may agree
+      const int boundaries = (count - 1) / block;
+      EXPECT_GE(blocks_differ, boundaries / 4) << boundaries << " block boundaries";
+    }
+  }
+}
+
 // Instances: contributions add up; the intensity scales; moving surfaces and luminaire together
 // (world_to_local = inverse of the luminaire's placement) changes nothing.
 TEST(SamplingKernels, InstancesAddUpScaleAndMoveRigidly) {
@@ -290,6 +334,7 @@ TEST(SamplingKernels, VisibilityMasks) {
   SamplingSettings s;
   s.sampler = SamplerKind::random;
   s.spp = 64;
+  s.roulette_block = 1;  // the replicates are consecutive surfaces: independent roulette decisions
   LightInstance plain;
   plain.luminaire = &dl;
   const Output o0 = run_once(sampler, buf, count, plain, s);

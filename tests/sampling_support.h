@@ -380,6 +380,10 @@ inline std::vector<std::string> device_specs() {
 
 // Per point: mean and standard error over R independent estimates (replicates get different
 // surface indices, so different random streams), and the number of non-zero replicates.
+// Replicate r of point i is surface r * stride + i, stride = the point count rounded up to a
+// multiple of the roulette block (padding surfaces are background): the replicates of a point lie
+// in different roulette blocks, so their roulette decisions are independent (docs/sampling.md
+// "Roulette blocks"), as the standard error assumes.
 struct Estimates {
   std::vector<glm::dvec3> mean, se;
   std::vector<int> nonzero;
@@ -387,13 +391,19 @@ struct Estimates {
   bool finite = true;          // every value finite
 };
 
+// The surface index of replicate r of point i among `points` points (the layout above).
+inline std::size_t replicate_stride(std::size_t points, const render::SamplingSettings& s) {
+  const std::size_t block = static_cast<std::size_t>(std::max(s.roulette_block, 1));
+  return (points + block - 1) / block * block;
+}
+
 inline Estimates estimate(render::Sampler& sampler, const render::DeviceLuminaire& lum,
                           const std::vector<NfSurface>& points, int R, const render::SamplingSettings& s,
                           const NfInstance& inst = render::identity_instance()) {
-  std::vector<NfSurface> surf;
-  surf.reserve(points.size() * R);
-  for (const auto& p : points)
-    for (int r = 0; r < R; ++r) surf.push_back(p);
+  const std::size_t stride = replicate_stride(points.size(), s);
+  std::vector<NfSurface> surf(stride * static_cast<std::size_t>(R), NfSurface{});
+  for (int r = 0; r < R; ++r)
+    for (std::size_t i = 0; i < points.size(); ++i) surf[static_cast<std::size_t>(r) * stride + i] = points[i];
   auto& rt = sampler.runtime();
   const auto buf = render::upload_surfaces(rt, surf);
   render::LightInstance li;
@@ -408,13 +418,14 @@ inline Estimates estimate(render::Sampler& sampler, const render::DeviceLuminair
     int nz = 0;
     double ks = 0.0;
     for (int r = 0; r < R; ++r) {
-      const auto& v = rgb[i * R + r];
+      const std::size_t at = static_cast<std::size_t>(r) * stride + i;
+      const auto& v = rgb[at];
       const glm::dvec3 d(v.x, v.y, v.z);
       if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || !std::isfinite(v.w)) e.finite = false;
       sum += d;
       sq += d * d;
       nz += (d != glm::dvec3(0.0));
-      ks += k[i * R + r];
+      ks += k[at];
     }
     const glm::dvec3 mean = sum / double(R);
     const glm::dvec3 var = glm::max((sq - double(R) * mean * mean) / double(R - 1), glm::dvec3(0.0));

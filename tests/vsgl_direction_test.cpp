@@ -97,6 +97,7 @@ render::SamplingSettings settings(int spp, std::uint32_t seed) {
   s.sampler = render::SamplerKind::random;
   s.spp = spp;
   s.seed = seed;
+  s.roulette_block = 1;  // the replicates are consecutive surfaces: independent roulette decisions
   return s;
 }
 

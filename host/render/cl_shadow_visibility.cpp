@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include <fmt/format.h>
 #include <glm/mat4x4.hpp>
 
 #include "cl/buffers.h"
@@ -11,6 +12,10 @@
 namespace nf::render {
 
 ClShadowVisibility::ClShadowVisibility(cl::Runtime& rt) : rt_(rt) {}
+
+int ClShadowVisibility::lanes(const cl::Runtime& rt) { return rt.info().type == "CPU" ? 16 : 1; }
+
+std::string ClShadowVisibility::options(const cl::Runtime& rt) { return fmt::format("-DNF_LANES={}", lanes(rt)); }
 
 void ClShadowVisibility::upload(const gl::ShadowMaps& maps) {
   const std::vector<float> depth = maps.read_maps();
@@ -38,7 +43,7 @@ double ClShadowVisibility::run(const ::cl::Buffer& surfaces, int count, const gl
           out_bytes = bytes;
         }
         if (count <= 0 || words <= 0) return;
-        if (!kernel_()) kernel_ = rt_.kernel("shadow_visibility.cl", "shadow_visibility");
+        if (!kernel_()) kernel_ = rt_.kernel("shadow_visibility.cl", "shadow_visibility", options(rt_));
         const auto& spec = maps.spec();
         const glm::dmat4 to_local = glm::inverse(spec.to_world);
         cl_float16 m{};
@@ -61,8 +66,8 @@ double ClShadowVisibility::run(const ::cl::Buffer& surfaces, int count, const gl
         kernel_.setArg(a++, static_cast<float>(spec.frustum.near));
         kernel_.setArg(a++, bias);
         kernel_.setArg(a++, out);
-        ::cl::Event e =
-            rt_.launch(kernel_, ::cl::NDRange(static_cast<std::size_t>(count), static_cast<std::size_t>(words)));
+        const int lanes = ClShadowVisibility::lanes(rt_);
+        ::cl::Event e = rt_.launch(kernel_, ::cl::NDRange(static_cast<std::size_t>((count + lanes - 1) / lanes)));
         e.wait();
         ms = cl::Runtime::event_ms(e);
       },

@@ -6,6 +6,7 @@
 // (a luminaire moved, or Step 0 was rebuilt), the bitmask is computed on the device whenever the
 // surfaces change and never leaves it.
 #include <cstddef>
+#include <string>
 
 #include "cl/runtime.h"
 
@@ -27,6 +28,10 @@ class ClShadowVisibility {
   double run(const ::cl::Buffer& surfaces, int count, const gl::ShadowMaps& maps, ::cl::Buffer& out,
              std::size_t& out_bytes);
   std::size_t device_bytes() const { return maps_bytes_ + lights_bytes_; }
+  // Surfaces per work-item (kernels/common/lanes.h): 16 on CPUs (explicit vectors), 1 on GPUs.
+  static int lanes(const cl::Runtime& rt);
+  // The kernel's build options (its lanes); also what the renderer's warm-up builds.
+  static std::string options(const cl::Runtime& rt);
   bool uploaded() const { return maps_bytes_ > 0; }
 
  private:

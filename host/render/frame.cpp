@@ -389,7 +389,8 @@ void Renderer::warm_up() {
       ls[i].vis_words = step0_->words_per_pixel(i);
     }
   }
-  if (!cl_vis_.empty()) (void)rt_->kernel("shadow_visibility.cl", "shadow_visibility");
+  if (!cl_vis_.empty())
+    (void)rt_->kernel("shadow_visibility.cl", "shadow_visibility", ClShadowVisibility::options(*rt_));
   const FrameInputs in{
       *rt_, one, 1, settings_, settings_.sampling.frame, ls, &camera_, &step0_->scene_gpu(), &scene_.geometry};
   for (auto& c : contributions_) c->prepare(in);

@@ -38,6 +38,7 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   f.sampling.search_depth = r.search_depth;
   f.sampling.seed = r.seed;
   f.sampling.lanes = r.lanes;
+  f.sampling.roulette_block = r.roulette_block;
   f.sampling.pixel_cache_mib = r.pixel_cache;
   f.visibility = parse_visibility(r.visibility, "render.visibility");
   f.shadow_map_size = r.shadow_map_size;
@@ -61,6 +62,7 @@ scene::RenderSettings render_settings(const FrameSettings& f) {
   r.shadow_map_size = f.shadow_map_size;
   r.seed = p.seed;
   r.lanes = p.lanes;
+  r.roulette_block = p.roulette_block;
   r.pixel_cache = p.pixel_cache_mib;
   r.tonemap = f.tonemap;
   return r;

@@ -173,6 +173,7 @@ NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire&
   p.block = static_cast<nf_uint>(std::max(1, std::min(s.spp, p.k_max)));
   p.image = 0;
   p.band = static_cast<float>(s.band);
+  p.roulette_block = static_cast<nf_uint>(std::max(s.roulette_block, 1));
   p.vis_words = vis_words;
   p.flux_total = static_cast<float>(lum.flux_total());
   p.group_mul = 1;

@@ -76,6 +76,8 @@ void SamplingSettings::validate() const {
   if (!(band >= 0.0 && band < 1.0)) fail(fmt::format("sampling: band must be in [0, 1), got {}", band));
   if (lanes != 0 && lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16)
     fail(fmt::format("sampling: lanes must be 0 (automatic), 1, 4, 8 or 16, got {}", lanes));
+  if (roulette_block < 1 || roulette_block > 1024)
+    fail(fmt::format("sampling: roulette_block must be 1..1024, got {}", roulette_block));
   if (pixel_cache_mib < 0 || pixel_cache_mib > 1048576)
     fail(fmt::format("sampling: pixel_cache must be 0..1048576 MiB, got {}", pixel_cache_mib));
 }

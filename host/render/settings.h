@@ -50,6 +50,9 @@ struct SamplingSettings {
   std::uint32_t frame = 0;                     // progressive frame index: advances every sequence
   double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
   int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
+  // Consecutive surfaces sharing the roulette's uniform number per image and frame (balance roulette,
+  // the equal-count rotation); 1 = per pixel (docs/sampling.md "Roulette blocks").
+  int roulette_block = 16;
   // Device memory (MiB) for the per-pixel cache of A_m(p) across progressive frames of the same
   // view (docs/sampling.md "Pixel cache"); 0 = recompute every frame. Above it: recomputation.
   int pixel_cache_mib = 1024;

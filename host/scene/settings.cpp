@@ -146,6 +146,11 @@ std::vector<Setting> declare() {
               w.fail(fmt::format("must be 0 (automatic), 1, 4, 8 or 16, got {}", v));
           }),
       integer(
+          "roulette_block", "roulette_block", 1, 1024, "luminaires", R,
+          "consecutive surfaces that share the roulette's random decision per image and frame "
+          "(1 = per pixel; larger: SIMD lanes skip the same images, neighbours' noise correlated)",
+          [](auto& r) -> auto& { return r.roulette_block; }),
+      integer(
           "pixel_cache", "pixel_cache", 0, 1048576, "luminaires", R,
           "MiB of device memory for A_m(p) kept across progressive frames (0 = recompute every frame)",
           [](auto& r) -> auto& { return r.pixel_cache; }),

@@ -4,7 +4,7 @@
    shared by the methods uniform-equal (uniform on B_m(p)) and ours-equal (restricted CDFs):
    every image with A_m(p) > 0 gets
      K_m = floor(K / M) + [((m + rot) mod M) < K mod M]
-   of the M images, rot uniform in [0, M) per pixel and frame (from the hash h), so the remainder
+   of the M images, rot uniform in [0, M) per roulette block and frame (from the hash h), so the remainder
    goes to a rotating block of images. With K >= M every lit image gets >= 1 sample; with K < M
    image m is drawn with probability exactly K / M (a systematic roulette over the images) and
    weighted M / K (*inv_p): E[K_m inv_p / K_m] = 1 for every lit image, so the estimator of

@@ -68,7 +68,9 @@ typedef struct {
   nf_uint group_mul;   /* work-group w shades surface block (w * group_mul) mod (number of groups);
                           coprime with it. Spreads neighbouring blocks over the device's threads,
                           which take contiguous runs of work-groups (1 = identity). */
-} NfSampleParams;      /* 48 bytes */
+  nf_uint roulette_block; /* >= 1 consecutive surfaces share the roulette's uniform number per image
+                             and frame (docs/sampling.md "Roulette blocks") */
+} NfSampleParams;         /* 52 bytes */
 
 /* One sample of the debug kernel lf_debug_samples (tests: distributions and search cost). */
 typedef struct {
