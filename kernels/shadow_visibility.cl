@@ -43,10 +43,19 @@ __kernel void shadow_visibility(__global const NfSurface* surfaces, int count, _
   const float width = frustum.y - frustum.x, height = frustum.w - frustum.z;
   const float texel_per_z = fmax(width, height) / (float)map_size;
   const long texels = (long)map_size * (long)map_size;
+  /* A surface with p.z - min_c light_c.z <= near is behind every cell's near plane: every bit is
+     set by the test itself (q0.z <= near); when all lanes are, the cell loop is skipped. */
+  float lz_min = INFINITY;
+  for (int c = 0; c < cells; ++c) lz_min = fmin(lz_min, lights[c].z);
+  const int behind = !ANY(ok & ((plz - lz_min <= near_z) == 0));
   uint out[NF_LANES];
   for (int w = 0; w < words; ++w) {
     vu bits = (vu)(0u);
-    for (int b = 0; b < 32; ++b) {
+    if (behind) {
+      const int n = min(cells - w * 32, 32);
+      bits = (vu)(n == 32 ? 0xffffffffu : (1u << n) - 1u);
+    }
+    for (int b = 0; b < 32 && !behind; ++b) {
       const int cell = w * 32 + b;
       if (cell >= cells) break;
       const float4 lc = lights[cell];
