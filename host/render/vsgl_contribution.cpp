@@ -23,11 +23,22 @@ static_assert(offsetof(NfVsgl, cs_r) == 48 && offsetof(NfVsgl, level) == 80, "Nf
 
 namespace {
 
+// At least 16 bytes (no zero-sized buffers); `data` holds `bytes`, so a smaller copy is written
+// into the padded buffer instead of letting CL_MEM_COPY_HOST_PTR read past it.
 ::cl::Buffer make_buffer(cl::Runtime& rt, cl_mem_flags flags, std::size_t bytes, const void* data,
                          const std::string& what) {
+  constexpr std::size_t kMin = 16;
   ::cl::Buffer b;
-  cl::call([&] { b = ::cl::Buffer(rt.context(), flags, std::max<std::size_t>(bytes, 16), const_cast<void*>(data)); },
-           what);
+  cl::call(
+      [&] {
+        if (data && bytes < kMin) {
+          b = ::cl::Buffer(rt.context(), flags & ~static_cast<cl_mem_flags>(CL_MEM_COPY_HOST_PTR), kMin);
+          if (bytes > 0) rt.queue().enqueueWriteBuffer(b, CL_TRUE, 0, bytes, data);
+        } else {
+          b = ::cl::Buffer(rt.context(), flags, std::max(bytes, kMin), const_cast<void*>(data));
+        }
+      },
+      what);
   return b;
 }
 
