@@ -20,6 +20,7 @@
 #include "luminaire/io.h"
 #include "luminaire/precompute.h"
 #include "luminaire/rayset.h"
+#include "luminaire/type_c.h"
 
 namespace nf::app {
 namespace {
@@ -84,19 +85,19 @@ bool run_photometry_info(const std::string& file) {
   return true;
 }
 
-// The light field's far-field intensity sampled on C = 0..360 step 5, gamma = 0..90 step 1 deg
-// (gamma = 0 is the luminaire's +z, the emission axis), written as LM-63-2002.
+// The light field's far-field intensity sampled on C = 0..360 step 5, gamma = 0..90 step 1 deg,
+// written as LM-63-2002. (C, gamma) name the luminaire-frame direction of lum::type_c_direction,
+//   d = (sin gamma cos C, -sin gamma sin C, cos gamma),
+// gamma = 0 on the emission axis +z and C counterclockwise seen from above when aimed down (LM-63),
+// the frame farfield_lights evaluate in: the file opens unmirrored in lighting tools and the
+// same transform places it where the light field is.
 void run_farfield(const std::string& file, const std::string& out) {
   const lum::Luminaire l = lum::read_luminaire(file);
   lum::Goniometric g;
   for (int k = 0; k <= 72; ++k) g.c.push_back(5.0 * k);
   for (int k = 0; k <= 90; ++k) g.gamma.push_back(k);
   for (double c : g.c)
-    for (double gm : g.gamma) {
-      const double cr = c * 3.14159265358979323846 / 180, gr = gm * 3.14159265358979323846 / 180;
-      g.cd.push_back(
-          lum::farfield_intensity(l, {std::sin(gr) * std::cos(cr), std::sin(gr) * std::sin(cr), std::cos(gr)}));
-    }
+    for (double gm : g.gamma) g.cd.push_back(lum::farfield_intensity(l, lum::type_c_direction(c, gm)));
   lum::write_ies(out, g, "far field of nearfield luminaire " + l.name);
   const lum::UnitNames un = lum::unit_names(l.units);
   std::printf(
