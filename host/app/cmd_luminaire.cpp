@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "app/command.h"
+#include "app/output_checks.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timer.h"
@@ -31,6 +32,7 @@ struct GenOptions {
 };
 
 void run_gen(const GenOptions& o) {
+  check_output_directory("-o", o.out_dir, {o.preset + ".json", o.preset + ".exr"});
   Timer t;
   lum::GenOptions g;
   g.resolution_scale = o.resolution_scale;
@@ -87,6 +89,8 @@ bool run_photometry_info(const std::string& file) {
 // The light field's far-field intensity sampled on C = 0..360 step 5, gamma = 0..90 step 1 deg
 // (gamma = 0 is the luminaire's +z, the emission axis), written as LM-63-2002.
 void run_farfield(const std::string& file, const std::string& out) {
+  check_output_extension(out, ".ies", "-o");
+  check_output_files(file, {{"-o", out}}, "the light field " + file);
   const lum::Luminaire l = lum::read_luminaire(file);
   lum::Goniometric g;
   for (int k = 0; k <= 72; ++k) g.c.push_back(5.0 * k);
@@ -163,6 +167,8 @@ glm::dvec3 parse_axis(const std::string& a) {
 }
 
 void run_import(const ImportCli& c) {
+  const std::string name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  check_output_directory("-o", c.out_dir, {name + ".json", name + ".exr"}, c.rays, "luminaire import");
   Timer t;
   const lum::RaySet rays = lum::read_rayset(c.rays);
   const double read_ms = t.ms();
@@ -178,7 +184,7 @@ void run_import(const ImportCli& c) {
   o.resolution = c.resolution;
   if (!c.axis.empty()) o.axis = parse_axis(c.axis);
   o.coverage = c.coverage;
-  o.name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  o.name = name;
   const lum::Imported imp = lum::import_rays(rays, o);
   const auto& r = imp.report;
   const auto& l = imp.luminaire;
