@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "app/command.h"
+#include "app/output_checks.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timer.h"
@@ -32,6 +33,7 @@ struct GenOptions {
 };
 
 void run_gen(const GenOptions& o) {
+  check_output_directory("-o", o.out_dir, {o.preset + ".json", o.preset + ".exr"});
   Timer t;
   lum::GenOptions g;
   g.resolution_scale = o.resolution_scale;
@@ -92,6 +94,8 @@ bool run_photometry_info(const std::string& file) {
 // the frame farfield_lights evaluate in: the file opens unmirrored in lighting tools and the
 // same transform places it where the light field is.
 void run_farfield(const std::string& file, const std::string& out) {
+  check_output_extension(out, ".ies", "-o");
+  check_output_files(file, {{"-o", out}}, "the light field " + file);
   const lum::Luminaire l = lum::read_luminaire(file);
   lum::Goniometric g;
   for (int k = 0; k <= 72; ++k) g.c.push_back(5.0 * k);
@@ -164,6 +168,8 @@ glm::dvec3 parse_axis(const std::string& a) {
 }
 
 void run_import(const ImportCli& c) {
+  const std::string name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  check_output_directory("-o", c.out_dir, {name + ".json", name + ".exr"}, c.rays, "luminaire import");
   Timer t;
   const lum::RaySet rays = lum::read_rayset(c.rays);
   const double read_ms = t.ms();
@@ -179,7 +185,7 @@ void run_import(const ImportCli& c) {
   o.resolution = c.resolution;
   if (!c.axis.empty()) o.axis = parse_axis(c.axis);
   o.coverage = c.coverage;
-  o.name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  o.name = name;
   const lum::Imported imp = lum::import_rays(rays, o);
   const auto& r = imp.report;
   const auto& l = imp.luminaire;
