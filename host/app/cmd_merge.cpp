@@ -1,8 +1,10 @@
-// nearfield merge PARTS... -o OUT.exr [--png OUT.png] [--stats STATS.json]
+// nearfield merge PARTS... -o OUT.exr|OUT.nfpart [--png OUT.png] [--stats STATS.json]
 // Combines the parts of a reference render (`reference --part`, docs/cluster.md) into exactly the
 // float32 image `reference -o` writes for the same scene and settings. The parts must be of one
 // render (same scene content, settings, seed, size) and cover every pixel's samples exactly once.
+// `-o OUT.nfpart` writes the merge as one whole-image part instead (its exact double sums).
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -24,6 +26,8 @@
 
 namespace nf::app {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct MergeCmd {
   std::vector<std::string> parts;
@@ -73,7 +77,8 @@ std::string stats_json(const MergedReference& m) {
 }
 
 void run_merge_cmd(const MergeCmd& o) {
-  check_output_extension(o.out, ".exr", "-o");
+  const bool as_part = fs::path(o.out).extension() == ".nfpart";
+  if (!as_part) check_output_extension(o.out, ".exr", "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
   OutputFiles outputs{{"-o", o.out}};
   if (!o.png.empty()) outputs.emplace_back("--png", o.png);
@@ -81,7 +86,10 @@ void run_merge_cmd(const MergeCmd& o) {
   for (const auto& p : o.parts) check_output_files(p, outputs, "the part " + p);
   const MergedReference m = merge_reference_parts(o.parts);
   OutputTransaction tx;
-  write_exr(tx.add(o.out), m.image, attributes(m));
+  if (as_part)
+    write_merged_part(tx.add(o.out), m);
+  else
+    write_exr(tx.add(o.out), m.image, attributes(m));
   if (!o.png.empty()) write_png(tx.add(o.png), tonemap(m.image, valid_mask(m.kinds), m.tonemap));
   if (!o.stats.empty()) {
     std::ofstream out(tx.add(o.stats), std::ios::binary);
@@ -101,7 +109,8 @@ const CommandRegistration reg("merge", [](CLI::App& app) {
   static MergeCmd o;
   auto* cmd = app.add_subcommand("merge", "Combine the parts of a reference render into its image (docs/cluster.md)");
   cmd->add_option("parts", o.parts, "Part files (.nfpart) written by reference --part")->required();
-  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance)")->required();
+  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance), or .nfpart: the merge as one part")
+      ->required();
   cmd->add_option("--png", o.png, "Also write a tone-mapped PNG (the parts' tone mapping)");
   cmd->add_option("--stats", o.stats, "Also write the merged rays, times and parts as JSON");
   cmd->callback([] { run_merge_cmd(o); });

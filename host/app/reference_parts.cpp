@@ -125,8 +125,11 @@ void merge_cell(const std::vector<ref::PartFile>& parts, const std::vector<std::
         }
         if (r.first_sample == 0) kind = p.kinds[px];
       }
+      const ref::SampleSums root = acc.result();
+      std::copy(root.begin(), root.end(),
+                m.sums.begin() + (static_cast<std::size_t>(y) * m.image.width + x) * ref::kSumChannels);
       float rgb[3];
-      ref::finish_pixel(acc.result(), spp, rgb, m.variance.at(x, y, 0));
+      ref::finish_pixel(root, spp, rgb, m.variance.at(x, y, 0));
       for (int k = 0; k < 3; ++k) m.image.at(x, y, k) = rgb[k];
       m.kinds[static_cast<std::size_t>(y) * m.image.width + x] = kind;
     }
@@ -207,6 +210,7 @@ MergedReference merge_reference_parts(const std::vector<std::string>& files) {
   m.image = Image(w, h, 3);
   m.variance = Image(w, h, 1);
   m.kinds.assign(static_cast<std::size_t>(w) * h, 0);
+  m.sums.assign(static_cast<std::size_t>(w) * h * ref::kSumChannels, 0.0);
   const std::vector<int> xs = boundaries(parts, w, true), ys = boundaries(parts, h, false);
   for (std::size_t j = 0; j + 1 < ys.size(); ++j)
     for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
@@ -220,6 +224,19 @@ MergedReference merge_reference_parts(const std::vector<std::string>& files) {
                                   r.first_sample, r.sample_count));
   }
   return m;
+}
+
+void write_merged_part(const std::filesystem::path& path, const MergedReference& m) {
+  const int w = m.image.width, h = m.image.height, spp = m.header.at("spp").get<int>();
+  ref::ReferencePart part;
+  part.region = ref::ImageRegion::whole(w, h, spp);
+  part.nodes = ref::sample_nodes(0, spp, spp);
+  part.sums = m.sums;
+  part.kinds = m.kinds;
+  part.stats = m.stats;
+  nlohmann::json header = m.header;
+  header["merged_parts"] = m.parts;
+  ref::write_part(path, header, part);
 }
 
 }  // namespace nf::app

@@ -25,6 +25,7 @@ void write_reference_part(const scene::Scene& scene, const std::string& scene_na
 
 struct MergedReference {
   Image image, variance;
+  std::vector<double> sums;  // per pixel, the root sums of all its samples (kSumChannels each)
   std::vector<std::uint8_t> kinds;
   ref::ReferenceStats stats;  // summed over the parts (render_ms: the parts' times added)
   nlohmann::json header;      // the first part's header (settings, content key, scene, tone mapping)
@@ -34,5 +35,9 @@ struct MergedReference {
 
 // Throws nf::Error naming the parts: different scenes, settings or seeds, overlaps, gaps.
 MergedReference merge_reference_parts(const std::vector<std::string>& files);
+
+// The merge as one part of the whole image and all samples (its sums are the root sums: what a
+// whole-image `reference --part` holds, bit for bit), written to `path` (the caller commits it).
+void write_merged_part(const std::filesystem::path& path, const MergedReference& m);
 
 }  // namespace nf::app
