@@ -138,7 +138,7 @@ def maybe_inject_fault(index, proc):
     """Tests: exit this worker process in the middle of the first attempt of part K."""
     kill = os.environ.get(FAULT_KILL)
     if kill is not None and int(kill) == index:
-        marker = os.path.join(os.environ[FAULT_DIR], f"killed-{index}")
+        marker = os.path.join(os.environ.get(FAULT_DIR, tempfile.gettempdir()), f"nearfield-cluster-killed-{index}")
         if not os.path.exists(marker):
             open(marker, "w").close()
             time.sleep(0.2)

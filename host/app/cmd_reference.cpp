@@ -94,6 +94,7 @@ std::string stats_json(const ReferenceCmd& o, const scene::Scene& s, const rende
   return j.dump(2) + "\n";
 }
 
+// The settings as run_reference_cmd sets them (kept apart so that the two paths stay local).
 ref::ReferenceSettings make_settings(const ReferenceCmd& o, const scene::Scene& scene) {
   ref::ReferenceSettings set;
   set.spp = o.spp;
@@ -133,7 +134,15 @@ void run_reference_cmd(const ReferenceCmd& o) {
   scene::Scene scene = scene::load_scene(o.scene);
   check_output_files(o.scene, outputs);
   apply_overrides(o, scene);
-  const ref::ReferenceSettings set = make_settings(o, scene);
+  ref::ReferenceSettings set;
+  set.spp = o.spp;
+  set.bounces = o.bounces;
+  set.only = ref::parse_only(o.only);
+  set.seed = o.seed;
+  set.jitter = o.jitter;
+  set.threads = o.threads;
+  set.progress = log::level() != log::Level::quiet;
+  set.validate(scene.environment.has_value());  // before any heavy work
   AtomicFile exr_file(o.out);
   std::unique_ptr<AtomicFile> png_file, stats_file;
   if (!o.png.empty()) png_file = std::make_unique<AtomicFile>(o.png);

@@ -99,7 +99,7 @@ class ClusterTest(unittest.TestCase):
             summary, out = self.cluster("killed", "--parts", "2")
         finally:
             del os.environ[nc.FAULT_KILL], os.environ[nc.FAULT_DIR]
-        self.assertTrue(os.path.exists(os.path.join(faults, "killed-1")), "the fault was not injected")
+        self.assertTrue(os.path.exists(os.path.join(faults, "nearfield-cluster-killed-1")), "the fault was not injected")
         self.assertEqual(summary["computed"], 2)
         self.assertEqual(exr_pixels(out), exr_pixels(self.one))
 
