@@ -26,6 +26,8 @@ colour-science (PyPI, pinned in scripts/python-requirements.txt) computes with i
     the -x side (measured 0.935 and 0.065: the 6 x 6 basis blurs directions by about one cell,
     tan 0.3 here, so part of each beam lands on the other side; a monochrome light field, or
     one colour for all rays, gives the same share on both sides).
+ Wavelengths outside 360..830 nm (the header's, a ray's, a table wholly outside) are refused
+    by the import naming the file and the value.
  3. The OSRAM LERTDUW S2WP (green LED) ray file of ../shared/data, when present: its header's
     spectral table, read here from the file, through colour-science gives the colour the import
     must print (same tolerance), and that colour is green (G > 3 R, G > 3 B).
@@ -212,6 +214,18 @@ def main():
             share = a / (a + b)
             check(share > 0.85 if want_blue else share < 0.15,
                   f"per-ray colour: {label}: share of 450 nm light {share:.4f}, E_RGB {rgb}")
+
+        # spectra outside the observer's 360..830 nm are refused, naming the file and the value
+        for name, kw, words in (("uv.tm25ray", dict(spectrum_type=1, single_nm=300.0), ["single wavelength", "300"]),
+                                ("ir.tm25ray", dict(spectrum_type=2, wavelengths=[900.0] * 10), ["ray 0", "900"]),
+                                ("irtable.tm25ray", dict(spectrum_type=3, table=[(900.0, 1.0), (950.0, 1.0)]),
+                                 ["spectral table 1", "no visible power"])):
+            f = work / name
+            write_tm25(f, disk_rays(10, 4), **kw)
+            out = subprocess.run([nf, "luminaire", "import", str(f), "-o", str(work), "--name", "bad"],
+                                 capture_output=True, text=True)
+            check(out.returncode != 0 and all(w in out.stderr for w in [str(f)] + words),
+                  f"{name} refused: exit {out.returncode}: {out.stderr.strip()[:200]}")
 
         # 3. the OSRAM green LED
         osram = pathlib.Path(args.shared) / "raysets" / "osram_LERTDUW_S2WP_green_100k.TM25RAY"

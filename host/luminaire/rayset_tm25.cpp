@@ -272,6 +272,7 @@ RaySet read_tm25(const std::filesystem::path& path) {
   const std::size_t lambda_col = 6 + has_rad, tri_col = 6 + has_rad + has_lambda + has_lum + stokes_cols;
   const ColourPlan colour = plan_colour(r, spectrum_type, tables, has_lambda, has_tri && has_lum, file);
   for (const auto& note : colour.notes) rs.notes.push_back(note);
+  if (has_tri && !has_lum) rs.notes.push_back("skipped the tristimulus X and Z columns (no luminous flux column as Y)");
   if (colour.per_ray)
     check_memory(file, fmt::format("the colours of {} rays", n_rays), mul_sat(n_rays, 24), available_host_memory());
   if (n_additional > 0) rs.notes.push_back(fmt::format("skipped {} additional column(s)", n_additional));
