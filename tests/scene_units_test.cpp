@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 
 #include "core/color.h"
 #include "core/colorimetry.h"
 #include "core/error.h"
 #include "scene/scene.h"
+#include "scene/scene_writer.h"
 #include "support/testing.h"
 
 namespace {
@@ -92,6 +94,18 @@ TEST_F(SceneUnits, StatedFactorConvertsTheRadiometricLuminaires) {
   EXPECT_EQ(s.luminaires[1].intensity, 5.0);  // photometric already
   EXPECT_EQ(s.luminaires[1].unit_factor, 1.0);
   EXPECT_EQ(s.farfield_lights[0].intensity, 3.0);
+
+  // Saved (the viewer's save-scene) and read back: the file keeps the intensity before the
+  // conversion, so the reloaded scene is the same (not converted twice).
+  {
+    std::ifstream in(dir_ / "scene.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string saved = nf::scene::scene_json(text, dir_, s, nf::scene::state_of(s), dir_);
+    std::ofstream(dir_ / "saved.json") << saved;
+    const auto back = nf::scene::load_scene(dir_ / "saved.json");
+    EXPECT_EQ(back.luminaires[0].intensity, 2.0 * 683.0) << saved;
+    EXPECT_EQ(back.luminaires[1].intensity, 5.0);
+  }
 
   for (const char* bad : {"0", "-1", "\"683\"", "1e7"}) {
     const std::string e = error_of(std::string(R"("radiometric_to_photometric": )") + bad +
