@@ -160,7 +160,7 @@ class Tracer {
       if (!(cos > 0.0)) continue;
       const dvec3 f = brdf_eval(sp.material, sp.ns, v, s.w);
       if (f == dvec3(0.0)) continue;
-      if (visible(sp, s.w, s.distance, c)) sum += f * (s.intensity * cos / (s.distance * s.distance));
+      if (visible(sp, s.w, s.distance, c)) sum += f * l.colour * (s.intensity * cos / (s.distance * s.distance));
     }
     return sum;
   }

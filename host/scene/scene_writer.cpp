@@ -130,7 +130,7 @@ void apply_luminaires(json& root, const Scene& original, const SceneState& state
     if (!is_rigid(l.to_world, 1e-6))
       fail(fmt::format("saving a scene: luminaire {} has a transform that is not rigid", i));
     if (l.to_world != original.luminaires[i].to_world) lums[i]["transform"] = luminaire_transform(l, i);
-    lums[i]["intensity"] = l.intensity;
+    lums[i]["intensity"] = l.intensity / original.luminaires[i].unit_factor;  // the file's, before conversion
   }
 }
 
