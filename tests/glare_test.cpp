@@ -340,4 +340,95 @@ TEST(GlareEvalglare, UgrWithinHalfAUnitOfEvalglare) {
   }
 }
 
+// `reference` with a fisheye camera (Radiance's -vta, 180 degrees): two Lambertian panels (preset
+// "panel": radiance 100 on a 0.2 m square, emitting down) 0.4 m above the eye, one on the view axis
+// and one 45 degrees off it, in a 400 x 400 picture. The picture's VIEW= (read back with the glare
+// reader's pixel geometry) must put each panel where it is: its lit pixels' solid angle and mean
+// direction against a fine quadrature over the square (dOmega = cos dA / r^2, 400 x 400 points).
+// Discretisation bound: pixels within pitch/sqrt(2) of the outline (at most 2 rad long: four edges
+// of at most 0.5 rad) may be misclassified, 2 rad x pitch / sqrt(2) sr.
+fs::path fisheye_scene(const fs::path& dir, const std::string& resolution) {
+  const fs::path p = dir / ("fisheye_" + resolution + ".json");
+  std::ofstream(p) << R"({
+  "camera": { "projection": "fisheye", "position": [0, 0.1, 0], "target": [0, 1, 0], "up": [0, 0, -1],
+              "resolution": )"
+                   << resolution << R"( },
+  "objects": [ { "type": "plane", "size": [4, 4] } ],
+  "luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } },
+                  { "preset": "panel", "transform": { "translate": [0.4, 0.5, 0], "rotate": [90, 0, 0] } } ]
+})";
+  return p;
+}
+
+TEST(FisheyeReference, PanelsAppearWhereTheyAre) {
+  const auto dir = nf::testing::temp_dir("fisheye_reference");
+  const int n = 400;
+  const fs::path hdr = dir / "fish.hdr";
+  auto r =
+      run_nearfield("reference '" + fisheye_scene(dir, "[400, 400]").string() + "' -o '" + hdr.string() + "' --spp 1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto im = nf::app::load_luminance_image(hdr);
+  EXPECT_EQ(im.view.type, nf::RadianceView::Type::angular);
+  const glm::dvec3 eye(0, 0.1, 0);
+  for (const double cx : {0.0, 0.4}) {
+    SCOPED_TRACE(fmt::format("panel at x = {}", cx));
+    // quadrature over the square x in cx +- 0.1, z in +-0.1, y = 0.5 (normal -y, facing the eye)
+    double omega = 0, lum_sum = 0;
+    glm::dvec3 centre(0.0);
+    const int m = 400;
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) {
+        const glm::dvec3 q(cx - 0.1 + 0.2 * (a + 0.5) / m, 0.5, -0.1 + 0.2 * (b + 0.5) / m);
+        const glm::dvec3 d = q - eye;
+        const double r2 = glm::dot(d, d), w = (d.y / std::sqrt(r2)) * (0.04 / (m * m)) / r2;
+        omega += w;
+        centre += glm::normalize(d) * w;
+      }
+    centre = glm::normalize(centre);
+    // the picture's lit pixels on this panel's side (the panels are 45 degrees apart)
+    double pix_omega = 0;
+    glm::dvec3 pix_centre(0.0);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const auto p = im.view.pixel(i, j, n, n);
+        const double L = im.luminance[static_cast<std::size_t>(j) * n + i];
+        const bool right_side = std::atan2(p.direction.x, p.direction.y) > 22.5 * kDeg;
+        if (!p.inside || L < 50 || right_side != (cx > 0)) continue;
+        pix_omega += p.solid_angle;
+        pix_centre += p.direction * p.solid_angle;
+        lum_sum += L * p.solid_angle;
+      }
+    ASSERT_GT(pix_omega, 0);
+    std::printf("panel at x = %.1f: solid angle %.5f sr (quadrature %.5f), direction %.4f deg off, L %.3f\n", cx,
+                pix_omega, omega, std::acos(std::min(1.0, glm::dot(glm::normalize(pix_centre), centre))) / kDeg,
+                lum_sum / pix_omega);
+    const double tol = 2.0 * (kPi / n) / std::sqrt(2.0);
+    EXPECT_NEAR(pix_omega, omega, tol);
+    // mean direction within a pixel pitch (measured far less)
+    EXPECT_LT(std::acos(std::min(1.0, glm::dot(glm::normalize(pix_centre), centre))), kPi / n);
+    // radiance 100: the mean luminance of the lit pixels, within the RGBE half step (1/256)
+    EXPECT_NEAR(lum_sum / pix_omega, 100.0, 100.0 / 256);
+  }
+}
+
+TEST(FisheyeReference, NonSquareAndRenderAreRefused) {
+  const auto dir = nf::testing::temp_dir("fisheye_refused");
+  auto r = run_nearfield("reference '" + fisheye_scene(dir, "[40, 30]").string() + "' -o '" + (dir / "a.exr").string() +
+                         "' --spp 1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("/camera/resolution"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("a fisheye camera needs a square image, got 40x30"), std::string::npos) << r.err;
+  const std::string square = fisheye_scene(dir, "[40, 40]").string();
+  r = run_nearfield("reference '" + square + "' -o '" + (dir / "a.exr").string() + "' --width 40 --height 30");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--width/--height: a fisheye camera (camera.projection) needs a square image"),
+            std::string::npos)
+      << r.err;
+  r = run_nearfield("render '" + square + "' -o '" + (dir / "b.exr").string() + "'");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("projection \"fisheye\" is rendered by nearfield reference only"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "a.exr"));
+  EXPECT_FALSE(fs::exists(dir / "b.exr"));
+}
+
 }  // namespace

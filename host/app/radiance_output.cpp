@@ -21,6 +21,11 @@ RadianceView radiance_view(const scene::Camera& camera) {
   v.vp = camera.position;
   v.vd = camera.forward();
   v.vu = camera.up;
+  if (camera.projection == scene::Camera::Projection::fisheye) {  // Radiance's -vta, 180 degrees
+    v.type = RadianceView::Type::angular;
+    v.vh = v.vv = 180.0;
+    return v;
+  }
   // Full angles: vv = fov_y; tan(vh/2) = aspect tan(fov_y/2) (scene::Camera::ray).
   v.vv = camera.fov_y_deg;
   v.vh = 2.0 * std::atan(camera.aspect() * camera.tan_half_fov_y()) * 180.0 / kPi;
