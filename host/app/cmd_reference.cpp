@@ -16,12 +16,14 @@
 
 #include "app/command.h"
 #include "app/output_checks.h"
+#include "app/radiance_output.h"
 #include "app/reference_parts.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
+#include "core/radiance_hdr.h"
 #include "core/timer.h"
 #include "core/tonemap.h"
 #include "reference/integrator.h"
@@ -61,6 +63,9 @@ void apply_overrides(const ReferenceCmd& o, scene::Scene& s) {
     c.height = o.height;
     c.width = std::max(1, static_cast<int>(std::lround(o.height * aspect)));
   }
+  if (c.projection == scene::Camera::Projection::fisheye && c.width != c.height)
+    fail(fmt::format("--width/--height: a fisheye camera (camera.projection) needs a square image, got {}x{}", c.width,
+                     c.height));
   if (o.has("--exposure")) {
     if (!(o.exposure > 0.0)) fail(fmt::format("--exposure must be > 0, got {}", o.exposure));
     s.render.tonemap.exposure = o.exposure;
@@ -126,7 +131,7 @@ void run_reference_cmd(const ReferenceCmd& o) {
   if (!o.part.empty() || !o.tile.empty() || !o.samples.empty()) return run_reference_part_cmd(o);
   if (o.out.empty()) fail("-o OUT.exr is required (or --part OUT.nfpart)");
   Timer total;
-  check_output_extension(o.out, ".exr", "-o");
+  check_output_extensions(o.out, {".exr", ".hdr"}, "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
   std::vector<std::pair<std::string, std::string>> outputs{{"-o", o.out}};
   if (!o.png.empty()) outputs.emplace_back("--png", o.png);
@@ -161,8 +166,13 @@ void run_reference_cmd(const ReferenceCmd& o) {
                         {"nearfield:render_ms", fmt::format("{:.3f}", st.render_ms)},
                         {"nearfield:threads", std::to_string(st.threads)},
                         {"nearfield:date", utc_now()}};
+  attrs.emplace_back("nearfield:view", radiance_view(scene.camera).format());
   for (const auto& kv : set.attributes()) attrs.push_back(kv);
-  write_exr(exr_file.temp_path(), run.result.image, attrs);
+  if (is_radiance_hdr(o.out))
+    write_radiance_hdr(exr_file.temp_path(), radiance_values(run.result.image),
+                       radiance_header(scene.camera));  // docs/glare.md
+  else
+    write_exr(exr_file.temp_path(), run.result.image, attrs);
   if (png_file)
     write_png(png_file->temp_path(), tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
   if (stats_file) {
@@ -186,7 +196,9 @@ const CommandRegistration reg("reference", [](CLI::App& app) {
   static ReferenceCmd o;
   auto* cmd = app.add_subcommand("reference", "CPU reference renderer: exact visibility, environment, one bounce");
   cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
-  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance); required without --part");
+  cmd->add_option("-o,--out", o.out,
+                  "Output image: OpenEXR (.exr, linear radiance) or Radiance picture (.hdr, docs/glare.md); "
+                  "required without --part");
   cmd->add_option("--png", o.png, "Also write a tone-mapped PNG (the scene's tone mapping)");
   cmd->add_option("--stats", o.stats, "Also write rays, rays/s and times as JSON");
   cmd->add_option("--spp", o.spp, "Camera samples per pixel")->capture_default_str();

@@ -115,6 +115,7 @@ std::string cache_description(const scene::Scene& scene, const ReferenceSettings
   d +=
       fmt::format("camera {} {} {} {} {} {} {} {} {} {:.17g} {}x{} {:.17g}\n", c.position.x, c.position.y, c.position.z,
                   c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg, c.width, c.height, c.near);
+  if (c.projection == scene::Camera::Projection::fisheye) d += "projection fisheye\n";
   for (const auto& [k, v] : settings.attributes()) d += fmt::format("{} {}\n", k, v);
   if (!scene.file.empty()) {
     d += "scene text " + fmt::format("{:016x}", fnv1a(read_text(scene.file))) + "\n";

@@ -106,7 +106,11 @@ class Tracer {
     const scene::Camera& cam = scene_.camera;
     const double jx = set_.jitter ? rng.next() : 0.5, jy = set_.jitter ? rng.next() : 0.5;
     const scene::Camera::Ray ray = cam.ray(x + jx, y + jy);
-    const double tmin = cam.near / std::max(glm::dot(ray.direction, cam.forward()), 1e-6);
+    // near: a plane for the perspective camera, a sphere for the fisheye (whose rays reach 90
+    // degrees and beyond from the view direction).
+    const double tmin = cam.projection == scene::Camera::Projection::fisheye
+                            ? cam.near
+                            : cam.near / std::max(glm::dot(ray.direction, cam.forward()), 1e-6);
     ++c.camera;
     const RayHit hit = rays_.intersect(ray.origin, ray.direction, tmin, std::numeric_limits<double>::infinity());
     double nearest = hit.hit ? hit.t : std::numeric_limits<double>::infinity();

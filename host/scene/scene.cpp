@@ -151,17 +151,31 @@ class Parser {
 
   // ---- sections -------------------------------------------------------------
   Camera camera(const json& v, const std::string& ptr) const {
-    object(v, ptr, {"position", "target", "up", "fov_y", "resolution", "near"});
+    object(v, ptr, {"position", "target", "up", "fov_y", "resolution", "near", "projection"});
     Camera c;
     c.position = vec3(require(v, ptr, "position"), at(ptr, "position"));
     c.target = vec3(require(v, ptr, "target"), at(ptr, "target"));
     if (v.contains("up")) c.up = vec3(v["up"], at(ptr, "up"));
-    c.fov_y_deg = number(require(v, ptr, "fov_y"), at(ptr, "fov_y"), 0.0, 179.0);
-    if (c.fov_y_deg <= 0.0) error(at(ptr, "fov_y"), "must be > 0 degrees");
+    if (v.contains("projection")) {
+      const std::string p = string(v["projection"], at(ptr, "projection"));
+      if (p == "fisheye")
+        c.projection = Camera::Projection::fisheye;
+      else if (p != "perspective")
+        error(at(ptr, "projection"), fmt::format("'{}': expected \"perspective\" or \"fisheye\"", p));
+    }
+    const bool fisheye = c.projection == Camera::Projection::fisheye;
+    if (fisheye && v.contains("fov_y"))
+      error(at(ptr, "fov_y"), "a fisheye camera always spans 180 degrees (Radiance -vta): leave fov_y out");
+    if (!fisheye) {
+      c.fov_y_deg = number(require(v, ptr, "fov_y"), at(ptr, "fov_y"), 0.0, 179.0);
+      if (c.fov_y_deg <= 0.0) error(at(ptr, "fov_y"), "must be > 0 degrees");
+    }
     const json& res = require(v, ptr, "resolution");
     if (!res.is_array() || res.size() != 2) error(at(ptr, "resolution"), "expected [width, height]");
     c.width = integer(res[0], at(at(ptr, "resolution"), 0), 1, 16384);
     c.height = integer(res[1], at(at(ptr, "resolution"), 1), 1, 16384);
+    if (fisheye && c.width != c.height)
+      error(at(ptr, "resolution"), fmt::format("a fisheye camera needs a square image, got {}x{}", c.width, c.height));
     if (v.contains("near")) {
       c.near = number(v["near"], at(ptr, "near"), 0.0, 1e6);
       if (c.near <= 0.0) error(at(ptr, "near"), "must be > 0");
