@@ -5,6 +5,7 @@
 //   bench_sampling [--preset car2] [--spp 200] [--res 256] [--scene wall|road] [--frames 3]
 //                  [--methods ours,paper,uniform,uniform-equal,global] [--structures per-image,fused]
 //                  [--searches secant,binary] [--depths -1] [--sampler halton] [--roulette-blocks 16,1]
+//                  [--surface-shuffles 12,0]
 //                  [--csv FILE]
 //
 // Samples/s = sum over pixels of K(p) (samples actually drawn) / device time of Steps 1 + 2 of the
@@ -96,7 +97,7 @@ int main(int argc, char** argv) {
   CLI::App app{"nearfield sampling benchmark: samples/s per method and structure"};
   std::string preset = "car2", scene = "wall", methods = "ours,paper,uniform,uniform-equal,global", structures = "per-image,fused";
   std::string searches = "secant", depths = "-1", sampler_name = "halton", balances = "roulette", csv, device;
-  std::string blocks = "16";
+  std::string blocks = "16", shuffles = "12";
   int spp = 200, res = 256, frames = 3, ref_frames = 0, lanes = 0;
   bool interleave = false;
   double scale = 1.0;
@@ -113,6 +114,7 @@ int main(int argc, char** argv) {
   app.add_option("--balances", balances, "comma-separated balance policies");
   app.add_option("--lanes", lanes, "surfaces per work-item (0 = automatic)");
   app.add_option("--roulette-blocks", blocks, "comma-separated roulette blocks (docs/sampling.md)");
+  app.add_option("--surface-shuffles", shuffles, "comma-separated surface_shuffle values (0 = row order)");
   app.add_flag("--interleave-rows", interleave, "reorder the G-buffer rows (0, N/2, 1, N/2+1, ...)");
   app.add_option("--sampler", sampler_name, "halton | halton-scrambled | random");
   app.add_option("--reference-frames", ref_frames, "frames of K=spp random `ours` for the error column (0: none)");
@@ -179,7 +181,7 @@ int main(int argc, char** argv) {
     std::ofstream out(csv);
     out << "machine,device,preset,scene,res,spp,method,structure,search,depth,balance,lanes,sampler,step1_ms,step2_ms,"
            "kernel_ms,"
-           "samples,msamples_per_s,msamples_per_cpu_s,rel_rms_error,roulette_block\n";
+           "samples,msamples_per_s,msamples_per_cpu_s,rel_rms_error,roulette_block,surface_shuffle\n";
     fmt::print("{:<8} {:<10} {:<7} {:>5} {:<9} {:>5} {:>10} {:>10} {:>10} {:>12} {:>10} {:>12} {:>9}\n", "method",
                "structure", "search", "depth", "balance", "block", "step1 ms", "step2 ms", "total ms", "samples",
                "Msamples/s", "Ms/CPU-s", "rel.err");
@@ -188,7 +190,8 @@ int main(int argc, char** argv) {
         for (const auto& sname : split(searches))
           for (const auto& dname : split(depths))
             for (const auto& bname : split(balances))
-              for (const auto& rb : split(blocks)) {
+              for (const auto& rb : split(blocks))
+              for (const auto& sh : split(shuffles)) {
                 SamplingSettings s;
                 s.method = parse_method(mname, "--methods");
                 s.structure = parse_structure(stname, "--structures");
@@ -199,6 +202,7 @@ int main(int argc, char** argv) {
                 s.spp = spp;
                 s.lanes = lanes;
                 s.roulette_block = std::stoi(rb);
+                s.surface_shuffle = std::stoi(sh);
                 sampler.run(buf, count, {&li, 1}, s);  // warm-up (program build, caches)
                 // The frame with the smallest device time stands for the configuration: other processes on a
                 // shared machine only ever add time. The CPU-time rate is over all timed frames.
@@ -235,13 +239,13 @@ int main(int argc, char** argv) {
                 fmt::print(
                     "{:<8} {:<10} {:<7} {:>5} {:<9} {:>5} {:>10.1f} {:>10.1f} {:>10.1f} {:>12} {:>10.2f} {:>12.2f} "
                     "{:>9}\n",
-                    mname, stname, sname, dname, bname, rb, s1, s2, total, samples, rate, cpu_rate,
+                    mname, stname, sname, dname, bname, rb + "/" + sh, s1, s2, total, samples, rate, cpu_rate,
                     err < 0 ? "-" : fmt::format("{:.4f}", err));
                 out << fmt::format(
-                    "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.3f},{:.3f},{},{}\n",
+                    "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.3f},{:.3f},{},{},{}\n",
                     cpu_model(), rt.info().name, preset, scene, res, spp, mname, stname, sname, dname, bname,
                     sampler.lanes(s), sampler_name, s1, s2, total, samples, rate, cpu_rate,
-                    err < 0 ? "" : fmt::format("{:.6f}", err), rb);
+                    err < 0 ? "" : fmt::format("{:.6f}", err), rb, sh);
               }
     fmt::print("\nwrote {}\n", csv);
   } catch (const std::exception& e) {

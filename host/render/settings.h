@@ -39,7 +39,7 @@ std::vector<std::string> structure_names();
 
 struct SamplingSettings {
   Method method = Method::ours;
-  SamplerKind sampler = SamplerKind::halton;
+  SamplerKind sampler = SamplerKind::halton_scrambled;  // white noise per frame (docs/sampling.md)
   Balance balance = Balance::roulette;  // unbiased default (docs/sampling.md); see docs/sampling.md
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
@@ -53,6 +53,9 @@ struct SamplingSettings {
   // Consecutive surfaces sharing the roulette's uniform number per image and frame (balance roulette,
   // the equal-count rotation); 1 = per pixel (docs/sampling.md "Roulette blocks").
   int roulette_block = 16;
+  // log2 of the chunks of consecutive surfaces visited in a fixed pseudo-random order (0 = row
+  // order): scatters roulette blocks and lanes over the image (docs/sampling.md "Surface order").
+  int surface_shuffle = 12;
   // Device memory (MiB) for the per-pixel cache of A_m(p) across progressive frames of the same
   // view (docs/sampling.md "Pixel cache"); 0 = recompute every frame. Above it: recomputation.
   int pixel_cache_mib = 1024;
