@@ -9,10 +9,12 @@
    written as 4 float4 per pixel. Background surfaces get c = 0.
 
    env_sh16_rows: the order-4 projection of L_env (as env_sh_rows in environment.cl, 16 functions):
-   L_k = sum_texels L Y_k(w_c) dOmega_r, one row per work-item, out[48 r + 3 k + ch].          */
+   L_k = sum_texels L int_texel Y_k(w) dw (common/sh_texel.h, exact), one row per work-item,
+   out[48 r + 3 k + ch].                                                                        */
 #define NF_LANES 1
 #include "common/pyramid.h"
 #include "common/sh16.h"
+#include "common/sh_texel.h"
 #include "shared/surface.h"
 
 __kernel void env_vis_fit(__global const NfSurface* surfaces, int count, __global const float* maps,
@@ -54,16 +56,12 @@ __kernel void env_sh16_rows(__global const float4* pyr, __global const int4* lv,
   const int r = get_global_id(0);
   const int4 l = lv[0];
   if (r >= l.z) return;
-  const float v = ((float)r + 0.5f) / (float)l.z;
-  const float dw =
-      (2.0f * NF_PI / (float)l.y) * (cos(NF_PI * (float)r / (float)l.z) - cos(NF_PI * (float)(r + 1) / (float)l.z));
   float acc[48];
   for (int k = 0; k < 48; ++k) acc[k] = 0.0f;
   for (int x = 0; x < l.y; ++x) {
-    const float3 w = nf_env_to_world(nf_latlong_dir((float2)(((float)x + 0.5f) / (float)l.y, v)), rot);
     float y[16];
-    nf_sh16(w, y);
-    const float4 c = pyr[l.x + r * l.y + x] * dw;
+    nf_sh_latlong_texel(x, r, l.y, l.z, rot, 1, y);
+    const float4 c = pyr[l.x + r * l.y + x];
     for (int k = 0; k < 16; ++k) {
       acc[3 * k] += y[k] * c.x;
       acc[3 * k + 1] += y[k] * c.y;

@@ -19,6 +19,7 @@
 #include "common/pyramid.h"
 #include "common/random.h"
 #include "common/sh.h"
+#include "common/sh_texel.h"
 #include "common/env_vis.h"
 
 #ifndef NF_ENV_GLOSSY
@@ -89,24 +90,19 @@ __kernel void env_paraboloid_base(__global const float4* src, __global const int
   dst[d.x + y * d.y + x] = (float4)(acc / wsum, 0.0f);
 }
 
-/* Order-2 SH projection, one row of level 0 per work-item (the host sums the rows in double):
-   L_lm = int L(w) Y_lm(w) dw ~= sum_texels L Y_lm(w_c) dOmega, w_c the world direction of the
-   texel centre and dOmega = (2 pi / W) (cos(pi r / H) - cos(pi (r + 1) / H)) the texel's exact
-   solid angle (so L_00 is exact for the piecewise-constant map). out[27 r + 3 k + c]. */
+/* Order-2 SH projection of the piecewise-constant map, one row of level 0 per work-item (the host
+   sums the rows in double): L_lm = sum_texels L int_texel Y_lm(w) dw (common/sh_texel.h, exact).
+   out[27 r + 3 k + c]. */
 __kernel void env_sh_rows(__global const float4* pyr, __global const int4* lv, float2 rot, __global float* out) {
   const int r = get_global_id(0);
   const int4 l = lv[0];
   if (r >= l.z) return;
-  const float v = ((float)r + 0.5f) / (float)l.z;
-  const float dw =
-      (2.0f * NF_PI / (float)l.y) * (cos(NF_PI * (float)r / (float)l.z) - cos(NF_PI * (float)(r + 1) / (float)l.z));
   float acc[27];
   for (int k = 0; k < 27; ++k) acc[k] = 0.0f;
   for (int x = 0; x < l.y; ++x) {
-    const float3 w = nf_env_to_world(nf_latlong_dir((float2)(((float)x + 0.5f) / (float)l.y, v)), rot);
     float y[9];
-    nf_sh9(w, y);
-    const float4 c = pyr[l.x + r * l.y + x] * dw;
+    nf_sh_latlong_texel(x, r, l.y, l.z, rot, 0, y);
+    const float4 c = pyr[l.x + r * l.y + x];
     for (int k = 0; k < 9; ++k) {
       acc[3 * k] += y[k] * c.x;
       acc[3 * k + 1] += y[k] * c.y;

@@ -5,13 +5,16 @@
      L_o(p, v) = sum_lights f_r(w, v) max(0, n.w) I(C, gamma) / r^2,   w = (x_l - p) / r, r = |x_l - p|,
 
    the point-source limit of the light-field shading (Lu et al. 2015 Eq. 14 with one direction
-   per light). (C, gamma) are the angles of the emitted direction d = -w in the light's frame:
-   gamma = atan2(|d_xy|, d_z) from +z, C = atan2(d_y, d_x) from +x towards +y, wrapped to
-   [0, 360). I is bilinear in (C, gamma) on the table's own angles, 0 outside its gamma range:
-   the same interpolant as lum::Goniometric::intensity. Visibility: with `has_vis`, vis[p * n_lights
-   + k] bit 0 says whether light k reaches surface p (a shadow map per light, rendered by the host,
-   docs/photometry.md); without, every light reaches every surface that faces it. Points closer than 1e-6 m to a light
-   get nothing from it (a point source on the surface; the reference renderer does the same). */
+   per light). (C, gamma) are the type C angles of the emitted direction d = -w in the light's
+   frame (lum::type_c_angles): gamma = atan2(|d_xy|, d_z) from +z, C = atan2(-d_y, d_x) wrapped to
+   [0, 360): C = 0 along local +x, C = 90 along local -y, so that with the light aimed down C turns
+   counterclockwise seen from above, as IES LM-63 and EN 13032-1 define it. I is bilinear in
+   (C, gamma) on the table's own angles, 0 outside its gamma range: the same interpolant as
+   lum::Goniometric::intensity. Visibility: with `has_vis`, vis[p * n_lights + k] bit 0 says
+   whether light k reaches surface p (a shadow map per light, rendered by the host,
+   docs/photometry.md); without, every light reaches every surface that faces it. Points closer
+   than 1e-6 m to a light get nothing from it (a point source on the surface; the reference
+   renderer does the same). */
 #define NF_LANES 1
 #include "common/brdf.h"
 #include "shared/farfield.h"
@@ -121,7 +124,7 @@ __kernel void farfield_shade(__global const NfSurface* surfaces, const int count
     const float dy = -(L->r1x * w.x + L->r1y * w.y + L->r1z * w.z);
     const float dz = -(L->r2x * w.x + L->r2y * w.y + L->r2z * w.z);
     const float gamma = atan2(sqrt(dx * dx + dy * dy), dz) * NF_DEG;
-    float c = atan2(dy, dx) * NF_DEG;
+    float c = atan2(-dy, dx) * NF_DEG; /* type C: counterclockwise from above when aimed down */
     if (c < 0.0f) c += 360.0f;
     if (c >= 360.0f) c -= 360.0f;
     const float I = ff_intensity(L, angles, cd, c, gamma);

@@ -2,7 +2,8 @@
 # Prepares what scenes/led.json reads (docs/photometry.md, "The LED scene"): the OSRAM LED ray
 # file, which is third-party data and not part of the repository, imported into scenes/led/
 # (git-ignored) as a light field (osram.json + osram.exr), and that light field's far field
-# written as IES LM-63 (osram.ies). Usage:
+# written as IES LM-63 (osram.ies). Rerun it after upgrading: an osram.ies written before the
+# type C orientation change (docs/photometry.md, "Change for existing scenes") is mirrored. Usage:
 #   scripts/make_led_scene.sh [RAYFILE]     (default: ../shared/data/raysets/osram_LERTDUW_S2WP_green_100k.TM25RAY)
 # Environment: NEARFIELD_BIN (default build/nearfield).
 set -euo pipefail

@@ -10,7 +10,8 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${NEARFIELD_BUILD_DIR:-$here/build}"
 "$here/scripts/setup.sh"
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+venv="$("$here/scripts/setup_python.sh" | tail -1)"
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DNEARFIELD_VENV="$venv"
 cmake --build "$build" --parallel "$(nproc)"
 (
   cd "$build"

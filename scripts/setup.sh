@@ -8,7 +8,7 @@ PKGS=(
   libfmt-dev libglm-dev libopenexr-dev libopenimageio-dev
   libtinygltf-dev nlohmann-json3-dev libimgui-dev libcli11-dev libembree-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
-  xvfb xauth python3-matplotlib python3-numpy
+  xvfb xauth python3-matplotlib python3-numpy python3-venv python3-pip
   clang-14 libclang-rt-14-dev
 )
 missing=()

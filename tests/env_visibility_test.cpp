@@ -2,7 +2,8 @@
 // Colbert 2008 §5.2):
 //  - the order-4 SH basis (render::sh16) is orthonormal: Gauss-Legendre x uniform-phi quadrature,
 //    exact for these polynomials, so 1e-12;
-//  - the kernels' basis (env_sh16_rows) projects a map built from known coefficients back to them;
+//  - the kernels' basis (env_sh16_rows) projects a map built from known coefficients back to them,
+//    and maps 1 to 8 texels wide and 1 to 4 high to their exact per-texel integrals;
 //  - the pseudoinverse reproduces a band-limited function exactly (N_v >= 16, well spread),
 //    interpolates when N_v < 16 (minimum-norm), stays finite for clustered directions;
 //  - an unoccluded Lambert plane under a constant map: sh differs from none only by the aliasing
@@ -14,6 +15,8 @@
 //  - no NaN/Inf at N_v = 1 and 256, nor for a one-texel sun (all directions in one texel).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -78,8 +81,9 @@ TEST(EnvVisibility, Sh16BasisIsOrthonormal) {
 }
 
 // A map L(w) = 2 + sum_k a_k Y_k(w) over bands 1..3 (non-negative: |a_k Y_k| summed <= 1.6),
-// projected by the kernel: L_0 = 2 * 2 sqrt(pi), L_k = a_k. Tolerance: texel-centre (midpoint)
-// quadrature of degree-3 polynomials on a 256 x 128 map, O((pi / H)^2) ~ 6e-4, so 3e-3.
+// projected by the kernel: L_0 = 2 * 2 sqrt(pi), L_k = a_k. Tolerance: the map holds the values
+// at texel centres (piecewise constant), whose exact projection differs from a_k by
+// O((pi / H)^2) ~ 6e-4 on a 256 x 128 map, so 3e-3.
 TEST(EnvVisibility, KernelProjectionMatchesCoefficients) {
   const int w = 256, h = 128;
   std::array<double, 16> a{};
@@ -109,6 +113,54 @@ TEST(EnvVisibility, KernelProjectionMatchesCoefficients) {
     for (int ch = 0; ch < 3; ++ch) {
       const double want = (k == 0 ? 4.0 * std::sqrt(kPi) : a[static_cast<std::size_t>(k)]) * (1.0 + 0.5 * ch);
       EXPECT_NEAR(vis.lsh()[static_cast<std::size_t>(k)][ch], want, 3e-3 * (1.0 + 0.5 * ch)) << k << " " << ch;
+    }
+}
+
+// Issue 28: the projection integrates Y_k over each texel exactly (common/sh_texel.h), so maps of
+// a few texels (1 x 1 to 8 x 4, rotation 0 and 30 degrees, texel values arbitrary) match the
+// per-texel integrals in double: 16 x 16 Gauss-Legendre points per texel in (u, v), dw = 2 pi^2
+// sin(pi v) du dv; the integrands are trigonometric polynomials of degree <= 4 per angle over at
+// most one period, integrated to ~1e-12. Tolerance: float rounding of the per-texel terms, 1e-5 of
+// sqrt(4 pi) max L. (Y_k at texel centres was off by O(1) here: L_20 of a 1 x 1 map.)
+TEST(EnvVisibility, TinyMapProjectionIsExact) {
+  std::vector<double> gx, gw;
+  gauss_legendre(16, gx, gw);
+  auto& rt = nf::render_test::runtime();
+  for (const auto& [w, h] : {std::pair{1, 1}, {2, 1}, {1, 2}, {4, 2}, {8, 4}})
+    for (const double rotation : {0.0, 30.0}) {
+      SCOPED_TRACE(fmt::format("{} x {} map, rotation {}", w, h, rotation));
+      nf::Image img(w, h, 3);
+      std::vector<cl_float4> texels;
+      for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+          for (int ch = 0; ch < 3; ++ch) img.at(c, r, ch) = static_cast<float>(1.0 + 0.7 * r + 0.3 * c * (ch + 1));
+          texels.push_back(cl_float4{{img.at(c, r, 0), img.at(c, r, 1), img.at(c, r, 2), 0}});
+        }
+      const nf::ref::EnvironmentMap map(img, rotation, 1.0, "tiny");
+      std::array<glm::dvec3, 16> want{};
+      double max_l = 0.0;
+      for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+          const glm::dvec3 l = map.texels()[static_cast<std::size_t>(r * w + c)];
+          max_l = std::max({max_l, l.x, l.y, l.z});
+          for (std::size_t i = 0; i < gx.size(); ++i)
+            for (std::size_t j = 0; j < gx.size(); ++j) {
+              const double u = (c + 0.5 + 0.5 * gx[i]) / w, v = (r + 0.5 + 0.5 * gx[j]) / h;
+              const double dw = gw[i] * gw[j] * 0.25 / (w * h) * 2.0 * kPi * kPi * std::sin(kPi * v);
+              const auto y = nf::render::sh16(map.to_world(nf::ref::EnvironmentMap::from_uv({u, v})));
+              for (std::size_t k = 0; k < 16; ++k) want[k] += y[k] * dw * l;
+            }
+        }
+      const std::vector<cl_int4> lv{cl_int4{{0, w, h, 0}}};
+      const ::cl::Buffer pyr(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, texels.size() * sizeof(cl_float4),
+                             texels.data());
+      const ::cl::Buffer lvb(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(cl_int4),
+                             const_cast<cl_int4*>(lv.data()));
+      nf::render::EnvVisibility vis(rt);
+      vis.project(map, pyr, lvb);
+      for (std::size_t k = 0; k < 16; ++k)
+        for (int ch = 0; ch < 3; ++ch)
+          EXPECT_NEAR(vis.lsh()[k][ch], want[k][ch], 1e-5 * std::sqrt(4.0 * kPi) * max_l) << k << " " << ch;
     }
 }
 

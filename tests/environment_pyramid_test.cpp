@@ -2,15 +2,20 @@
 //  - every pyramid level against the 2x2 box average (and the 4x4 (1 3 3 1)/8 gauss4 and 6x6
 //    (1 5 10 10 5 1)/32 gauss6 filters) computed here in double from level 0 (odd sizes included:
 //    taps wrap in u, clamp in v); the .w channel (the map-sampling density) likewise;
-//  - the order-2 SH projection of analytic environments against closed-form coefficients.
+//  - the order-2 SH projection of analytic environments against closed-form coefficients, and of
+//    maps 1 to 8 texels wide and 1 to 4 high against closed forms and a double quadrature.
 // Deterministic (no sampling): tolerances come from float arithmetic and the midpoint rule.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "environment_support.h"
+#include "luminaire/quadrature.h"
 
 namespace {
 
@@ -92,7 +97,8 @@ TEST(EnvironmentPyramid, Gauss6Levels) { check_pyramid(64, 32, "gauss6"); }
 TEST(EnvironmentPyramid, Gauss6OddSizes) { check_pyramid(37, 19, "gauss6"); }
 
 // c_lm for Y_lm as in kernels/common/sh.h
-constexpr double c0 = 0.282094791773878, c1 = 0.488602511902920, c3 = 0.315391565252520, c4 = 0.546274215296040;
+constexpr double c0 = 0.282094791773878, c1 = 0.488602511902920, c2 = 1.092548430592079, c3 = 0.315391565252520,
+                 c4 = 0.546274215296040;
 
 // L = (1 + w_x, 2, 1 + w_y) under a 30 degree rotation: L_00 = sqrt(4 pi) (1, 2, 1),
 // L_11 (x) = c1 4 pi / 3 in red, L_1-1 (y) = c1 4 pi / 3 in blue, every other 0.
@@ -123,6 +129,99 @@ TEST(EnvironmentSh, ClampedCosineLobe) {
   const auto& L = env.sh();
   const double want[9] = {c0 * kPi, c1 * 2.0 * kPi / 3.0, 0, 0, 0, 0, -c3 * kPi / 4.0, 0, -c4 * kPi / 4.0};
   for (int k = 0; k < 9; ++k) EXPECT_NEAR(L[static_cast<std::size_t>(k)].x, want[k], 5e-3) << "k " << k;
+}
+
+std::array<double, 9> sh9(dvec3 d) {
+  return {c0,
+          c1 * d.y,
+          c1 * d.z,
+          c1 * d.x,
+          c2 * d.x * d.y,
+          c2 * d.y * d.z,
+          c3 * (3 * d.z * d.z - 1),
+          c2 * d.x * d.z,
+          c4 * (d.x * d.x - d.y * d.y)};
+}
+
+// The SH coefficients of the piecewise-constant map, sum over texels of L_texel int_texel Y_k dw,
+// in double: 16 x 16 Gauss-Legendre points per texel in (u, v) of the map frame, dw = 2 pi^2
+// sin(pi v) du dv. The integrand is a trigonometric polynomial of degree <= 3 in each angle over at
+// most one period, which 16 points integrate to ~1e-13 (independent of the kernel's closed form).
+std::array<dvec3, 9> texel_sh(const nf::ref::EnvironmentMap& map) {
+  std::array<dvec3, 9> out{};
+  const int w = map.width(), h = map.height();
+  for (int r = 0; r < h; ++r)
+    for (int a = 0; a < w; ++a) {
+      const dvec3 L = map.texels()[static_cast<std::size_t>(r) * w + a];
+      for (int k = 0; k < 9; ++k) {
+        const double i = nf::lum::integrate_gl(
+            [&](double v) {
+              return nf::lum::integrate_gl(
+                  [&](double u) {
+                    const dvec3 d = map.to_world(nf::ref::EnvironmentMap::from_uv({u, v}));
+                    return sh9(d)[static_cast<std::size_t>(k)] * 2.0 * kPi * kPi * std::sin(kPi * v);
+                  },
+                  double(a) / w, double(a + 1) / w, 16);
+            },
+            double(r) / h, double(r + 1) / h, 16);
+        out[static_cast<std::size_t>(k)] += i * L;
+      }
+    }
+  return out;
+}
+
+// Issue 28: with Y_lm at the texel centres, a constant 1 x 1 map had L_20 = 4 pi c3 (3 z^2 - 1) at
+// its centre instead of 0 (a Lambert floor showed 0.30 instead of 0.80). Each texel's integral is
+// now exact: tolerance 1e-5 of the map's scale sqrt(4 pi) max|L|, float rounding of the per-texel
+// terms (~1e-7 relative each, a few dozen operations) with a margin of ~10.
+void check_tiny(int w, int h, double rotation) {
+  SCOPED_TRACE(fmt::format("{} x {} map, rotation {}", w, h, rotation));
+  const double s4pi = std::sqrt(4.0 * kPi);
+  // A constant: only L_00 = sqrt(4 pi) L.
+  {
+    const auto map = nf::envtest::make_map(w, h, rotation, [](dvec3) { return dvec3(1.0, 2.0, 0.5); });
+    nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+    for (int k = 0; k < 9; ++k)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(env.sh()[static_cast<std::size_t>(k)][c], k == 0 ? s4pi * dvec3(1.0, 2.0, 0.5)[c] : 0.0,
+                    2e-5 * s4pi)
+            << "k " << k << " channel " << c;
+  }
+  // Upper half 3, lower half 1 (h even): L_00 = c0 2 pi (3 + 1), L_1-1 = c1 pi (3 - 1) (int over the
+  // upper hemisphere of w_y is pi), every other 0 (x^2 - y^2 and 3 z^2 - 1 integrate to 0 over a
+  // hemisphere about y).
+  if (h % 2 == 0) {
+    const auto map = nf::envtest::make_map(w, h, rotation, [](dvec3 d) { return dvec3(d.y > 0 ? 3.0 : 1.0); });
+    nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+    for (int k = 0; k < 9; ++k)
+      EXPECT_NEAR(env.sh()[static_cast<std::size_t>(k)].x, k == 0 ? c0 * 8.0 * kPi : (k == 1 ? c1 * 2.0 * kPi : 0.0),
+                  3e-5 * s4pi)
+          << "k " << k;
+  }
+  // Texels of low-order polynomials (values at the texel centres): against the quadrature above.
+  const auto map = nf::envtest::make_map(
+      w, h, rotation, [](dvec3 d) { return dvec3(1.0 + d.y, 2.0 + d.x * d.z + d.x, 1.5 - d.z + d.y * d.y); });
+  nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  const auto want = texel_sh(map);
+  for (int k = 0; k < 9; ++k)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(env.sh()[static_cast<std::size_t>(k)][c], want[static_cast<std::size_t>(k)][c], 3e-5 * s4pi)
+          << "k " << k << " channel " << c;
+}
+
+TEST(EnvironmentSh, TinyMapsAreExact) {
+  for (const auto& [w, h] : {std::pair{1, 1}, {2, 1}, {1, 2}, {4, 2}, {8, 4}})
+    for (double rotation : {0.0, 30.0}) check_tiny(w, h, rotation);
+}
+
+// The test's own quadrature (texel_sh) against the closed form of the half-and-half map on a 3 x 2
+// grid: double rounding only.
+TEST(EnvironmentSh, TestQuadratureMatchesClosedForm) {
+  const auto map = nf::envtest::make_map(3, 2, 0.0, [](dvec3 d) { return dvec3(d.y > 0 ? 3.0 : 1.0); });
+  const auto L = texel_sh(map);
+  EXPECT_NEAR(L[0].x, c0 * 8.0 * kPi, 1e-12);
+  EXPECT_NEAR(L[1].x, c1 * 2.0 * kPi, 1e-12);
+  for (int k = 2; k < 9; ++k) EXPECT_NEAR(L[static_cast<std::size_t>(k)].x, 0.0, 1e-12) << k;
 }
 
 }  // namespace

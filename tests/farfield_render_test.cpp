@@ -106,8 +106,9 @@ TEST(FarfieldRender, LambertWallMatchesClosedFormThroughBilateralFile) {
     const glm::dvec3 d = -w;
     const double dx = glm::dot(d, rotate(m, {1, 0, 0})), dy = glm::dot(d, rotate(m, {0, 1, 0})),
                  dz = glm::dot(d, rotate(m, {0, 0, 1}));
+    // type C (LM-63: counterclockwise seen from above when aimed down): C = 90 is local -y
     const double g = std::atan2(std::hypot(dx, dy), dz) * 180.0 / kPi;
-    double c = std::atan2(dy, dx) * 180.0 / kPi;
+    double c = std::atan2(-dy, dx) * 180.0 / kPi;
     if (c < 0) c += 360.0;
     crossed += c > 180.0;
     const double expect = 0.5 / kPi * f_table(c, g) * std::max(0.0, glm::dot(nrm, w)) / r2;
@@ -387,7 +388,7 @@ TEST(FarfieldRender, ProbeOfAnIesFileIsTheClosedForm) {
     const double r = glm::length(x);
     const glm::dvec3 d = x / r;
     const double g = std::acos(d.z) * 180.0 / kPi;
-    double c = std::atan2(d.y, d.x) * 180.0 / kPi;
+    double c = std::atan2(-d.y, d.x) * 180.0 / kPi;  // type C: C = 90 along local -y
     if (c < 0) c += 360.0;
     const double expect = f_table(c, g) * glm::dot(nrm, -d) / (r * r);
     for (double v : e) EXPECT_NEAR(v, expect, 1e-8 * expect);  // printed with 9 significant digits

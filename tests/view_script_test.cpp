@@ -58,6 +58,22 @@ TEST(ViewScript, ErrorsNameTheLine) {
   EXPECT_EQ(error_of("section statistics on\nsection rendering off\n"), "");
 }
 
+// Outputs whose folder is missing fail when the script is read, naming the line (not at the save,
+// after the frames have been rendered).
+TEST(ViewScript, OutputFoldersAreCheckedWhenTheScriptIsRead) {
+  EXPECT_NE(error_of("frames 3\nsave no-such-folder/view.exr\n")
+                .find("s.txt:2: save: no-such-folder/view.exr: the folder 'no-such-folder' does not exist"),
+            std::string::npos);
+  EXPECT_NE(error_of("save-scene no-such-folder/view.json\n").find("s.txt:1: save-scene:"), std::string::npos);
+  EXPECT_NE(error_of("\nscreenshot no-such-folder/w.png\n").find("s.txt:2: screenshot:"), std::string::npos);
+  // A folder where a file is expected, and a file where a folder is expected.
+  const std::string tmp = ::testing::TempDir();
+  EXPECT_NE(error_of("save " + tmp + "\n").find("is a folder"), std::string::npos);
+  EXPECT_NE(error_of("save /dev/null/view.exr\n").find("is not a folder"), std::string::npos);
+  // The working directory and existing folders are fine.
+  EXPECT_EQ(error_of("save view.exr\nsave-scene ./view.json\nscreenshot " + tmp + "/w.png\n"), "");
+}
+
 TEST(ViewSettings, ApplyByNameValidatesAndLeavesSettingsUnchangedOnError) {
   ViewSettings s;
   apply_setting(s, "spp", "16");

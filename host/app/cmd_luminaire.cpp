@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "app/command.h"
+#include "app/output_checks.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timer.h"
@@ -20,6 +21,7 @@
 #include "luminaire/io.h"
 #include "luminaire/precompute.h"
 #include "luminaire/rayset.h"
+#include "luminaire/type_c.h"
 
 namespace nf::app {
 namespace {
@@ -31,6 +33,7 @@ struct GenOptions {
 };
 
 void run_gen(const GenOptions& o) {
+  check_output_directory("-o", o.out_dir, {o.preset + ".json", o.preset + ".exr"});
   Timer t;
   lum::GenOptions g;
   g.resolution_scale = o.resolution_scale;
@@ -84,19 +87,21 @@ bool run_photometry_info(const std::string& file) {
   return true;
 }
 
-// The light field's far-field intensity sampled on C = 0..360 step 5, gamma = 0..90 step 1 deg
-// (gamma = 0 is the luminaire's +z, the emission axis), written as LM-63-2002.
+// The light field's far-field intensity sampled on C = 0..360 step 5, gamma = 0..90 step 1 deg,
+// written as LM-63-2002. (C, gamma) name the luminaire-frame direction of lum::type_c_direction,
+//   d = (sin gamma cos C, -sin gamma sin C, cos gamma),
+// gamma = 0 on the emission axis +z and C counterclockwise seen from above when aimed down (LM-63),
+// the frame farfield_lights evaluate in: the file opens unmirrored in lighting tools and the
+// same transform places it where the light field is.
 void run_farfield(const std::string& file, const std::string& out) {
+  check_output_extension(out, ".ies", "-o");
+  check_output_files(file, {{"-o", out}}, "the light field " + file);
   const lum::Luminaire l = lum::read_luminaire(file);
   lum::Goniometric g;
   for (int k = 0; k <= 72; ++k) g.c.push_back(5.0 * k);
   for (int k = 0; k <= 90; ++k) g.gamma.push_back(k);
   for (double c : g.c)
-    for (double gm : g.gamma) {
-      const double cr = c * 3.14159265358979323846 / 180, gr = gm * 3.14159265358979323846 / 180;
-      g.cd.push_back(
-          lum::farfield_intensity(l, {std::sin(gr) * std::cos(cr), std::sin(gr) * std::sin(cr), std::cos(gr)}));
-    }
+    for (double gm : g.gamma) g.cd.push_back(lum::farfield_intensity(l, lum::type_c_direction(c, gm)));
   lum::write_ies(out, g, "far field of nearfield luminaire " + l.name);
   const lum::UnitNames un = lum::unit_names(l.units);
   std::printf(
@@ -163,6 +168,8 @@ glm::dvec3 parse_axis(const std::string& a) {
 }
 
 void run_import(const ImportCli& c) {
+  const std::string name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  check_output_directory("-o", c.out_dir, {name + ".json", name + ".exr"}, c.rays, "luminaire import");
   Timer t;
   const lum::RaySet rays = lum::read_rayset(c.rays);
   const double read_ms = t.ms();
@@ -178,7 +185,7 @@ void run_import(const ImportCli& c) {
   o.resolution = c.resolution;
   if (!c.axis.empty()) o.axis = parse_axis(c.axis);
   o.coverage = c.coverage;
-  o.name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  o.name = name;
   const lum::Imported imp = lum::import_rays(rays, o);
   const auto& r = imp.report;
   const auto& l = imp.luminaire;

@@ -2,6 +2,8 @@
 //                      [--stats STATS.json] [--set NAME=VALUE ...] [--no-panel] [--fast-motion]
 // The interactive viewer (README.md, docs/viewer.md).
 #include <cstdio>
+#include <filesystem>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -46,6 +48,14 @@ void run_view(ViewCmd& c) {
   }
   if (!o.screenshot.empty() && o.frames == 0 && o.script.empty())
     fail("--screenshot needs --frames N or --script FILE (when to take it)");
+  // Outputs written at the end: their folders must exist now, not after the frames were rendered.
+  for (const auto& [option, path] : {std::pair<const char*, std::string>{"--screenshot", o.screenshot}, {"--stats", o.stats}}) {
+    if (path.empty()) continue;
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
+      fail(fmt::format("{} {}: the folder '{}' does not exist", option, path, dir.string()));
+  }
   const int code = run_viewer(o);
   if (code != 0) throw Error(fmt::format("view: exit code {}", code));
 }

@@ -1,12 +1,14 @@
 #include "app/output_checks.h"
 
+#include <unistd.h>
+
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <set>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "scene/referenced_files.h"
@@ -21,6 +23,42 @@ std::string lower(std::string s) {
   return s;
 }
 
+std::set<fs::path> inputs_of(const std::string& input_file) {
+  return input_file.empty() ? std::set<fs::path>{} : scene::referenced_files(input_file);
+}
+
+// The input that `path` is (the same canonical path, or the same file through a hard link), or empty.
+fs::path input_clash(const fs::path& path, const std::set<fs::path>& inputs) {
+  const fs::path c = scene::canonical_or_self(path);
+  if (inputs.count(c) > 0) return c;
+  std::error_code ec;
+  if (!fs::exists(c, ec)) return {};
+  for (const auto& in : inputs)
+    if (fs::equivalent(c, in, ec)) return in;
+  return {};
+}
+
+void check_not_input(const std::string& option, const std::string& path, const std::set<fs::path>& inputs,
+                     const std::string& what) {
+  const fs::path in = input_clash(path, inputs);
+  if (!in.empty())
+    fail(fmt::format("{} {}: refusing to overwrite {}, an input of {}", option, path, in.string(), what));
+}
+
+// `dir` is a writable directory; `whose` prefixes the message ("OPTION PATH").
+void check_writable_directory(const fs::path& dir, const std::string& whose) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) fail(fmt::format("{}: the output directory {} does not exist", whose, dir.string()));
+  if (!fs::is_directory(dir, ec)) fail(fmt::format("{}: {} is not a directory", whose, dir.string()));
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    fail(fmt::format("{}: the output directory {} is not writable ({})", whose, dir.string(), std::strerror(errno)));
+}
+
+void check_not_directory(const fs::path& path, const std::string& whose) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) fail(fmt::format("{}: is a directory, expected a file name", whose));
+}
+
 }  // namespace
 
 void check_output_extension(const std::string& path, const std::string& ext, const std::string& option) {
@@ -28,17 +66,37 @@ void check_output_extension(const std::string& path, const std::string& ext, con
     fail(fmt::format("{} {}: the file name must end in {}", option, path, ext));
 }
 
-void check_output_files(const std::string& scene_file,
-                        const std::vector<std::pair<std::string, std::string>>& outputs) {
-  const std::set<fs::path> inputs = scene::referenced_files(scene_file);
+void check_output_files(const std::string& input_file, const OutputFiles& outputs, const std::string& what) {
+  const std::set<fs::path> inputs = inputs_of(input_file);
+  const std::string job = what.empty() ? "the scene " + input_file : what;
   std::set<fs::path> seen;
   for (const auto& [option, path] : outputs) {
-    const fs::path c = scene::canonical_or_self(path);
-    if (!seen.insert(c).second) fail(fmt::format("{} {}: the same file is given for two outputs", option, path));
-    std::error_code ec;
-    bool clash = inputs.count(c) > 0;
-    for (const auto& in : inputs) clash = clash || (fs::exists(c, ec) && fs::equivalent(c, in, ec));
-    if (clash) fail(fmt::format("{} {}: refusing to overwrite an input of the scene {}", option, path, scene_file));
+    const std::string whose = option + " " + path;
+    if (!seen.insert(scene::canonical_or_self(path)).second)
+      fail(fmt::format("{}: the same file is given for two outputs", whose));
+    check_not_input(option, path, inputs, job);
+    check_not_directory(path, whose);
+    const fs::path dir = fs::path(path).parent_path();
+    check_writable_directory(dir.empty() ? fs::path(".") : dir, whose);
+  }
+}
+
+void check_output_directory(const std::string& option, const std::string& dir, const std::vector<std::string>& files,
+                            const std::string& input_file, const std::string& what) {
+  const std::string whose = option + " " + dir;
+  std::error_code ec;
+  fs::path existing = dir.empty() ? fs::path(".") : fs::path(dir);
+  if (fs::exists(existing, ec) && !fs::is_directory(existing, ec))
+    fail(fmt::format("{}: is an existing file, expected a directory", whose));
+  // A missing directory is created: the nearest directory above it that exists must take it.
+  while (!fs::exists(existing, ec) && existing.has_relative_path() && existing != existing.parent_path())
+    existing = existing.parent_path().empty() ? fs::path(".") : existing.parent_path();
+  check_writable_directory(existing, whose);
+  const std::set<fs::path> inputs = inputs_of(input_file);
+  for (const auto& name : files) {
+    const std::string path = (fs::path(dir) / name).string();
+    check_not_input(option, path, inputs, what.empty() ? input_file : what);
+    check_not_directory(path, option + " " + path);
   }
 }
 

@@ -1,16 +1,30 @@
 #pragma once
-// Output-file checks shared by subcommands that write files (docs/reference.md, as `render`):
-// an output must have the right extension, must not be given twice and must not replace the scene
-// or one of its inputs (the files it names, followed into luminaire manifests and glTF files).
+// Output-file checks shared by subcommands that write files (render, reference, luminaire gen,
+// import and farfield; docs/robustness.md), run before any work: an output must have the right
+// extension, must not be given twice, must not replace an input of the job (the input file and the
+// files it names, followed into luminaire manifests and glTF files; by path, symlink or hard link),
+// and must go into an existing, writable directory.
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace nf::app {
 
+// (option, path) pairs: the command's output files.
+using OutputFiles = std::vector<std::pair<std::string, std::string>>;
+
 // Throws nf::Error "OPTION PATH: the file name must end in EXT" (case-insensitive).
 void check_output_extension(const std::string& path, const std::string& ext, const std::string& option);
-// `outputs`: (option, path) pairs. Throws nf::Error naming the option and the path.
-void check_output_files(const std::string& scene_file, const std::vector<std::pair<std::string, std::string>>& outputs);
+
+// Throws nf::Error naming the option, the path and the problem when an output is given twice, is an
+// input of `input_file` (`what` names it in the message; default "the scene INPUT_FILE"), is a
+// directory, or lies in a directory that is missing, not a directory or not writable.
+void check_output_files(const std::string& input_file, const OutputFiles& outputs, const std::string& what = "");
+
+// An output directory (`luminaire gen|import -o DIR`, created when missing): DIR, or where it does not
+// exist yet the nearest directory above it, must be a writable directory; each of `files` (names inside
+// DIR) must not be a directory or an input of `input_file` (none when empty).
+void check_output_directory(const std::string& option, const std::string& dir, const std::vector<std::string>& files,
+                            const std::string& input_file = "", const std::string& what = "");
 
 }  // namespace nf::app

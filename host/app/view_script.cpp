@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -113,6 +114,22 @@ void check_section(const Script& s, const ScriptCommand& c) {
 
 void check_zoom(const Script& s, const ScriptCommand& c) {
   if (!(script_number(s, c, 0) > 0.0)) fail(fmt::format("{}: zoom: the factor must be > 0", s.where(c)));
+}
+
+// save, save-scene, screenshot: the output's folder must exist when the script is read, so a
+// script never renders for minutes and then fails at its first save. The file itself is checked
+// when it is written (extension, overwriting the scene's inputs: viewer_files.cpp).
+void check_output(const Script& s, const ScriptCommand& c) {
+  namespace fs = std::filesystem;
+  const fs::path out(c.args[0]);
+  const fs::path dir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+  std::error_code ec;
+  if (!fs::exists(dir, ec))
+    fail(fmt::format("{}: {}: {}: the folder '{}' does not exist", s.where(c), c.name, c.args[0], dir.string()));
+  if (!fs::is_directory(dir, ec))
+    fail(fmt::format("{}: {}: {}: '{}' is not a folder", s.where(c), c.name, c.args[0], dir.string()));
+  if (fs::is_directory(out, ec))
+    fail(fmt::format("{}: {}: {}: is a folder, not a file name", s.where(c), c.name, c.args[0]));
 }
 
 void check_fov(const Script& s, const ScriptCommand& c) {
@@ -285,7 +302,7 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "PATH.exr",
        "the accumulated image (EXR + PNG)",
        "view.exr",
-       {},
+       check_output,
        [](X& x) { x.actions.save_image(x.text(0)); }},
       {"save-scene",
        {A::text},
@@ -293,7 +310,7 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "PATH.json",
        "the view as a scene file",
        "view.json",
-       {},
+       check_output,
        [](X& x) { x.actions.save_scene(x.text(0)); }},
       {"screenshot",
        {A::text},
@@ -301,7 +318,7 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "PATH.png",
        "the window, after the next draw",
        "window.png",
-       {},
+       check_output,
        [](X& x) { x.state.capture = x.text(0); }},
       {"quit", {}, {}, "", "quit", "", {}, [](X& x) { x.state.quit = true; }},
   };

@@ -9,8 +9,28 @@
 
 #include "core/error.h"
 #include "luminaire/goniometric.h"
+#include "luminaire/photometry_parse.h"
 
 namespace nf::lum {
+namespace {
+
+// The stored C planes must cover what the symmetry indicator promises, as the IES reader requires
+// of its symmetries (docs/photometry.md): 0 from C = 0 past 180 up to 360, 2 C0..C180, 3 C90..C270,
+// 4 C0..C90 (1 is one plane).
+void check_c_coverage(const Goniometric& g, const std::string& file, int sym, std::size_t c_line) {
+  if (sym == 1) return;
+  const double lo[] = {0, 0, 0, 90, 0}, hi[] = {360, 0, 180, 270, 90};
+  const double first = g.c.front(), last = g.c.back();
+  const auto near = [](double a, double b) { return std::abs(a - b) < 1e-6; };
+  const bool ok = sym == 0 ? near(first, 0) && last > 180 && last <= 360 : near(first, lo[sym]) && near(last, hi[sym]);
+  if (!ok)
+    fail(fmt::format(
+        "{}: line 3 (symmetry indicator) {} needs C planes from {} to {}; the stored planes (C angles "
+        "from line {}) run {} .. {}",
+        file, sym, lo[sym], sym == 0 ? "beyond 180 (at most 360)" : fmt::format("{}", hi[sym]), c_line, first, last));
+}
+
+}  // namespace
 
 Goniometric read_eulumdat(const std::filesystem::path& path) {
   const std::string file = path.string();
@@ -29,17 +49,17 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
   };
   auto num = [&](const char* field) {
     const std::string s = text(field);
-    try {
-      std::string v = s;
-      for (char& ch : v)
-        if (ch == ',') ch = '.';
-      std::size_t used = 0;
-      const double d = std::stod(v, &used);
-      if (!std::isfinite(d)) throw std::invalid_argument(v);
-      return d;
-    } catch (...) {
-      fail(fmt::format("{}: line {} ({}) '{}' is not a number", file, at, field, s));
-    }
+    std::string v(trim_blanks(s));
+    for (char& ch : v)
+      if (ch == ',') ch = '.';  // a decimal comma
+    double d = 0.0;
+    if (!parse_decimal(v, d))
+      fail(fmt::format("{}: line {} ({}) '{}' is not a decimal number", file, at, field, excerpt(s)));
+    return d;
+  };
+  auto whole = [&](double v, double lo, double hi, int line_no, const char* field) {
+    if (!(v >= lo && v <= hi && v == std::floor(v)))
+      fail(fmt::format("{}: line {} ({}) is {}, must be a whole number in {}..{}", file, line_no, field, v, lo, hi));
   };
   Goniometric g;
   g.source = file;
@@ -60,14 +80,11 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
   const double conversion = num("conversion factor");
   num("tilt");
   const double sets = num("number of standard sets of lamps");
-  if (!(isym >= 0 && isym <= 4 && isym == std::floor(isym)))
-    fail(fmt::format("{}: line 3 (symmetry indicator) is {}, must be 0..4", file, isym));
-  if (!(mc >= 1 && mc <= 3600 && mc == std::floor(mc)))
-    fail(fmt::format("{}: line 4 (number of C planes) is {}", file, mc));
-  if (!(ng >= 1 && ng <= 3600 && ng == std::floor(ng)))
-    fail(fmt::format("{}: line 6 (number of gamma angles) is {}", file, ng));
-  if (!(sets >= 1 && sets <= 20 && sets == std::floor(sets)))
-    fail(fmt::format("{}: line 26 (number of lamp sets) is {}", file, sets));
+  whole(isym, 0, 4, 3, "symmetry indicator");
+  whole(mc, 1, 3600, 4, "number of C planes");
+  whole(ng, 1, 3600, 6, "number of gamma angles");
+  if (ng < 2) fail(fmt::format("{}: line 6 (number of gamma angles) is 1: one gamma angle spans no solid angle", file));
+  whole(sets, 1, 20, 26, "number of lamp sets");
   const int n = static_cast<int>(sets);
   double lamp_flux = 0.0;
   for (int k = 0; k < n; ++k) num("number of lamps");
@@ -79,6 +96,7 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
   for (int k = 0; k < 10; ++k) num("direct ratios");
   const std::size_t nc = static_cast<std::size_t>(mc), ngm = static_cast<std::size_t>(ng);
   std::vector<double> c_all(nc);
+  const std::size_t c_line = at + 1;
   for (auto& c : c_all) c = num("C angles");
   for (std::size_t k = 0; k < ngm; ++k) g.gamma.push_back(num("gamma angles"));
   // Stored planes per symmetry: 0 all; 1 one; 2 C0..C180; 3 C90..C270; 4 C0..C90.
@@ -103,8 +121,17 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
       g.cd.push_back(v * scale);
     }
   }
+  std::size_t surplus = 0, from = 0;
+  for (std::size_t k = at; k < lines.size(); ++k)
+    if (!trim_blanks(lines[k]).empty() && surplus++ == 0) from = k + 1;
+  if (surplus > 0)
+    fail(
+        fmt::format("{}: {} surplus lines after the luminous intensities, from line {} (symmetry {} stores {} C "
+                    "planes x {} gamma angles)",
+                    file, surplus, from, sym, count, ngm));
   g.stated_lumens = lamp_flux * lor / 100.0;
   validate_table(g, file);
+  check_c_coverage(g, file, sym, c_line);
   static const char* names[] = {"none", "rotational", "bilateral 0-180", "bilateral 90-270", "quadrilateral"};
   g.symmetry = names[sym];
   expand_symmetry(g, file);

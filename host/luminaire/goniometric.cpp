@@ -164,8 +164,10 @@ void write_ies(const std::filesystem::path& file, const Goniometric& g, const st
   AtomicFile out(file);
   {
     std::ofstream f(out.temp_path());
-    f << "IESNA:LM-63-2002\n[TEST] " << description << "\n[MANUFAC] nearfield\n[_ABSOLUTELUMENS] "
-      << fmt::format("{:.6g}", g.lumens()) << "\nTILT=NONE\n";
+    // [OTHER] marks files written with LM-63's C orientation; earlier nearfield files lack it and are mirrored.
+    f << "IESNA:LM-63-2002\n[TEST] " << description << "\n[MANUFAC] nearfield\n"
+      << "[OTHER] C counterclockwise seen from above, luminaire aimed down\n"
+      << "[_ABSOLUTELUMENS] " << fmt::format("{:.6g}", g.lumens()) << "\nTILT=NONE\n";
     f << fmt::format("1 -1 1.0 {} {} 1 2 0 0 0\n1.0 1.0 0\n", g.gamma.size(), g.c.size());
     auto list = [&](const std::vector<double>& v) {
       for (std::size_t k = 0; k < v.size(); ++k)

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "luminaire/goniometric.h"
+#include "luminaire/photometry_parse.h"
 
 namespace nf::lum {
 
@@ -27,11 +28,9 @@ Goniometric read_ies(const std::filesystem::path& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line_no == 1) first = line;
     if (line.rfind("[_ABSOLUTELUMENS]", 0) == 0) {
-      try {
-        g.stated_lumens = std::stod(line.substr(17));
-      } catch (...) {
-      }
-      if (!(std::isfinite(g.stated_lumens) && g.stated_lumens >= 0)) g.stated_lumens = -1.0;  // optional: ignored
+      double v = -1.0;
+      // Optional: a value that is not a non-negative decimal number is ignored.
+      g.stated_lumens = parse_decimal(trim_blanks(std::string_view(line).substr(17)), v) && v >= 0 ? v : -1.0;
     }
     if (line.rfind("TILT=", 0) == 0 || line.rfind("TILT =", 0) == 0) {
       tilt = line.substr(line.find('=') + 1);
@@ -41,28 +40,23 @@ Goniometric read_ies(const std::filesystem::path& path) {
   }
   if (!tilt_found) fail(fmt::format("{}: no TILT= line (is this an IES LM-63 file?)", file));
   g.format = first.rfind("IES", 0) == 0 ? first : "IES LM-63-1986";
-  std::vector<double> t;
+  std::vector<std::string> t;  // the values after the TILT line, separated by blanks or commas
   std::string tok;
   while (in >> tok) {
     for (char& ch : tok)
       if (ch == ',') ch = ' ';
     std::istringstream ts(tok);
     std::string part;
-    while (ts >> part) {
-      try {
-        std::size_t used = 0;
-        t.push_back(std::stod(part, &used));
-        if (used != part.size()) throw std::invalid_argument(part);
-      } catch (...) {
-        fail(fmt::format("{}: '{}' after the TILT line is not a number", file, part));
-      }
-    }
+    while (ts >> part) t.push_back(part);
   }
   std::size_t at = 0;
   auto next = [&](const char* field) {
     if (at >= t.size()) fail(fmt::format("{}: file ends before the field '{}'", file, field));
-    const double v = t[at++];
-    if (!std::isfinite(v)) fail(fmt::format("{}: field '{}' is not finite", file, field));
+    double v = 0.0;
+    if (!parse_decimal(t[at], v))
+      fail(fmt::format("{}: field '{}' (value {} after the TILT line) '{}' is not a decimal number", file, field,
+                       at + 1, excerpt(t[at])));
+    ++at;
     return v;
   };
   auto trimmed = [](std::string s) {
@@ -74,8 +68,11 @@ Goniometric read_ies(const std::filesystem::path& path) {
   if (tilt == "INCLUDE") {
     next("lamp-to-luminaire geometry");
     const double n = next("number of tilt angles");
-    if (n < 0 || n > 1e5) fail(fmt::format("{}: field 'number of tilt angles' is {}", file, n));
-    at += 2 * static_cast<std::size_t>(n);  // tilt angles and factors: not applied (lamp tilt)
+    if (!(n >= 0 && n <= 1e5 && n == std::floor(n)))
+      fail(fmt::format("{}: field 'number of tilt angles' is {}, must be a whole number in 0..100000", file, n));
+    // Tilt angles and factors: read (they must be numbers) but not applied (lamp tilt).
+    for (const char* field : {"tilt angles", "tilt multiplying factors"})
+      for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) next(field);
   } else if (tilt != "NONE") {
     // TILT=<file>: an external tilt file; the intensities are used as they are.
   }
@@ -94,6 +91,8 @@ Goniometric read_ies(const std::filesystem::path& path) {
   if (type != 1) fail(fmt::format("{}: field 'photometric type' is {}; only type C (1) is supported", file, type));
   if (!(nv >= 1 && nv <= 10000 && nv == std::floor(nv)))
     fail(fmt::format("{}: field 'number of vertical angles' is {}", file, nv));
+  if (nv < 2)
+    fail(fmt::format("{}: field 'number of vertical angles' is 1: one gamma angle spans no solid angle", file));
   if (!(nh >= 1 && nh <= 10000 && nh == std::floor(nh)))
     fail(fmt::format("{}: field 'number of horizontal angles' is {}", file, nh));
   if (!(multiplier > 0)) fail(fmt::format("{}: field 'candela multiplier' is {}", file, multiplier));
@@ -106,7 +105,11 @@ Goniometric read_ies(const std::filesystem::path& path) {
     if (v < 0) fail(fmt::format("{}: candela value {} at index {} is negative", file, v, k));
     g.cd.push_back(v * scale);
   }
-  if (at != t.size()) fail(fmt::format("{}: {} numbers after the candela table", file, t.size() - at));
+  if (at != t.size())
+    fail(
+        fmt::format("{}: {} surplus values after the candela table, from '{}' (field 'candela values': {} vertical x "
+                    "{} horizontal angles)",
+                    file, t.size() - at, excerpt(t[at]), ng, nc));
   for (std::size_t k = 1; k < ng; ++k)
     if (!(g.gamma[k] > g.gamma[k - 1])) fail(fmt::format("{}: vertical angles are not ascending at index {}", file, k));
   for (std::size_t k = 1; k < nc; ++k)

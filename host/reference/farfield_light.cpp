@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
+
+#include "luminaire/type_c.h"
 
 namespace nf::ref {
 
@@ -21,11 +22,10 @@ FarfieldSample farfield_sample(const lum::Goniometric& table, const glm::dmat4& 
   // The emitted direction in the light's frame: the inverse of the rigid rotation is its transpose.
   const glm::dmat3 rot(to_world);
   const glm::dvec3 d = glm::transpose(rot) * (-s.w);
-  constexpr double kDeg = 180.0 / std::numbers::pi;
-  s.gamma_deg = std::atan2(std::hypot(d.x, d.y), d.z) * kDeg;
-  double c = std::atan2(d.y, d.x) * kDeg;
-  if (c < 0.0) c += 360.0;
-  s.c_deg = c;
+  // Type C (LM-63: C counterclockwise seen from above with the light aimed down): C = atan2(-d_y, d_x).
+  const lum::TypeCAngles a = lum::type_c_angles(d);
+  s.gamma_deg = a.gamma_deg;
+  s.c_deg = a.c_deg;
   s.intensity = table.intensity(s.c_deg, s.gamma_deg) * scale;
   return s;
 }

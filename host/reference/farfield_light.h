@@ -3,8 +3,9 @@
 // in scenes"): what the reference renderer and `probe FILE.ies` compute, independently of
 // kernels/farfield.cl. A light at x_l with table I(C, gamma) gives a point p the irradiance
 //   E(p, n) = I(C, gamma) max(0, n.w) / r^2,   w = (x_l - p) / r,  r = |x_l - p|,
-// with (C, gamma) the angles of the emitted direction d = -w in the light's frame: gamma from +z,
-// C from +x towards +y (type C photometry), I bilinear (lum::Goniometric::intensity).
+// with (C, gamma) the type C angles of the emitted direction d = -w in the light's frame
+// (lum::type_c_angles: gamma from +z, C = atan2(-d_y, d_x), counterclockwise seen from above when
+// the light is aimed down, as LM-63 defines it), I bilinear (lum::Goniometric::intensity).
 #include <vector>
 
 #include <glm/mat4x4.hpp>

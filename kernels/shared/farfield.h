@@ -2,7 +2,8 @@
 #define NEARFIELD_SHARED_FARFIELD_H
 /* Device-side description of one far-field goniometric point light (docs/photometry.md): an
    intensity table I(C, gamma) in cd on the type C system, placed in the world by a rigid
-   transform. Light-local frame: gamma = 0 along +z, C = 0 along +x, C = 90 along +y.
+   transform. Light-local frame: gamma = 0 along +z, C = 0 along +x, C = 90 along -y (LM-63:
+   counterclockwise seen from above once aimed down; docs/photometry.md).
 
    Buffers that go with it (offsets into shared arrays of all lights):
    - angles: nf_float[]: the light's C angles (degrees, ascending, nc of them; a full table spans
