@@ -7,8 +7,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <filesystem>
+#include <functional>
 #include <numeric>
 #include <vector>
 
@@ -70,7 +70,8 @@ scene::Scene default_scene(int width, int height) {
 std::vector<double> luminance_of(const Image& im) {
   std::vector<double> y(static_cast<std::size_t>(im.width) * im.height);
   for (std::size_t i = 0; i < y.size(); ++i)
-    y[i] = color::luminance(glm::vec3{im.pixels[i * im.channels], im.pixels[i * im.channels + 1], im.pixels[i * im.channels + 2]});
+    y[i] = color::luminance(
+        glm::vec3{im.pixels[i * im.channels], im.pixels[i * im.channels + 1], im.pixels[i * im.channels + 2]});
   return y;
 }
 

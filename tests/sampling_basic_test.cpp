@@ -220,28 +220,28 @@ TEST(SamplingKernels, RouletteBlockSharesTheDecisions) {
     s.sampler = SamplerKind::halton;
     s.spp = 3;  // < M = 6 images: every image is a roulette draw
     for (const int block : {1, 4, 16})
-    for (const int shuffle : {0, 12}) {
-      SCOPED_TRACE(testing::Message() << to_string(method) << " roulette_block " << block << " shuffle " << shuffle);
-      s.roulette_block = block;
-      s.surface_shuffle = shuffle;
-      const Output o = run_once(sampler, buf, count, li, s);
-      const auto at = [&](int slot) { return surface_of_slot(s, count, slot); };
-      int same_in_block = 0, pairs_in_block = 0, blocks_differ = 0;
-      for (int i = 1; i < count; ++i) {
-        const bool same = o.k[at(i)] == o.k[at(i - 1)] && o.rgb[at(i)] == o.rgb[at(i - 1)];
-        if (i % block != 0) {
-          ++pairs_in_block;
-          same_in_block += same;
-        } else {
-          blocks_differ += !same;
+      for (const int shuffle : {0, 12}) {
+        SCOPED_TRACE(testing::Message() << to_string(method) << " roulette_block " << block << " shuffle " << shuffle);
+        s.roulette_block = block;
+        s.surface_shuffle = shuffle;
+        const Output o = run_once(sampler, buf, count, li, s);
+        const auto at = [&](int slot) { return surface_of_slot(s, count, slot); };
+        int same_in_block = 0, pairs_in_block = 0, blocks_differ = 0;
+        for (int i = 1; i < count; ++i) {
+          const bool same = o.k[at(i)] == o.k[at(i - 1)] && o.rgb[at(i)] == o.rgb[at(i - 1)];
+          if (i % block != 0) {
+            ++pairs_in_block;
+            same_in_block += same;
+          } else {
+            blocks_differ += !same;
+          }
         }
+        EXPECT_EQ(same_in_block, pairs_in_block);
+        // neighbouring blocks draw independently: P(same) is well below 1/2 for these points, so
+        // at most 3/4 of the 127 (B = 1) or 31 (B = 4) or 7 (B = 16) boundaries may agree
+        const int boundaries = (count - 1) / block;
+        EXPECT_GE(blocks_differ, boundaries / 4) << boundaries << " block boundaries";
       }
-      EXPECT_EQ(same_in_block, pairs_in_block);
-      // neighbouring blocks draw independently: P(same) is well below 1/2 for these points, so
-      // at most 3/4 of the 127 (B = 1) or 31 (B = 4) or 7 (B = 16) boundaries may agree
-      const int boundaries = (count - 1) / block;
-      EXPECT_GE(blocks_differ, boundaries / 4) << boundaries << " block boundaries";
-    }
   }
 }
 

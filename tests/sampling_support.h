@@ -399,7 +399,8 @@ inline std::size_t replicate_stride(std::size_t points, const render::SamplingSe
 }
 
 // The surface index of replicate r of point i (R replicates): the surface that slot r * stride + i shades.
-inline std::size_t replicate_surface(std::size_t points, int R, int r, std::size_t i, const render::SamplingSettings& s) {
+inline std::size_t replicate_surface(std::size_t points, int R, int r, std::size_t i,
+                                     const render::SamplingSettings& s) {
   const std::size_t stride = replicate_stride(points, s);
   const int n = static_cast<int>(stride * static_cast<std::size_t>(R));
   return render::surface_of_slot(s, n, static_cast<int>(static_cast<std::size_t>(r) * stride + i));

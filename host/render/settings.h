@@ -40,15 +40,15 @@ std::vector<std::string> structure_names();
 struct SamplingSettings {
   Method method = Method::ours;
   SamplerKind sampler = SamplerKind::halton_scrambled;  // white noise per frame (docs/sampling.md)
-  Balance balance = Balance::roulette;  // unbiased default (docs/sampling.md); see docs/sampling.md
+  Balance balance = Balance::roulette;                  // unbiased default (docs/sampling.md); see docs/sampling.md
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
-  int spp = 200;                               // K of Eq. 12, >= 1
-  int k_max = 0;                               // cap on K_m(p); 0 = no cap (K)
-  int search_depth = -1;                       // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
-  std::uint32_t seed = 1;                      // random and scrambled sequences
-  std::uint32_t frame = 0;                     // progressive frame index: advances every sequence
-  double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
+  int spp = 200;                           // K of Eq. 12, >= 1
+  int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
+  int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
+  std::uint32_t seed = 1;                  // random and scrambled sequences
+  std::uint32_t frame = 0;                 // progressive frame index: advances every sequence
+  double band = 0.05;                      // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
   int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
   // Consecutive surfaces sharing the roulette's uniform number per image and frame (balance roulette,
   // the equal-count rotation); 1 = per pixel (docs/sampling.md "Roulette blocks").
