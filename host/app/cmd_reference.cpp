@@ -16,6 +16,7 @@
 
 #include "app/command.h"
 #include "app/output_checks.h"
+#include "app/reference_parts.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
 #include "core/error.h"
@@ -32,6 +33,7 @@ namespace {
 
 struct ReferenceCmd {
   std::string scene, out, png, stats, only = "all";
+  std::string tile, samples, part;  // a part of the render (docs/cluster.md)
   int spp = 1024, bounces = 0, width = 0, height = 0;
   std::uint64_t seed = 1;
   unsigned threads = 0;
@@ -92,7 +94,37 @@ std::string stats_json(const ReferenceCmd& o, const scene::Scene& s, const rende
   return j.dump(2) + "\n";
 }
 
+// The settings as run_reference_cmd sets them (kept apart so that the two paths stay local).
+ref::ReferenceSettings make_settings(const ReferenceCmd& o, const scene::Scene& scene) {
+  ref::ReferenceSettings set;
+  set.spp = o.spp;
+  set.bounces = o.bounces;
+  set.only = ref::parse_only(o.only);
+  set.seed = o.seed;
+  set.jitter = o.jitter;
+  set.threads = o.threads;
+  set.progress = log::level() != log::Level::quiet;
+  set.validate(scene.environment.has_value());  // before any heavy work
+  return set;
+}
+
+// --part OUT.nfpart [--tile x,y,w,h] [--samples first,count]: exact partial sums, no image.
+void run_reference_part_cmd(const ReferenceCmd& o) {
+  if (o.part.empty()) fail("--tile and --samples need --part OUT.nfpart");
+  if (!o.out.empty() || !o.png.empty() || !o.stats.empty())
+    fail("--part writes a part only: -o, --png and --stats belong to nearfield merge");
+  check_output_extension(o.part, ".nfpart", "--part");
+  scene::Scene scene = scene::load_scene(o.scene);
+  check_output_files(o.scene, {{"--part", o.part}});
+  apply_overrides(o, scene);
+  const ref::ReferenceSettings set = make_settings(o, scene);
+  const ref::ImageRegion region = parse_region(o.tile, o.samples, scene.camera.width, scene.camera.height, set.spp);
+  write_reference_part(scene, o.scene, set, region, o.part);
+}
+
 void run_reference_cmd(const ReferenceCmd& o) {
+  if (!o.part.empty() || !o.tile.empty() || !o.samples.empty()) return run_reference_part_cmd(o);
+  if (o.out.empty()) fail("-o OUT.exr is required (or --part OUT.nfpart)");
   Timer total;
   check_output_extension(o.out, ".exr", "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
@@ -154,7 +186,7 @@ const CommandRegistration reg("reference", [](CLI::App& app) {
   static ReferenceCmd o;
   auto* cmd = app.add_subcommand("reference", "CPU reference renderer: exact visibility, environment, one bounce");
   cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
-  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance)")->required();
+  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance); required without --part");
   cmd->add_option("--png", o.png, "Also write a tone-mapped PNG (the scene's tone mapping)");
   cmd->add_option("--stats", o.stats, "Also write rays, rays/s and times as JSON");
   cmd->add_option("--spp", o.spp, "Camera samples per pixel")->capture_default_str();
@@ -162,6 +194,9 @@ const CommandRegistration reg("reference", [](CLI::App& app) {
   cmd->add_option("--only", o.only, "all | luminaires | environment | indirect")->capture_default_str();
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--part", o.part, "Write a part (exact sums, .nfpart) instead of an image: see nearfield merge");
+  cmd->add_option("--tile", o.tile, "With --part: the pixels x,y,w,h (default: all)");
+  cmd->add_option("--samples", o.samples, "With --part: the samples first,count of --spp (default: all)");
   cmd->add_flag("--jitter", o.jitter, "Jitter samples inside each pixel (default: pixel centres, as render)");
   auto add = [&](const std::string& name, auto& var, const std::string& help) {
     o.given[name] = cmd->add_option(name, var, help);
