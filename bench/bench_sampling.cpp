@@ -5,7 +5,7 @@
 //   bench_sampling [--preset car2] [--spp 200] [--res 256] [--scene wall|road] [--frames 3]
 //                  [--methods ours,paper,uniform,uniform-equal,global] [--structures per-image,fused]
 //                  [--searches secant,binary] [--depths -1] [--sampler halton-scrambled] [--roulette-blocks 16,1]
-//                  [--surface-shuffles 12,0]
+//                  [--surface-shuffles 6,0]
 //                  [--csv FILE]
 //
 // Samples/s = sum over pixels of K(p) (samples actually drawn) / device time of Steps 1 + 2 of the
@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   std::string preset = "car2", scene = "wall", methods = "ours,paper,uniform,uniform-equal,global",
               structures = "per-image,fused";
   std::string searches = "secant", depths = "-1", sampler_name = "halton-scrambled", balances = "roulette", csv, device;
-  std::string blocks = "16", shuffles = "12";
+  std::string blocks = "16", shuffles = "6";
   int spp = 200, res = 256, frames = 3, ref_frames = 0, lanes = 0;
   bool interleave = false;
   double scale = 1.0;

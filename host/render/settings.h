@@ -55,7 +55,7 @@ struct SamplingSettings {
   int roulette_block = 16;
   // log2 of the chunks of consecutive surfaces visited in a fixed pseudo-random order (0 = row
   // order): scatters roulette blocks and lanes over the image (docs/sampling.md "Surface order").
-  int surface_shuffle = 12;
+  int surface_shuffle = 6;
   // Device memory (MiB) for the per-pixel cache of A_m(p) across progressive frames of the same
   // view (docs/sampling.md "Pixel cache"); 0 = recompute every frame. Above it: recomputation.
   int pixel_cache_mib = 1024;

@@ -35,7 +35,7 @@ struct RenderSettings {
   std::uint32_t seed = 1;    // sampler seed (random, halton-scrambled)
   int lanes = 0;             // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
   int roulette_block = 16;   // consecutive surfaces sharing the roulette's decisions, 1..1024 (1 = per pixel)
-  int surface_shuffle = 12;  // log2 of the chunk inside which surfaces are visited in random order; 0 = row order
+  int surface_shuffle = 6;  // log2 of the chunk inside which surfaces are visited in random order; 0 = row order
   int pixel_cache = 1024;    // MiB for A_m(p) kept across progressive frames; 0 = off
   TonemapParams tonemap;     // exposure, gamma
   // environment (docs/environment.md)
