@@ -182,7 +182,7 @@ TEST_F(SceneParse, DefaultsWhenOptionalSectionsAreMissing) {
   EXPECT_FALSE(s.environment.has_value());
   const nf::scene::RenderSettings defaults;
   EXPECT_EQ(s.render.method, "ours");
-  EXPECT_EQ(s.render.sampler, "halton");
+  EXPECT_EQ(s.render.sampler, "halton-scrambled");
   EXPECT_EQ(s.render.kmax, 0);
   EXPECT_EQ(s.render.search_depth, -1);
   EXPECT_EQ(s.render.structure, defaults.structure);

@@ -142,8 +142,8 @@ glm::dvec3 spectrum_xyz(const std::vector<std::pair<double, double>>& samples) {
   glm::dvec3 sum(0.0);
   if (samples.size() == 1) return samples[0].second * cmf(samples[0].first);  // a line
   for (std::size_t k = 0; k + 1 < samples.size(); ++k) {
-    const auto [l0, w0] = samples[k];
-    const auto [l1, w1] = samples[k + 1];
+    const double l0 = samples[k].first, w0 = samples[k].second;  // plain names: lambdas capture them
+    const double l1 = samples[k + 1].first, w1 = samples[k + 1].second;
     const double lo = std::max(l0, kMinNm), hi = std::min(l1, kMaxNm);
     if (!(hi > lo)) continue;
     auto s = [&](double l) { return w0 + (w1 - w0) * (l - l0) / (l1 - l0); };

@@ -164,7 +164,7 @@ int Sampler::lanes(const SamplingSettings& s) const {
 
 std::uint32_t surface_of_slot(const SamplingSettings& s, int count, int slot) {
   return nf_surface_at(static_cast<nf_uint>(slot), static_cast<nf_uint>(count),
-                       static_cast<nf_uint>(std::clamp(s.surface_shuffle, 0, 20)), nf_surface_order_key(s.seed));
+                       static_cast<nf_uint>(std::clamp(s.surface_shuffle, 0, 20)), NF_SURFACE_ORDER_KEY);
 }
 
 NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const {
@@ -266,11 +266,11 @@ int cache_stride(int count) { return (count + kCacheAlign - 1) / kCacheAlign * k
 
 // What A_m(p) depends on besides the surfaces: the luminaire, the instance's transform and the
 // method's box (method, band, lanes through the build options); the cache is laid out by launch
-// slot, so also the surface order (surface_shuffle and the seed that keys it).
+// slot, so also the surface order (surface_shuffle; its key is fixed).
 std::string cache_key(std::uint64_t view_version, int count, const LightInstance& li, const std::string& opts,
                       const SamplingSettings& s) {
-  std::string key = fmt::format("{}/{}/{}/{}/{}/{}/{}/", view_version, count, static_cast<const void*>(li.luminaire),
-                                to_string(s.method), s.band, s.surface_shuffle, s.seed);
+  std::string key = fmt::format("{}/{}/{}/{}/{}/{}/", view_version, count, static_cast<const void*>(li.luminaire),
+                                to_string(s.method), s.band, s.surface_shuffle);
   const auto* bytes = reinterpret_cast<const unsigned char*>(&li.instance);
   for (std::size_t i = 0; i < sizeof(NfInstance); ++i) key += fmt::format("{:02x}", bytes[i]);
   return key + opts;

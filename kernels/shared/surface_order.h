@@ -57,7 +57,8 @@ NF_SO_INLINE nf_uint nf_surface_at(nf_uint slot, nf_uint count, nf_uint bits, nf
   return base + x;
 }
 
-/* The permutation key of a launch with sampler seed `seed`. */
-NF_SO_INLINE nf_uint nf_surface_order_key(nf_uint seed) { return nf_so_hash(seed ^ 0x1b873593U); }
+/* The permutation key: fixed, independent of the sampler seed, so the order (and the pixel cache
+   laid out by it) is the same for every seed. */
+#define NF_SURFACE_ORDER_KEY 0x1b873593U
 
 #endif
