@@ -111,10 +111,10 @@ void run_reference_cmd(const ReferenceCmd& o) {
   set.threads = o.threads;
   set.progress = log::level() != log::Level::quiet;
   set.validate(scene.environment.has_value());  // before any heavy work
-  AtomicFile exr_file(o.out);
-  std::unique_ptr<AtomicFile> png_file, stats_file;
-  if (!o.png.empty()) png_file = std::make_unique<AtomicFile>(o.png);
-  if (!o.stats.empty()) stats_file = std::make_unique<AtomicFile>(o.stats);
+  // Temporaries registered now (a vanished output folder fails before rendering); every output is
+  // committed together at the end, or none (core/atomic_file.h).
+  OutputTransaction outputs_tx;
+  for (const auto& [option, path] : outputs) outputs_tx.add(path);
 
   const render::ReferenceRun run = render::run_reference(scene, set);
   const auto& st = run.result.stats;
@@ -130,18 +130,11 @@ void run_reference_cmd(const ReferenceCmd& o) {
                         {"nearfield:threads", std::to_string(st.threads)},
                         {"nearfield:date", utc_now()}};
   for (const auto& kv : set.attributes()) attrs.push_back(kv);
-  write_exr(exr_file.temp_path(), run.result.image, attrs);
-  if (png_file)
-    write_png(png_file->temp_path(), tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
-  if (stats_file) {
-    std::ofstream out(stats_file->temp_path(), std::ios::binary);
-    out << stats_json(o, scene, run, set, total.ms());
-    out.close();
-    if (!out) fail(fmt::format("{}: write failed", o.stats));
-  }
-  exr_file.commit();
-  if (png_file) png_file->commit();
-  if (stats_file) stats_file->commit();
+  write_exr(outputs_tx, o.out, run.result.image, attrs);
+  if (!o.png.empty())
+    write_png(outputs_tx, o.png, tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
+  if (!o.stats.empty()) write_text(outputs_tx, o.stats, stats_json(o, scene, run, set, total.ms()));
+  outputs_tx.commit();  // all outputs appear together, or none
   if (log::level() != log::Level::quiet)
     std::fputs(fmt::format("reference: {}x{}, {} spp, {} rays in {:.1f} s ({:.2f} Mrays/s, {} threads); wrote {}\n",
                            scene.camera.width, scene.camera.height, set.spp, st.rays(), st.render_ms / 1000.0,
