@@ -4,7 +4,8 @@
 //
 //   bench_sampling [--preset car2] [--spp 200] [--res 256] [--scene wall|road] [--frames 3]
 //                  [--methods ours,paper,uniform,uniform-equal,global] [--structures per-image,fused]
-//                  [--searches secant,binary] [--depths -1] [--sampler halton] [--roulette-blocks 16,1]
+//                  [--searches secant,binary] [--depths -1] [--sampler halton-scrambled] [--roulette-blocks 16,1]
+//                  [--surface-shuffles 6,0]
 //                  [--csv FILE]
 //
 // Samples/s = sum over pixels of K(p) (samples actually drawn) / device time of Steps 1 + 2 of the
@@ -94,9 +95,10 @@ std::vector<NfSurface> make_scene(const std::string& scene, int res) {
 
 int main(int argc, char** argv) {
   CLI::App app{"nearfield sampling benchmark: samples/s per method and structure"};
-  std::string preset = "car2", scene = "wall", methods = "ours,paper,uniform,uniform-equal,global", structures = "per-image,fused";
-  std::string searches = "secant", depths = "-1", sampler_name = "halton", balances = "roulette", csv, device;
-  std::string blocks = "16";
+  std::string preset = "car2", scene = "wall", methods = "ours,paper,uniform,uniform-equal,global",
+              structures = "per-image,fused";
+  std::string searches = "secant", depths = "-1", sampler_name = "halton-scrambled", balances = "roulette", csv, device;
+  std::string blocks = "16", shuffles = "6";
   int spp = 200, res = 256, frames = 3, ref_frames = 0, lanes = 0;
   bool interleave = false;
   double scale = 1.0;
@@ -113,6 +115,7 @@ int main(int argc, char** argv) {
   app.add_option("--balances", balances, "comma-separated balance policies");
   app.add_option("--lanes", lanes, "surfaces per work-item (0 = automatic)");
   app.add_option("--roulette-blocks", blocks, "comma-separated roulette blocks (docs/sampling.md)");
+  app.add_option("--surface-shuffles", shuffles, "comma-separated surface_shuffle values (0 = row order)");
   app.add_flag("--interleave-rows", interleave, "reorder the G-buffer rows (0, N/2, 1, N/2+1, ...)");
   app.add_option("--sampler", sampler_name, "halton | halton-scrambled | random");
   app.add_option("--reference-frames", ref_frames, "frames of K=spp random `ours` for the error column (0: none)");
@@ -179,7 +182,7 @@ int main(int argc, char** argv) {
     std::ofstream out(csv);
     out << "machine,device,preset,scene,res,spp,method,structure,search,depth,balance,lanes,sampler,step1_ms,step2_ms,"
            "kernel_ms,"
-           "samples,msamples_per_s,msamples_per_cpu_s,rel_rms_error,roulette_block\n";
+           "samples,msamples_per_s,msamples_per_cpu_s,rel_rms_error,roulette_block,surface_shuffle\n";
     fmt::print("{:<8} {:<10} {:<7} {:>5} {:<9} {:>5} {:>10} {:>10} {:>10} {:>12} {:>10} {:>12} {:>9}\n", "method",
                "structure", "search", "depth", "balance", "block", "step1 ms", "step2 ms", "total ms", "samples",
                "Msamples/s", "Ms/CPU-s", "rel.err");
@@ -188,61 +191,63 @@ int main(int argc, char** argv) {
         for (const auto& sname : split(searches))
           for (const auto& dname : split(depths))
             for (const auto& bname : split(balances))
-              for (const auto& rb : split(blocks)) {
-                SamplingSettings s;
-                s.method = parse_method(mname, "--methods");
-                s.structure = parse_structure(stname, "--structures");
-                s.search = parse_search(sname, "--searches");
-                s.search_depth = std::stoi(dname);
-                s.balance = parse_balance(bname, "--balances");
-                s.sampler = parse_sampler(sampler_name, "--sampler");
-                s.spp = spp;
-                s.lanes = lanes;
-                s.roulette_block = std::stoi(rb);
-                sampler.run(buf, count, {&li, 1}, s);  // warm-up (program build, caches)
-                // The frame with the smallest device time stands for the configuration: other processes on a
-                // shared machine only ever add time. The CPU-time rate is over all timed frames.
-                double s1 = 0, s2 = 0, best = 1e300;
-                std::uint64_t samples = 0, all_samples = 0;
-                double err = -1.0, cpu = 0.0;
-                for (int f = 0; f < frames; ++f) {
-                  const double c0 = cpu_ms();
-                  s.frame = static_cast<std::uint32_t>(f);
-                  const FrameStats st = sampler.run(buf, count, {&li, 1}, s);
-                  cpu += cpu_ms() - c0;
-                  const std::uint64_t n = sampler.total_samples();
-                  all_samples += n;
-                  if (st.step1_ms + st.step2_ms < best) {
-                    best = st.step1_ms + st.step2_ms;
-                    s1 = st.step1_ms;
-                    s2 = st.step2_ms;
-                    samples = n;
-                  }
-                  if (f == 0 && !reference.empty()) {
-                    const auto r = sampler.read_radiance();
-                    double num = 0, den = 0;
-                    for (int i = 0; i < count; ++i) {
-                      const double d = r[i].x - reference[i].x;
-                      num += d * d;
-                      den += double(reference[i].x) * reference[i].x;
+              for (const auto& rb : split(blocks))
+                for (const auto& sh : split(shuffles)) {
+                  SamplingSettings s;
+                  s.method = parse_method(mname, "--methods");
+                  s.structure = parse_structure(stname, "--structures");
+                  s.search = parse_search(sname, "--searches");
+                  s.search_depth = std::stoi(dname);
+                  s.balance = parse_balance(bname, "--balances");
+                  s.sampler = parse_sampler(sampler_name, "--sampler");
+                  s.spp = spp;
+                  s.lanes = lanes;
+                  s.roulette_block = std::stoi(rb);
+                  s.surface_shuffle = std::stoi(sh);
+                  sampler.run(buf, count, {&li, 1}, s);  // warm-up (program build, caches)
+                  // The frame with the smallest device time stands for the configuration: other processes on a
+                  // shared machine only ever add time. The CPU-time rate is over all timed frames.
+                  double s1 = 0, s2 = 0, best = 1e300;
+                  std::uint64_t samples = 0, all_samples = 0;
+                  double err = -1.0, cpu = 0.0;
+                  for (int f = 0; f < frames; ++f) {
+                    const double c0 = cpu_ms();
+                    s.frame = static_cast<std::uint32_t>(f);
+                    const FrameStats st = sampler.run(buf, count, {&li, 1}, s);
+                    cpu += cpu_ms() - c0;
+                    const std::uint64_t n = sampler.total_samples();
+                    all_samples += n;
+                    if (st.step1_ms + st.step2_ms < best) {
+                      best = st.step1_ms + st.step2_ms;
+                      s1 = st.step1_ms;
+                      s2 = st.step2_ms;
+                      samples = n;
                     }
-                    err = den > 0 ? std::sqrt(num / den) : 0.0;
+                    if (f == 0 && !reference.empty()) {
+                      const auto r = sampler.read_radiance();
+                      double num = 0, den = 0;
+                      for (int i = 0; i < count; ++i) {
+                        const double d = r[i].x - reference[i].x;
+                        num += d * d;
+                        den += double(reference[i].x) * reference[i].x;
+                      }
+                      err = den > 0 ? std::sqrt(num / den) : 0.0;
+                    }
                   }
+                  const double total = s1 + s2;
+                  const double rate = total > 0 ? static_cast<double>(samples) / (total * 1e-3) / 1e6 : 0.0;
+                  const double cpu_rate = cpu > 0 ? static_cast<double>(all_samples) / (cpu * 1e-3) / 1e6 : 0.0;
+                  fmt::print(
+                      "{:<8} {:<10} {:<7} {:>5} {:<9} {:>5} {:>10.1f} {:>10.1f} {:>10.1f} {:>12} {:>10.2f} {:>12.2f} "
+                      "{:>9}\n",
+                      mname, stname, sname, dname, bname, rb + "/" + sh, s1, s2, total, samples, rate, cpu_rate,
+                      err < 0 ? "-" : fmt::format("{:.4f}", err));
+                  out << fmt::format(
+                      "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.3f},{:.3f},{},{},{}\n",
+                      cpu_model(), rt.info().name, preset, scene, res, spp, mname, stname, sname, dname, bname,
+                      sampler.lanes(s), sampler_name, s1, s2, total, samples, rate, cpu_rate,
+                      err < 0 ? "" : fmt::format("{:.6f}", err), rb, sh);
                 }
-                const double total = s1 + s2;
-                const double rate = total > 0 ? static_cast<double>(samples) / (total * 1e-3) / 1e6 : 0.0;
-                const double cpu_rate = cpu > 0 ? static_cast<double>(all_samples) / (cpu * 1e-3) / 1e6 : 0.0;
-                fmt::print(
-                    "{:<8} {:<10} {:<7} {:>5} {:<9} {:>5} {:>10.1f} {:>10.1f} {:>10.1f} {:>12} {:>10.2f} {:>12.2f} "
-                    "{:>9}\n",
-                    mname, stname, sname, dname, bname, rb, s1, s2, total, samples, rate, cpu_rate,
-                    err < 0 ? "-" : fmt::format("{:.4f}", err));
-                out << fmt::format(
-                    "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.3f},{:.3f},{},{}\n",
-                    cpu_model(), rt.info().name, preset, scene, res, spp, mname, stname, sname, dname, bname,
-                    sampler.lanes(s), sampler_name, s1, s2, total, samples, rate, cpu_rate,
-                    err < 0 ? "" : fmt::format("{:.6f}", err), rb);
-              }
     fmt::print("\nwrote {}\n", csv);
   } catch (const std::exception& e) {
     fmt::print(stderr, "bench_sampling: {}\n", e.what());

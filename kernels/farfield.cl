@@ -128,7 +128,7 @@ __kernel void farfield_shade(__global const NfSurface* surfaces, const int count
     if (c < 0.0f) c += 360.0f;
     if (c >= 360.0f) c -= 360.0f;
     const float I = ff_intensity(L, angles, cd, c, gamma);
-    lo += (float3)(r, g, b) * (I / r2);
+    lo += (float3)(r * L->cr, g * L->cg, b * L->cb) * (I / r2);
   }
   /* no NaN or Inf leaves: a non-finite sum (a float overflow near an extreme light) is written as 0 */
   if (!all(isfinite(lo))) lo = (float3)(0.0f);

@@ -23,6 +23,7 @@
 #include "shared/luminaire.h"
 #include "shared/sampling.h"
 #include "shared/surface.h"
+#include "shared/surface_order.h"
 #include "shared/types.h"
 
 #ifndef NF_METHOD
@@ -127,14 +128,24 @@ NF_INLINE void nf_rotation(const NfSampleParams* P, vu pix, int m, vf* rx, vf* r
   *ry = nf_unit(nf_hashv(h ^ (vu)(0x5bd1e995U)));
 }
 
-/* Index of the block of P->roulette_block consecutive surfaces that shares the roulette decisions
-   (docs/sampling.md "Roulette blocks"). */
-NF_INLINE vu nf_roulette_block(const NfSampleParams* P, vu pix) { return pix / (vu)(P->roulette_block); }
+/* Index of the block of P->roulette_block consecutive slots that shares the roulette decisions
+   (docs/sampling.md "Roulette blocks"); the slots' surfaces are scattered by the surface order. */
+NF_INLINE vu nf_roulette_block(const NfSampleParams* P, vu slot) { return slot / (vu)(P->roulette_block); }
 
-/* Uniform number for the roulette decision of image m at each lane's pixel (all samplers): one per
-   block of surfaces, image and frame, so the lanes of a work-item mostly take the same images. */
-NF_INLINE vf nf_roulette_u(const NfSampleParams* P, vu pix, int m) {
-  return nf_unit(nf_hash_pm(nf_roulette_block(P, pix), m, nf_frame_key(P) ^ 0xa511e9b3U));
+/* Uniform number for the roulette decision of image m at each lane's slot (all samplers): one per
+   block of slots, image and frame, so the lanes of a work-item mostly take the same images. */
+NF_INLINE vf nf_roulette_u(const NfSampleParams* P, vu slot, int m) {
+  return nf_unit(nf_hash_pm(nf_roulette_block(P, slot), m, nf_frame_key(P) ^ 0xa511e9b3U));
+}
+
+/* Surface shaded by launch slot `slot` (docs/sampling.md "Surface order"; shared/surface_order.h). */
+NF_INLINE uint nf_slot_surface(const NfSampleParams* P, uint slot) {
+  return nf_surface_at(slot, (uint)P->count, P->shuffle_bits, nf_surface_order_key(P->seed));
+}
+
+/* The surfaces of the NF_LANES slots from `first` on (slots past the count map to themselves). */
+NF_INLINE void nf_slot_surfaces(const NfSampleParams* P, uint first, uint* pix) {
+  for (int l = 0; l < NF_LANES; ++l) pix[l] = nf_slot_surface(P, first + (uint)l);
 }
 
 /* ---------------------------------------------------------------- per-pixel context ------- */
@@ -151,7 +162,8 @@ typedef struct {
   vf gu;         /* U-parametrisation factor: delta^2 / (delta + z)^3 (goesele2003) or delta + z (radiance) */
   vi band;       /* mask: |z| < band delta, U-parametrisation (docs/sampling.md) */
   vi lit;        /* mask: a valid surface with z > -delta */
-  vu pix;        /* surface index: the per-pixel random streams */
+  vu pix;        /* surface index: the per-pixel random streams and every per-surface buffer */
+  vu slot;       /* launch slot (first + lane): roulette blocks and the pixel cache */
   /* luminaire constants */
   float pw, ph;   /* pixel size in metres */
   float Xo, Ro;   /* basis grid corner o in pixel coordinates */
@@ -184,11 +196,12 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   float vx[NF_LANES], vy[NF_LANES], vz[NF_LANES], al[NF_LANES], me[NF_LANES], br[NF_LANES], bg[NF_LANES], bb[NF_LANES];
   float tx[NF_LANES], ty[NF_LANES], tz[NF_LANES];
   int brdf[NF_LANES], valid[NF_LANES], km[NF_LANES];
-  uint pix[NF_LANES];
+  uint pix[NF_LANES], slot[NF_LANES];
   const float* M = I->to_local;
   const float* N = I->normal;
   for (int l = 0; l < NF_LANES; ++l) {
-    const uint g = first + (uint)l;
+    slot[l] = first + (uint)l;
+    const uint g = nf_slot_surface(P, slot[l]);
     pix[l] = g;
     NfSurface S;
     if (g < (uint)P->count) {
@@ -266,6 +279,7 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->sh.kmat = VLOAD(km);
   c->sh.kurt = kurt;
   c->pix = VLOAD(pix);
+  c->slot = VLOAD(slot);
   const vi val = VLOAD(valid) != 0;
   const float delta = L->delta;
   c->pw = L->image_size_x / (float)L->res_x;
@@ -856,10 +870,10 @@ NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global co
    uniform-equal, ours-equal (paper Fig. 12 baseline; docs/sampling.md "Equal counts"): K / M
    samples per lit image, the remainder to a block of images rotated per roulette block and frame, the
    roulette M / K for K < M (common/equal_counts.h). The `balance` option does not apply. */
-NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, int M, vf Am, vf A, vf* inv_p) {
+NF_INLINE vi nf_balance(const NfSampleParams* P, vu slot, int m, int M, vf Am, vf A, vf* inv_p) {
 #if NF_EQUAL_COUNTS
   (void)A;
-  const vu h = nf_hashv(nf_roulette_block(P, pix) ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
+  const vu h = nf_hashv(nf_roulette_block(P, slot) ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
   return nf_equal_count(h, P->spp, P->k_max, m, M, Am, inv_p);
 #else
   (void)M;
@@ -873,7 +887,7 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu pix, int m, int M, vf Am, vf
 #elif NF_BALANCE == NF_BALANCE_ROULETTE
   const vi small = pos & (x < 1.0f);
   if (ANY(small)) {
-    const vi take = nf_roulette_u(P, pix, m) < x;
+    const vi take = nf_roulette_u(P, slot, m) < x;
     k = SEL(k, SEL((vi)(0), (vi)(1), take), small);
     *inv_p = SEL(*inv_p, 1.0f / x, small & take);
   }
@@ -1032,17 +1046,19 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
 #if NF_MEAN_DIRECTION
 /* Adds the lanes' direction sums (luminaire frame) to dir[] in the surfaces' frame: a direction maps
    to the luminaire frame by A = M[:, 0:3], so back by A^-1 = N^T (N = I->normal = A^-T). */
-NF_INLINE void nf_dir_store(const NfInstance* I, uint first, int count, vf dx, vf dy, vf dz, __global float4* dir) {
+NF_INLINE void nf_dir_store(const NfInstance* I, vu surface, int count, vf dx, vf dy, vf dz, __global float4* dir) {
   float x[NF_LANES], y[NF_LANES], z[NF_LANES];
+  uint pix[NF_LANES];
+  VSTORE(surface, pix);
   VSTORE(dx, x);
   VSTORE(dy, y);
   VSTORE(dz, z);
   const float* N = I->normal;
   for (int l = 0; l < NF_LANES; ++l) {
-    if (first + (uint)l >= (uint)count || !(x[l] != 0.0f || y[l] != 0.0f || z[l] != 0.0f)) continue;
+    if (pix[l] >= (uint)count || !(x[l] != 0.0f || y[l] != 0.0f || z[l] != 0.0f)) continue;
     const float3 w = (float3)(N[0] * x[l] + N[4] * y[l] + N[8] * z[l], N[1] * x[l] + N[5] * y[l] + N[9] * z[l],
                               N[2] * x[l] + N[6] * y[l] + N[10] * z[l]);
-    if (all(isfinite(w))) dir[first + l] += (float4)(w, 0.0f);
+    if (all(isfinite(w))) dir[pix[l]] += (float4)(w, 0.0f);
   }
 }
 #endif
@@ -1069,9 +1085,11 @@ __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
   if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first, kurt, kurt_count))) return;
   NfBox b;
   float a[NF_LANES];
+  uint pix[NF_LANES];
   VSTORE(nf_prepare(&c, &L, P.image, sat, quantum, info, &b), a);
+  VSTORE(c.pix, pix);
   for (int l = 0; l < NF_LANES; ++l)
-    if (a[l] > 0.0f) A_out[first + l] += a[l];
+    if (a[l] > 0.0f) A_out[pix[l]] += a[l];
 }
 
 /* Step 2, per-image pass: recomputes A_m(p) and B_m(p), K_m from the A(p) of Step 1, samples, Eq. 14. */
@@ -1080,9 +1098,11 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   float a[NF_LANES];
+  uint pix[NF_LANES];
+  nf_slot_surfaces(&P, first, pix);
   int lit = 0;
   for (int l = 0; l < NF_LANES; ++l) {
-    a[l] = first + l < (uint)P.count ? A_in[first + l] : 0.0f;
+    a[l] = pix[l] < (uint)P.count ? A_in[pix[l]] : 0.0f;
     lit |= a[l] > 0.0f;
   }
   if (!lit) return; /* A(p) = 0: no samples (before the set-up) */
@@ -1093,7 +1113,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   NfBox b;
   const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   vf inv_p;
-  const vi K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
+  const vi K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
   if (!ANY(K > 0)) return;
   vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
 #if NF_MEAN_DIRECTION
@@ -1101,7 +1121,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
 #endif
   nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
 #if NF_MEAN_DIRECTION
-  nf_dir_store(&I, first, P.count, dx, dy, dz, dir);
+  nf_dir_store(&I, c.pix, P.count, dx, dy, dz, dir);
 #endif
   float rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
   int kk[NF_LANES];
@@ -1111,8 +1131,8 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   VSTORE(K, kk);
   for (int l = 0; l < NF_LANES; ++l)
     if (kk[l] > 0) {
-      rgb[first + l] += (float4)(rr[l], gg[l], bb[l], 0.0f);
-      kcount[first + l] += (uint)kk[l];
+      rgb[pix[l]] += (float4)(rr[l], gg[l], bb[l], 0.0f);
+      kcount[pix[l]] += (uint)kk[l];
     }
 }
 
@@ -1164,22 +1184,24 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     if (priv || shared) {
       Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
       if (!ANY(Am > 0.0f)) continue;
-      K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
+      K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
       nf_prepare(&c, &L, m, sat, quantum, info, &b);
     } else {
       Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
-      K = nf_balance(&P, c.pix, m, L.num_images, Am, A, &inv_p);
+      K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
     nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
     total += K;
   }
 #if NF_MEAN_DIRECTION
-  nf_dir_store(&I, first, P.count, dx, dy, dz, dir);
+  nf_dir_store(&I, c.pix, P.count, dx, dy, dz, dir);
 #endif
   float aa[NF_LANES], rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
   int kk[NF_LANES];
+  uint pix[NF_LANES];
+  VSTORE(c.pix, pix);
   VSTORE(A, aa);
   VSTORE(r, rr);
   VSTORE(g, gg);
@@ -1187,9 +1209,9 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
   VSTORE(total, kk);
   for (int l = 0; l < NF_LANES; ++l)
     if (aa[l] > 0.0f) {
-      A_out[first + l] += aa[l];
-      rgb[first + l] += (float4)(rr[l], gg[l], bb[l], 0.0f);
-      kcount[first + l] += (uint)kk[l];
+      A_out[pix[l]] += aa[l];
+      rgb[pix[l]] += (float4)(rr[l], gg[l], bb[l], 0.0f);
+      kcount[pix[l]] += (uint)kk[l];
     }
 }
 

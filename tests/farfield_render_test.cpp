@@ -130,6 +130,39 @@ TEST(FarfieldRender, LambertWallMatchesClosedFormThroughBilateralFile) {
   EXPECT_GT(n - crossed, 200);
 }
 
+// A coloured light ("color", "cct"; docs/photometry.md, "Colour"): every pixel's R, G, B are the
+// white light's pixel times the colour, normalised to luminance 1 (the scene's value), to float
+// rounding (one product per channel: 1e-6 relative).
+TEST(FarfieldRender, ColouredLightScalesTheChannels) {
+  const auto ies = write_lm63("colour.ies", 180.0, f_table);
+  const std::string transform = R"({ "translate": [0.3, 1.2, -1.0], "rotate": [15, 170, 40] })";
+  const std::string white = wall_scene(ies, transform);
+  auto render = [](const std::string& json) {
+    auto r = render_test::make_renderer(render_test::parse(json));
+    r->render_frame();
+    return r->last_frame();
+  };
+  const Image base = render(white);
+  for (const char* key : {R"("color": [1, 0.5, 0.25], )", R"("cct": 2700, )"}) {
+    std::string json = white;
+    const auto at = json.find(R"("transform": )", json.find("farfield_lights"));
+    json.insert(at, key);
+    const scene::Scene s = render_test::parse(json);
+    const glm::dvec3 c = s.farfield_lights.at(0).colour;
+    EXPECT_NEAR(0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b, 1.0, 1e-6) << key;
+    const Image img = render(json);
+    ASSERT_EQ(img.pixels.size(), base.pixels.size());
+    int lit = 0;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+      const double want = base.pixels[i] * c[static_cast<int>(i % 3)];
+      if (base.pixels[i] > 0.0f) ++lit;
+      if (std::abs(img.pixels[i] - want) > 1e-6 * std::abs(want) + 1e-30)
+        ADD_FAILURE() << key << " value " << i << ": " << img.pixels[i] << " expected " << want;
+    }
+    EXPECT_GT(lit, 3000) << key;
+  }
+}
+
 // The contribution against the reference renderer (independent double-precision code) on the
 // three material models (lambert, ggx metal and dielectric, kurt). Pixel centres are hit by rasterisation (float) and
 // by Embree (double) at slightly different points; the comparison skips pixels next to an object edge.

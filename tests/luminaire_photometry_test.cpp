@@ -158,10 +158,22 @@ TEST(PhotometryStrict, IesTableMustBeConsistent) {
   expect_refused(write_file(dir, "tiltjunk.ies",
                             ies_text("300 200 100\n", "1 -1 1 3 1 1 2 0 0 0\n", "TILT=INCLUDE\n1\n2\n0 9x0\n1 1\n")),
                  {"field 'tilt angles'", "'9x0'"});
-  // The same with a whole tilt count reads (tilt values are read, not applied).
+  // Lamp-tilt factors are not applied: a factor other than 1 or an external tilt file is refused
+  // naming the file and the reason; factors all 1 read (not applying them is exact).
+  expect_refused(write_file(dir, "tilthalf.ies",
+                            ies_text("300 200 100\n", "1 -1 1 3 1 1 2 0 0 0\n", "TILT=INCLUDE\n1\n2\n0 90\n1 0.5\n")),
+                 {"tilthalf.ies", "TILT=INCLUDE with lamp-tilt multiplying factor 0.5", "only TILT=NONE"});
+  expect_refused(
+      write_file(dir, "tiltfile.ies", ies_text("300 200 100\n", "1 -1 1 3 1 1 2 0 0 0\n", "TILT=lamp.tlt\n")),
+      {"tiltfile.ies", "TILT=lamp.tlt", "separate file are not supported"});
   const auto g = nf::lum::read_ies(write_file(
-      dir, "tiltok.ies", ies_text("300 200 100\n", "1 -1 1 3 1 1 2 0 0 0\n", "TILT=INCLUDE\n1\n2\n0 90\n1 0.5\n")));
+      dir, "tiltok.ies", ies_text("300 200 100\n", "1 -1 1 3 1 1 2 0 0 0\n", "TILT=INCLUDE\n1\n2\n0 90\n1 1\n")));
   EXPECT_DOUBLE_EQ(g.intensity(0, 90), 200.0);
+  // Types A (3) and B (2) are refused naming the type.
+  expect_refused(write_file(dir, "typeb.ies", ies_text("300 200 100\n", "1 -1 1 3 1 2 2 0 0 0\n")),
+                 {"typeb.ies", "field 'photometric type' is 2 (type B)", "only type C"});
+  expect_refused(write_file(dir, "typea.ies", ies_text("300 200 100\n", "1 -1 1 3 1 3 2 0 0 0\n")),
+                 {"typea.ies", "field 'photometric type' is 3 (type A)", "only type C"});
 }
 
 // An EULUMDAT file: symmetry `sym`, the C angles `cs` (all of them), gamma angles 0, 45, 90 (or

@@ -91,8 +91,12 @@ TEST(RaySetTm25, OsramMeasurementHeaderAndUnits) {
   // 1e5 rays of 0.00337 lm (float): the double sum is 337 lm to float rounding of one ray (6e-8).
   EXPECT_NEAR(rs.total_flux(), 337.0, 337.0 * 1e-6);
   bool spectral = false;
-  for (const auto& n : rs.notes) spectral |= n.find("spectral table") != std::string::npos;
-  EXPECT_TRUE(spectral) << "the spectral table must be skipped with a note";
+  for (const auto& n : rs.notes) spectral |= n.find("colour from the spectral table 1") != std::string::npos;
+  EXPECT_TRUE(spectral) << "the colour must come from the spectral table, with a note";
+  // one colour for every ray (spectral data identifier 3): a green LED, clipped to sRGB green
+  ASSERT_EQ(rs.colour.size(), 1u);
+  EXPECT_GT(rs.colour[0].g, 3.0 * rs.colour[0].r);
+  EXPECT_GT(rs.colour[0].g, 3.0 * rs.colour[0].b);
   double xmax = 0, zmin = 1, zmax = -1;
   for (std::size_t r = 0; r < rs.size(); ++r) {
     xmax = std::max(xmax, std::abs(rs.position[r].x));

@@ -56,6 +56,8 @@ TEST(RenderFrame, SceneDefaultsMatchSamplingDefaults) {
   EXPECT_EQ(f.sampling.k_max, d.k_max);
   EXPECT_EQ(f.sampling.search_depth, d.search_depth);
   EXPECT_EQ(f.sampling.seed, d.seed);
+  EXPECT_EQ(f.sampling.roulette_block, d.roulette_block);
+  EXPECT_EQ(f.sampling.surface_shuffle, d.surface_shuffle);
 }
 
 // ---------------------------------------------------------------- what gets built ------------

@@ -16,7 +16,8 @@
 static_assert(sizeof(NfInstance) == 112);
 static_assert(offsetof(NfInstance, normal) == 48);
 static_assert(offsetof(NfInstance, intensity) == 96);
-static_assert(sizeof(NfSampleParams) == 52);
+static_assert(sizeof(NfSampleParams) == 56);
+static_assert(offsetof(NfSampleParams, shuffle_bits) == 52);
 static_assert(offsetof(NfSampleParams, roulette_block) == 48);
 static_assert(offsetof(NfSampleParams, seed) == 16);
 static_assert(offsetof(NfSampleParams, band) == 32);
@@ -198,9 +199,10 @@ TEST(SamplingKernels, LanesAndStructuresAgree) {
 }
 
 // Roulette blocks (docs/sampling.md): identical surfaces under the shared Halton sequence differ
-// only through the roulette, so with roulette_block = B the surfaces of one block of B are
-// identical (same K(p), same radiance) and blocks differ; with B = 1 neighbours differ. Both the
-// roulette of `ours` and the image rotation of `ours-equal` (K < M) follow the block.
+// only through the roulette, so with roulette_block = B the surfaces of one block of B consecutive
+// launch slots are identical (same K(p), same radiance) and blocks differ; with B = 1 neighbours
+// differ. Both the roulette of `ours` and the image rotation of `ours-equal` (K < M) follow the
+// block, in row order (surface_shuffle 0) and in the shuffled surface order alike.
 TEST(SamplingKernels, RouletteBlockSharesTheDecisions) {
   nf::cl::Runtime rt;
   const auto l = tiny(false);
@@ -217,26 +219,29 @@ TEST(SamplingKernels, RouletteBlockSharesTheDecisions) {
     s.method = method;
     s.sampler = SamplerKind::halton;
     s.spp = 3;  // < M = 6 images: every image is a roulette draw
-    for (const int block : {1, 4, 16}) {
-      SCOPED_TRACE(testing::Message() << to_string(method) << " roulette_block " << block);
-      s.roulette_block = block;
-      const Output o = run_once(sampler, buf, count, li, s);
-      int same_in_block = 0, pairs_in_block = 0, blocks_differ = 0;
-      for (int i = 1; i < count; ++i) {
-        const bool same = o.k[i] == o.k[i - 1] && o.rgb[i] == o.rgb[i - 1];
-        if (i % block != 0) {
-          ++pairs_in_block;
-          same_in_block += same;
-        } else {
-          blocks_differ += !same;
+    for (const int block : {1, 4, 16})
+      for (const int shuffle : {0, 12}) {
+        SCOPED_TRACE(testing::Message() << to_string(method) << " roulette_block " << block << " shuffle " << shuffle);
+        s.roulette_block = block;
+        s.surface_shuffle = shuffle;
+        const Output o = run_once(sampler, buf, count, li, s);
+        const auto at = [&](int slot) { return surface_of_slot(s, count, slot); };
+        int same_in_block = 0, pairs_in_block = 0, blocks_differ = 0;
+        for (int i = 1; i < count; ++i) {
+          const bool same = o.k[at(i)] == o.k[at(i - 1)] && o.rgb[at(i)] == o.rgb[at(i - 1)];
+          if (i % block != 0) {
+            ++pairs_in_block;
+            same_in_block += same;
+          } else {
+            blocks_differ += !same;
+          }
         }
+        EXPECT_EQ(same_in_block, pairs_in_block);
+        // neighbouring blocks draw independently: P(same) is well below 1/2 for these points, so
+        // at most 3/4 of the 127 (B = 1) or 31 (B = 4) or 7 (B = 16) boundaries may agree
+        const int boundaries = (count - 1) / block;
+        EXPECT_GE(blocks_differ, boundaries / 4) << boundaries << " block boundaries";
       }
-      EXPECT_EQ(same_in_block, pairs_in_block);
-      // neighbouring blocks draw independently: P(same) is well below 1/2 for these points, so
-      // at most 3/4 of the 127 (B = 1) or 31 (B = 4) or 7 (B = 16) boundaries may agree
-      const int boundaries = (count - 1) / block;
-      EXPECT_GE(blocks_differ, boundaries / 4) << boundaries << " block boundaries";
-    }
   }
 }
 

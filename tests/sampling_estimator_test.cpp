@@ -209,9 +209,8 @@ TEST(SamplingEstimator, EqualCountsSpendExactlyKSamples) {
       const auto k = sampler.read_k();
       const int q = spp / M, rem = spp % M;
       const int expect = kmax == 0 ? spp : M * std::min(q, kmax) + (q < kmax ? rem : 0);
-      const std::size_t stride = replicate_stride(pts.size(), s);
       for (int r = 0; r < R; ++r)
-        EXPECT_EQ(static_cast<int>(k[static_cast<std::size_t>(r) * stride]), expect)
+        EXPECT_EQ(static_cast<int>(k[replicate_surface(pts.size(), R, r, 0, s)]), expect)
             << to_string(method) << " K " << spp << " K_max " << kmax;
     }
   }

@@ -380,10 +380,11 @@ inline std::vector<std::string> device_specs() {
 
 // Per point: mean and standard error over R independent estimates (replicates get different
 // surface indices, so different random streams), and the number of non-zero replicates.
-// Replicate r of point i is surface r * stride + i, stride = the point count rounded up to a
-// multiple of the roulette block (padding surfaces are background): the replicates of a point lie
-// in different roulette blocks, so their roulette decisions are independent (docs/sampling.md
-// "Roulette blocks"), as the standard error assumes.
+// Replicate r of point i is shaded by launch slot r * stride + i, stride = the point count rounded
+// up to a multiple of the roulette block (padding surfaces are background): the replicates of a
+// point lie in different roulette blocks, so their roulette decisions are independent
+// (docs/sampling.md "Roulette blocks"), as the standard error assumes. The slot's surface index
+// follows the surface order (render::surface_of_slot).
 struct Estimates {
   std::vector<glm::dvec3> mean, se;
   std::vector<int> nonzero;
@@ -397,13 +398,23 @@ inline std::size_t replicate_stride(std::size_t points, const render::SamplingSe
   return (points + block - 1) / block * block;
 }
 
+// The surface index of replicate r of point i (R replicates): the surface that slot r * stride + i shades.
+inline std::size_t replicate_surface(std::size_t points, int R, int r, std::size_t i,
+                                     const render::SamplingSettings& s) {
+  const std::size_t stride = replicate_stride(points, s);
+  const int n = static_cast<int>(stride * static_cast<std::size_t>(R));
+  return render::surface_of_slot(s, n, static_cast<int>(static_cast<std::size_t>(r) * stride + i));
+}
+
 inline Estimates estimate(render::Sampler& sampler, const render::DeviceLuminaire& lum,
                           const std::vector<NfSurface>& points, int R, const render::SamplingSettings& s,
                           const NfInstance& inst = render::identity_instance()) {
   const std::size_t stride = replicate_stride(points.size(), s);
-  std::vector<NfSurface> surf(stride * static_cast<std::size_t>(R), NfSurface{});
+  const int n = static_cast<int>(stride * static_cast<std::size_t>(R));
+  std::vector<NfSurface> surf(static_cast<std::size_t>(n), NfSurface{});
+  auto surface_at = [&](int r, std::size_t i) { return replicate_surface(points.size(), R, r, i, s); };
   for (int r = 0; r < R; ++r)
-    for (std::size_t i = 0; i < points.size(); ++i) surf[static_cast<std::size_t>(r) * stride + i] = points[i];
+    for (std::size_t i = 0; i < points.size(); ++i) surf[surface_at(r, i)] = points[i];
   auto& rt = sampler.runtime();
   const auto buf = render::upload_surfaces(rt, surf);
   render::LightInstance li;
@@ -418,7 +429,7 @@ inline Estimates estimate(render::Sampler& sampler, const render::DeviceLuminair
     int nz = 0;
     double ks = 0.0;
     for (int r = 0; r < R; ++r) {
-      const std::size_t at = static_cast<std::size_t>(r) * stride + i;
+      const std::size_t at = surface_at(r, i);
       const auto& v = rgb[at];
       const glm::dvec3 d(v.x, v.y, v.z);
       if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || !std::isfinite(v.w)) e.finite = false;

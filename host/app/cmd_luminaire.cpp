@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/colour_info.h"
 #include "app/command.h"
 #include "app/output_checks.h"
 #include "core/error.h"
@@ -85,6 +86,7 @@ bool run_photometry_info(const std::string& file) {
   std::printf("peak        %.6g cd\n", peak);
   if (g.stated_lumens > 0) std::printf("stated      %.6g lm\n", g.stated_lumens);
   std::printf("flux        %.6g lm\n", g.lumens());
+  std::printf("colour      %s\n", app::describe_stated_colour(g.stated_colour).c_str());
   return true;
 }
 
@@ -139,6 +141,8 @@ void run_info(const std::string& file) {
   else
     std::printf("flux        %.6g %s (luminance; pixels in %s per m^2 of filter)\n", flux_estimate(l, pc), un.flux,
                 un.irradiance);
+  std::printf("colour      %s\n", l.channels == 3 ? app::describe_colour(app::light_field_xyz(l, pc.total_flux)).c_str()
+                                                  : "none (monochrome: white)");
   std::printf("device data %.2f MiB (SAT %.2f MiB, chroma %.2f MiB)\n", static_cast<double>(pc.bytes()) / 1048576.0,
               static_cast<double>(pc.sat.size() * 8) / 1048576.0,
               static_cast<double>(pc.chroma.size() * 4) / 1048576.0);

@@ -16,11 +16,14 @@
 
 #include "app/command.h"
 #include "app/output_checks.h"
+#include "app/radiance_output.h"
+#include "app/reference_parts.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
+#include "core/radiance_hdr.h"
 #include "core/timer.h"
 #include "core/tonemap.h"
 #include "reference/integrator.h"
@@ -32,6 +35,7 @@ namespace {
 
 struct ReferenceCmd {
   std::string scene, out, png, stats, only = "all";
+  std::string tile, samples, part;  // a part of the render (docs/cluster.md)
   int spp = 1024, bounces = 0, width = 0, height = 0;
   std::uint64_t seed = 1;
   unsigned threads = 0;
@@ -59,6 +63,9 @@ void apply_overrides(const ReferenceCmd& o, scene::Scene& s) {
     c.height = o.height;
     c.width = std::max(1, static_cast<int>(std::lround(o.height * aspect)));
   }
+  if (c.projection == scene::Camera::Projection::fisheye && c.width != c.height)
+    fail(fmt::format("--width/--height: a fisheye camera (camera.projection) needs a square image, got {}x{}", c.width,
+                     c.height));
   if (o.has("--exposure")) {
     if (!(o.exposure > 0.0)) fail(fmt::format("--exposure must be > 0, got {}", o.exposure));
     s.render.tonemap.exposure = o.exposure;
@@ -92,9 +99,39 @@ std::string stats_json(const ReferenceCmd& o, const scene::Scene& s, const rende
   return j.dump(2) + "\n";
 }
 
+// The settings as run_reference_cmd sets them (kept apart so that the two paths stay local).
+ref::ReferenceSettings make_settings(const ReferenceCmd& o, const scene::Scene& scene) {
+  ref::ReferenceSettings set;
+  set.spp = o.spp;
+  set.bounces = o.bounces;
+  set.only = ref::parse_only(o.only);
+  set.seed = o.seed;
+  set.jitter = o.jitter;
+  set.threads = o.threads;
+  set.progress = log::level() != log::Level::quiet;
+  set.validate(scene.environment.has_value());  // before any heavy work
+  return set;
+}
+
+// --part OUT.nfpart [--tile x,y,w,h] [--samples first,count]: exact partial sums, no image.
+void run_reference_part_cmd(const ReferenceCmd& o) {
+  if (o.part.empty()) fail("--tile and --samples need --part OUT.nfpart");
+  if (!o.out.empty() || !o.png.empty() || !o.stats.empty())
+    fail("--part writes a part only: -o, --png and --stats belong to nearfield merge");
+  check_output_extension(o.part, ".nfpart", "--part");
+  scene::Scene scene = scene::load_scene(o.scene);
+  check_output_files(o.scene, {{"--part", o.part}});
+  apply_overrides(o, scene);
+  const ref::ReferenceSettings set = make_settings(o, scene);
+  const ref::ImageRegion region = parse_region(o.tile, o.samples, scene.camera.width, scene.camera.height, set.spp);
+  write_reference_part(scene, o.scene, set, region, o.part);
+}
+
 void run_reference_cmd(const ReferenceCmd& o) {
+  if (!o.part.empty() || !o.tile.empty() || !o.samples.empty()) return run_reference_part_cmd(o);
+  if (o.out.empty()) fail("-o OUT.exr is required (or --part OUT.nfpart)");
   Timer total;
-  check_output_extension(o.out, ".exr", "-o");
+  check_output_extensions(o.out, {".exr", ".hdr"}, "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
   std::vector<std::pair<std::string, std::string>> outputs{{"-o", o.out}};
   if (!o.png.empty()) outputs.emplace_back("--png", o.png);
@@ -129,8 +166,12 @@ void run_reference_cmd(const ReferenceCmd& o) {
                         {"nearfield:render_ms", fmt::format("{:.3f}", st.render_ms)},
                         {"nearfield:threads", std::to_string(st.threads)},
                         {"nearfield:date", utc_now()}};
+  attrs.emplace_back("nearfield:view", radiance_view(scene.camera).format());
   for (const auto& kv : set.attributes()) attrs.push_back(kv);
-  write_exr(outputs_tx, o.out, run.result.image, attrs);
+  if (is_radiance_hdr(o.out))
+    write_radiance_output(outputs_tx, o.out, run.result.image, scene.camera);  // docs/glare.md
+  else
+    write_exr(outputs_tx, o.out, run.result.image, attrs);
   if (!o.png.empty())
     write_png(outputs_tx, o.png, tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
   if (!o.stats.empty()) write_text(outputs_tx, o.stats, stats_json(o, scene, run, set, total.ms()));
@@ -147,7 +188,9 @@ const CommandRegistration reg("reference", [](CLI::App& app) {
   static ReferenceCmd o;
   auto* cmd = app.add_subcommand("reference", "CPU reference renderer: exact visibility, environment, one bounce");
   cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
-  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance)")->required();
+  cmd->add_option("-o,--out", o.out,
+                  "Output image: OpenEXR (.exr, linear radiance) or Radiance picture (.hdr, docs/glare.md); "
+                  "required without --part");
   cmd->add_option("--png", o.png, "Also write a tone-mapped PNG (the scene's tone mapping)");
   cmd->add_option("--stats", o.stats, "Also write rays, rays/s and times as JSON");
   cmd->add_option("--spp", o.spp, "Camera samples per pixel")->capture_default_str();
@@ -155,6 +198,9 @@ const CommandRegistration reg("reference", [](CLI::App& app) {
   cmd->add_option("--only", o.only, "all | luminaires | environment | indirect")->capture_default_str();
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--part", o.part, "Write a part (exact sums, .nfpart) instead of an image: see nearfield merge");
+  cmd->add_option("--tile", o.tile, "With --part: the pixels x,y,w,h (default: all)");
+  cmd->add_option("--samples", o.samples, "With --part: the samples first,count of --spp (default: all)");
   cmd->add_flag("--jitter", o.jitter, "Jitter samples inside each pixel (default: pixel centres, as render)");
   auto add = [&](const std::string& name, auto& var, const std::string& help) {
     o.given[name] = cmd->add_option(name, var, help);

@@ -21,6 +21,7 @@
 
 #include "app/command.h"
 #include "app/output_checks.h"
+#include "app/radiance_output.h"
 #include "app/render_estimate.h"
 #include "cl/runtime.h"
 #include "core/atomic_file.h"
@@ -78,7 +79,7 @@ void apply_overrides(const RenderCmd& o, scene::Scene& s) {
 void run_render(const RenderCmd& o) {
   Timer total;
   if (o.out.empty() && !o.dry_run) fail("render: -o OUT.exr is required (or --dry-run)");
-  if (!o.out.empty()) check_output_extension(o.out, ".exr", "-o");
+  if (!o.out.empty()) check_output_extensions(o.out, {".exr", ".hdr"}, "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
   if (o.frames < 1) fail(fmt::format("--frames must be >= 1, got {}", o.frames));
   std::vector<std::pair<std::string, std::string>> outputs;
@@ -147,8 +148,12 @@ void run_render(const RenderCmd& o) {
                         {"nearfield:samples", std::to_string(stats.total.samples)},
                         {"nearfield:render_ms", fmt::format("{:.3f}", stats.total.wall_ms)},
                         {"nearfield:date", utc_now()}};
+  attrs.emplace_back("nearfield:view", radiance_view(renderer.scene().camera).format());
   for (const auto& kv : stats.settings) attrs.push_back(kv);
-  write_exr(outputs_tx, o.out, hdr, attrs);
+  if (is_radiance_hdr(o.out))
+    write_radiance_output(outputs_tx, o.out, hdr, renderer.scene().camera);  // docs/glare.md
+  else
+    write_exr(outputs_tx, o.out, hdr, attrs);
   if (!o.png.empty()) write_png(outputs_tx, o.png, renderer.tonemapped());
   progress.advance();
   progress.finish();
@@ -169,7 +174,9 @@ const CommandRegistration reg("render", [](CLI::App& app) {
   static RenderCmd o;
   auto* cmd = app.add_subcommand("render", "Render a scene headless to OpenEXR (+ PNG, stats JSON)");
   cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
-  cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance); required unless --dry-run");
+  cmd->add_option("-o,--out", o.out,
+                  "Output image: OpenEXR (.exr, linear radiance) or Radiance picture (.hdr, luminance-scaled, "
+                  "docs/glare.md); required unless --dry-run");
   cmd->add_flag("--dry-run", o.dry_run,
                 "Load and validate the scene, print the memory estimate, render and write nothing");
   cmd->add_option("--png", o.png, "Also write a tone-mapped PNG");

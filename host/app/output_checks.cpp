@@ -69,6 +69,15 @@ void check_output_extension(const std::string& path, const std::string& ext, con
     fail(fmt::format("{} {}: the file name must end in {}", option, path, ext));
 }
 
+void check_output_extensions(const std::string& path, const std::vector<std::string>& exts, const std::string& option) {
+  const std::string e = lower(fs::path(path).extension().string());
+  for (const auto& x : exts)
+    if (e == x) return;
+  std::string list;
+  for (std::size_t i = 0; i < exts.size(); ++i) list += (i == 0 ? "" : i + 1 == exts.size() ? " or " : ", ") + exts[i];
+  fail(fmt::format("{} {}: the file name must end in {}", option, path, list));
+}
+
 void check_output_files(const std::string& input_file, const OutputFiles& outputs, const std::string& what) {
   const std::set<fs::path> inputs = inputs_of(input_file);
   const std::string job = what.empty() ? "the scene " + input_file : what;

@@ -17,6 +17,8 @@ using OutputFiles = std::vector<std::pair<std::string, std::string>>;
 
 // Throws nf::Error "OPTION PATH: the file name must end in EXT" (case-insensitive).
 void check_output_extension(const std::string& path, const std::string& ext, const std::string& option);
+// The same for several accepted extensions: "OPTION PATH: the file name must end in .exr or .hdr".
+void check_output_extensions(const std::string& path, const std::vector<std::string>& exts, const std::string& option);
 
 // Throws nf::Error naming the option, the path and the problem when an output is given twice, is an
 // input of `input_file` (`what` names it in the message; default "the scene INPUT_FILE"), is a

@@ -90,7 +90,8 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
   for (int k = 0; k < n; ++k) num("number of lamps");
   for (int k = 0; k < n; ++k) text("type of lamps");
   for (int k = 0; k < n; ++k) lamp_flux += num("total luminous flux of lamps");
-  for (int k = 0; k < n; ++k) text("colour temperature");
+  std::vector<std::string> colour_temperature;
+  for (int k = 0; k < n; ++k) colour_temperature.push_back(std::string(trim_blanks(text("colour temperature"))));
   for (int k = 0; k < n; ++k) text("colour rendering index");
   for (int k = 0; k < n; ++k) num("wattage");
   for (int k = 0; k < 10; ++k) num("direct ratios");
@@ -130,6 +131,7 @@ Goniometric read_eulumdat(const std::filesystem::path& path) {
                     "planes x {} gamma angles)",
                     file, surplus, from, sym, count, ngm));
   g.stated_lumens = lamp_flux * lor / 100.0;
+  g.stated_colour = colour_temperature.empty() ? std::string() : colour_temperature.front();
   validate_table(g, file);
   check_c_coverage(g, file, sym, c_line);
   static const char* names[] = {"none", "rotational", "bilateral 0-180", "bilateral 90-270", "quadrilateral"};

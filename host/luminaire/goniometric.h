@@ -16,6 +16,7 @@ struct Goniometric {
   std::vector<double> gamma;    // degrees, ascending, within [0, 180]
   std::vector<double> cd;       // cd[ic * gamma.size() + ig]
   double stated_lumens = -1.0;  // the flux the file states (< 0: none)
+  std::string stated_colour;     // EULUMDAT line 26d of the first lamp set (colour temperature / appearance), as written
 
   double intensity(double c_deg, double gamma_deg) const;  // bilinear; 0 outside the gamma range
   double lumens() const;                                   // integral of the bilinear table over the sphere

@@ -70,11 +70,22 @@ Goniometric read_ies(const std::filesystem::path& path) {
     const double n = next("number of tilt angles");
     if (!(n >= 0 && n <= 1e5 && n == std::floor(n)))
       fail(fmt::format("{}: field 'number of tilt angles' is {}, must be a whole number in 0..100000", file, n));
-    // Tilt angles and factors: read (they must be numbers) but not applied (lamp tilt).
-    for (const char* field : {"tilt angles", "tilt multiplying factors"})
-      for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) next(field);
+    // Tilt angles and factors (lamp output against the lamp's tilt when installed): nearfield
+    // does not apply them, which is exact only when every factor is 1; otherwise refused.
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) next("tilt angles");
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) {
+      const double f = next("tilt multiplying factors");
+      if (f != 1.0)
+        fail(
+            fmt::format("{}: TILT=INCLUDE with lamp-tilt multiplying factor {} (factor {} of {}): nearfield does not "
+                        "apply lamp-tilt factors, so only TILT=NONE (or factors that are all 1) can be used",
+                        file, f, k + 1, static_cast<std::size_t>(n)));
+    }
   } else if (tilt != "NONE") {
-    // TILT=<file>: an external tilt file; the intensities are used as they are.
+    fail(
+        fmt::format("{}: TILT={}: lamp-tilt data in a separate file are not supported (nearfield does not apply "
+                    "lamp-tilt factors); only TILT=NONE or TILT=INCLUDE with factors all 1",
+                    file, excerpt(tilt)));
   }
   const double lamps = next("number of lamps");
   const double lumens_per_lamp = next("lumens per lamp");
@@ -88,7 +99,11 @@ Goniometric read_ies(const std::filesystem::path& path) {
   const double ballast = next("ballast factor");
   const double ballast_lamp = next("future use / ballast-lamp photometric factor");
   next("input watts");
-  if (type != 1) fail(fmt::format("{}: field 'photometric type' is {}; only type C (1) is supported", file, type));
+  if (type != 1)
+    fail(fmt::format("{}: field 'photometric type' is {}{}; only type C (1) is supported", file, type,
+                     type == 2   ? " (type B)"
+                     : type == 3 ? " (type A)"
+                                 : ""));
   if (!(nv >= 1 && nv <= 10000 && nv == std::floor(nv)))
     fail(fmt::format("{}: field 'number of vertical angles' is {}", file, nv));
   if (nv < 2)

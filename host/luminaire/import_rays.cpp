@@ -146,6 +146,7 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   struct Local {
     glm::dvec2 s, t;
     double flux;
+    std::size_t ray;
   };
   std::vector<Local> fwd;
   fwd.reserve(rays.size());
@@ -157,7 +158,7 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
       continue;
     }
     const glm::dvec2 t(d.x / d.z, d.y / d.z);
-    fwd.push_back({glm::dvec2(q.x, q.y) - q.z * t, t, rays.flux[r]});
+    fwd.push_back({glm::dvec2(q.x, q.y) - q.z * t, t, rays.flux[r], r});
     cheb.emplace_back(std::max(std::abs(t.x), std::abs(t.y)), rays.flux[r]);
   }
   if (fwd.empty()) fail(where + ": no ray travels along the emission axis (all have d . axis <= 0)");
@@ -241,20 +242,26 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   const long long tw = ax0 + nx - qx_min, th = ay0 + ny - qy_min;  // table size
 
   // ---- memory, before allocating (docs/robustness.md): per pixel-basis pair the binned sum and
-  // square (2 doubles), the image float and at most one noise double; per etendue-table offset a
+  // square (2 doubles), the image float (3 with colour) and at most one noise double, with a colour
+  // per ray 3 more doubles for the RGB sums; per etendue-table offset a
   // flag and a double; one more image for the writer's conversion buffer.
   const auto pairs = static_cast<std::uint64_t>(M) * npix;
   const std::uint64_t need =
-      add_sat(add_sat(mul_sat(pairs, 8 + 8 + 4 + 8),
+      add_sat(add_sat(mul_sat(pairs, rays.colour.empty()      ? 8 + 8 + 4 + 8
+                                     : rays.colour.size() > 1 ? 8 + 8 + 12 + 8 + 24
+                                                              : 8 + 8 + 12 + 8),
                       mul_sat(static_cast<std::uint64_t>(tw), static_cast<std::uint64_t>(th) * 9)),
-              static_cast<std::uint64_t>(npix) * 4);
+              static_cast<std::uint64_t>(npix) * (rays.colour.empty() ? 4 : 12));
   check_memory(where,
                fmt::format("importing into {} x {} images of {} x {} pixels ({} etendue offsets)", W, H, nx, ny,
                            static_cast<std::uint64_t>(tw) * static_cast<std::uint64_t>(th)),
                need, available_host_memory());
 
   // ---- binning: numerator sum flux Phi_m(u), and its square for the noise estimate.
+  // With a colour per ray, the RGB sums too (each ray's rgb has luminance 1, so their luminance is num).
+  const bool per_ray_colour = rays.colour.size() > 1;
   std::vector<double> num(static_cast<std::size_t>(M) * npix, 0.0), sq(num.size(), 0.0);
+  std::vector<glm::dvec3> num_rgb(per_ray_colour ? num.size() : 0, glm::dvec3(0.0));
   std::vector<char> needed(static_cast<std::size_t>(tw * th), 0);
   for (const auto& l : fwd) {
     const double fa = std::floor((l.s.x - s0.x) / pix), frb = std::floor((l.s.y - s0.y) / pix);
@@ -291,6 +298,7 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
       const std::size_t idx = static_cast<std::size_t>(terms[k].m) * npix + static_cast<std::size_t>(r) * nx + a;
       num[idx] += v;
       sq[idx] += v * v;
+      if (per_ray_colour) num_rgb[idx] += v * rays.colour[l.ray];
       const int i = terms[k].m % W, j = terms[k].m / W;
       const long long qx = ax0 + a - static_cast<long long>(i) * kcell[0] - qx_min;
       const long long qy = ay0 + rb - static_cast<long long>(j) * kcell[1] - qy_min;
@@ -327,8 +335,11 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   lum.image.size = {nx * pix, ny * pix};
   lum.image.resolution = {nx, ny};
   lum.image.file = o.name + ".exr";
-  lum.channels = 1;
-  lum.images.assign(M, std::vector<float>(npix, 0.0f));
+  // Colour (docs/measured-data.md, "Colour"): R, G, B whose Rec. 709 luminance is the pixel's
+  // value without colour: one colour for every ray scales it, a colour per ray is binned alike.
+  lum.channels = rays.colour.empty() ? 1 : 3;
+  const int ch = lum.channels;
+  lum.images.assign(M, std::vector<float>(npix * static_cast<std::size_t>(ch), 0.0f));
   std::vector<double> noise;
   for (int m = 0; m < M; ++m) {
     const int i = m % W, j = m / W;
@@ -341,7 +352,13 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
         const long long qy = ay0 + rb - static_cast<long long>(j) * kcell[1] - qy_min;
         const double g = table[static_cast<std::size_t>(qy * tw + qx)];
         if (!(g > 0.0)) fail(where + ": internal error: zero etendue for a lit pixel");
-        lum.images[m][static_cast<std::size_t>(r) * nx + a] = static_cast<float>(num[idx] / g);
+        float* px = &lum.images[m][(static_cast<std::size_t>(r) * nx + a) * static_cast<std::size_t>(ch)];
+        if (ch == 1) {
+          px[0] = static_cast<float>(num[idx] / g);
+        } else {
+          const glm::dvec3 rgb = (per_ray_colour ? num_rgb[idx] : num[idx] * rays.colour[0]) / g;
+          for (int c = 0; c < 3; ++c) px[c] = static_cast<float>(rgb[c]);
+        }
         noise.push_back(std::sqrt(sq[idx]) / num[idx]);
       }
   }
@@ -354,6 +371,7 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   lum.description =
       fmt::format("imported from {} ({} rays, {:.6g} {}); pixels are radiance in {}/m^2/sr; +z is the emission axis",
                   rays.format, rays.size(), rep.total_flux, unit, unit);
+  if (!rays.colour.empty()) lum.description += "; R, G, B linear sRGB from the " + rays.colour_source;
   lum.provenance = fmt::format(
       "nearfield {} 'luminaire import {}': {} of {} rays kept ({:.4g} of {:.6g} {}), basis covers |tan theta| <= "
       "{:.4g}, "

@@ -23,6 +23,12 @@ struct RaySet {
   std::string format;              // "TM-25" | "LightTools ASCII" | "generated"
   double header_flux = -1.0;       // total flux the header states (< 0: none)
   std::vector<std::string> notes;  // what the reader skipped or noticed (spectra, Stokes, ...)
+  // Colour from the file's spectral data (docs/measured-data.md, "Colour"): linear sRGB clipped
+  // to the gamut with Rec. 709 luminance 1 (color::unit_luminance_rgb). Empty: no spectral data
+  // (white); one entry: every ray has that colour; else one per ray.
+  std::vector<glm::dvec3> colour;
+  glm::dvec3 xyz{0.0};        // sum over rays of flux * XYZ / Y (unclipped; 0 without colour)
+  std::string colour_source;  // where the colour came from, e.g. "spectral table 1 (86 samples, 450..620 nm)"
 
   std::size_t size() const { return flux.size(); }
   double total_flux() const;  // sum of the rays' flux (double precision)

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
+#include "core/colorimetry.h"
 #include "core/error.h"
 #include "core/excerpt.h"
 #include "core/memory.h"
@@ -57,6 +58,90 @@ class Reader {
   const std::vector<unsigned char>& b_;
   std::string file_;
 };
+
+// One spectral table (4.7.4): `pairs` (wavelength nm, weight) float pairs from byte `at`.
+// Wavelengths strictly ascending, weights finite and >= 0; a table with no sample pair inside the
+// observer's 360..830 nm has no colour and is refused.
+std::vector<std::pair<double, double>> read_spectral_table(const Reader& r, std::size_t at, int pairs, int number,
+                                                           const std::string& file) {
+  std::vector<std::pair<double, double>> t;
+  t.reserve(static_cast<std::size_t>(pairs));
+  for (int k = 0; k < pairs; ++k) {
+    const double nm = r.get<float>(at + 8 * static_cast<std::size_t>(k), "spectral table");
+    const double w = r.get<float>(at + 8 * static_cast<std::size_t>(k) + 4, "spectral table");
+    if (!(std::isfinite(nm) && std::isfinite(w) && w >= 0.0) || (!t.empty() && !(nm > t.back().first)))
+      fail(
+          fmt::format("{}: TM-25 spectral table {} (section 4.7.4) entry {} is ({}, {}): wavelengths must ascend "
+                      "and weights be finite and >= 0",
+                      file, number, k + 1, nm, w));
+    t.emplace_back(nm, w);
+  }
+  if (!(color::spectrum_xyz(t).y > 0.0))
+    fail(
+        fmt::format("{}: TM-25 spectral table {} (section 4.7.4) spans {} .. {} nm and has no visible power "
+                    "(the CIE observer covers {} .. {} nm)",
+                    file, number, t.front().first, t.back().first, color::kMinNm, color::kMaxNm));
+  return t;
+}
+
+// Where the rays' colour comes from (docs/measured-data.md, "Colour"): per-ray tristimulus X, Z
+// (with the luminous flux as Y), else the spectral data identifier (4.7.1.9): 1 one wavelength
+// (header byte 64), 2 a wavelength per ray, 3 one spectral table for every ray. 0: none (white);
+// 4 (a spectrum index per ray) is not imported (white, with a note).
+struct ColourPlan {
+  bool per_ray = false, use_tristimulus = false;
+  glm::dvec3 xyz{0.0};  // for every ray, when !per_ray
+  std::string source;
+  std::vector<std::string> notes;
+};
+
+ColourPlan plan_colour(const Reader& r, int spectrum_type, const std::vector<std::vector<std::pair<double, double>>>& t,
+                       bool has_lambda, bool tristimulus, const std::string& file) {
+  ColourPlan p;
+  if (tristimulus) {
+    p.per_ray = p.use_tristimulus = true;
+    p.source = "per-ray tristimulus X, Z with the luminous flux as Y";
+  } else if (spectrum_type == 1) {
+    const double nm = r.get<float>(64, "single wavelength");
+    if (!(nm >= color::kMinNm && nm <= color::kMaxNm))
+      fail(
+          fmt::format("{}: TM-25 header field 'single wavelength' (section 4.7.1.10) is {} nm, outside the CIE "
+                      "observer's {} .. {} nm: the light has no colour",
+                      file, nm, color::kMinNm, color::kMaxNm));
+    p.xyz = color::cmf(nm);
+    p.source = fmt::format("single wavelength {} nm", nm);
+  } else if (spectrum_type == 2 && has_lambda) {
+    p.per_ray = true;
+    p.source = "per-ray wavelength column";
+  } else if (spectrum_type == 3) {
+    p.xyz = color::spectrum_xyz(t[0]);
+    p.source =
+        fmt::format("spectral table 1 ({} samples, {} .. {} nm)", t[0].size(), t[0].front().first, t[0].back().first);
+    if (t[0].front().first < color::kMinNm || t[0].back().first > color::kMaxNm)
+      p.notes.push_back(fmt::format("spectral table 1 extends beyond {} .. {} nm: the part outside carries no colour",
+                                    color::kMinNm, color::kMaxNm));
+  } else if (spectrum_type == 4) {
+    p.notes.push_back("spectrum index column not imported: the light field is white");
+  }
+  if (has_lambda && !p.per_ray) p.notes.push_back("skipped the per-ray wavelength column");
+  if (!p.source.empty()) p.notes.push_back("colour from the " + p.source);
+  return p;
+}
+
+glm::dvec3 ray_wavelength_xyz(double nm, std::uint64_t i, const std::string& file) {
+  if (!(nm >= color::kMinNm && nm <= color::kMaxNm))
+    fail(fmt::format("{}: ray {} has wavelength {} nm, outside the CIE observer's {} .. {} nm", file, i, nm,
+                     color::kMinNm, color::kMaxNm));
+  return color::cmf(nm);
+}
+
+glm::dvec3 ray_tristimulus(const std::vector<float>& row, std::size_t tri_col, std::size_t flux_col, std::uint64_t i,
+                           const std::string& file) {
+  const glm::dvec3 xyz(row[tri_col], row[flux_col], row[tri_col + 1]);
+  if (!(std::isfinite(xyz.x) && std::isfinite(xyz.z) && xyz.x >= 0.0 && xyz.z >= 0.0))
+    fail(fmt::format("{}: ray {} has tristimulus X {} Z {} (must be finite and >= 0)", file, i, xyz.x, xyz.z));
+  return xyz;
+}
 
 }  // namespace
 
@@ -154,16 +239,15 @@ RaySet read_tm25(const std::filesystem::path& path) {
   // Variable blocks: spectral tables (4.7.4, padded to 32 bytes), additional column names (4.7.5),
   // additional text (4.7.6).
   std::size_t at = kFixedHeader, table_bytes = 0;
+  std::vector<std::vector<std::pair<double, double>>> tables;
   for (int t = 0; t < n_spectra; ++t) {
     const auto pairs = r.get<std::int32_t>(at + table_bytes, "spectral table size");
     if (pairs <= 0 || pairs > 1000000)
       bad("spectral table size", "4.7.4", fmt::format("of table {} is {}, must be 1..1e6", t + 1, pairs));
+    tables.push_back(read_spectral_table(r, at + table_bytes + 4, pairs, t + 1, file));
     table_bytes += 4 + 8 * static_cast<std::size_t>(pairs);
   }
   if (table_bytes % 32) table_bytes += 32 - table_bytes % 32;
-  if (n_spectra > 0)
-    rs.notes.push_back(
-        fmt::format("skipped {} spectral table(s) (spectral data identifier {})", n_spectra, spectrum_type));
   at += table_bytes + 512 * static_cast<std::size_t>(n_additional) + static_cast<std::size_t>(text_size);
   if (at > b.size())
     fail(fmt::format("{}: TM-25 variable header blocks end at byte {} beyond the file ({} bytes)", file, at, b.size()));
@@ -187,9 +271,12 @@ RaySet read_tm25(const std::filesystem::path& path) {
     bad("number of rays", "4.7.1.6",
         fmt::format("is {} but the ray data after byte {} hold {} bytes = {:.6g} rays of {} columns", n_rays, at, data,
                     static_cast<double>(data) / (4.0 * static_cast<double>(cols)), cols));
-  if (has_lambda) rs.notes.push_back("skipped the per-ray wavelength column");
-  if (has_tri) rs.notes.push_back("skipped the tristimulus X and Z columns");
-  if (has_index) rs.notes.push_back("skipped the spectrum index column");
+  const std::size_t lambda_col = 6 + has_rad, tri_col = 6 + has_rad + has_lambda + has_lum + stokes_cols;
+  const ColourPlan colour = plan_colour(r, spectrum_type, tables, has_lambda, has_tri && has_lum, file);
+  for (const auto& note : colour.notes) rs.notes.push_back(note);
+  if (has_tri && !has_lum) rs.notes.push_back("skipped the tristimulus X and Z columns (no luminous flux column as Y)");
+  if (colour.per_ray)
+    check_memory(file, fmt::format("the colours of {} rays", n_rays), mul_sat(n_rays, 24), available_host_memory());
   if (n_additional > 0) rs.notes.push_back(fmt::format("skipped {} additional column(s)", n_additional));
   if (has_lum && has_rad) rs.notes.push_back("both radiant and luminous flux present: using luminous flux (lm)");
   rs.kind = has_lum ? FluxKind::luminous : FluxKind::radiant;
@@ -212,6 +299,26 @@ RaySet read_tm25(const std::filesystem::path& path) {
     if (!(std::isfinite(f) && f >= 0.0))
       fail(fmt::format("{}: ray {} has flux {} (must be finite and >= 0)", file, i, f));
     rs.add(glm::dvec3(row[0], row[1], row[2]) * kMillimetre, k / len, f);
+    if (colour.per_ray) {
+      const glm::dvec3 xyz = colour.use_tristimulus ? ray_tristimulus(row, tri_col, flux_col, i, file)
+                                                    : ray_wavelength_xyz(row[lambda_col], i, file);
+      rs.colour.push_back(color::unit_luminance_rgb(xyz));
+      if (xyz.y > 0.0) rs.xyz += f * xyz / xyz.y;
+    }
+  }
+  if (!colour.per_ray && colour.xyz.y > 0.0) {
+    rs.colour.push_back(color::unit_luminance_rgb(colour.xyz));
+    rs.xyz = rs.total_flux() * colour.xyz / colour.xyz.y;
+  }
+  rs.colour_source = colour.source;
+  if (rs.xyz.y > 0.0) {
+    const glm::dvec2 xy = color::chromaticity(rs.xyz);
+    const glm::dvec3 srgb = color::xyz_to_linear_srgb(rs.xyz);
+    const glm::dvec3 c = color::unit_luminance_rgb(rs.xyz);
+    rs.notes.push_back(fmt::format(
+        "colour of all rays: CIE 1931 x {:.4f} y {:.4f}, linear sRGB ({:.4f}, {:.4f}, {:.4f}) "
+        "at luminance 1{}",
+        xy.x, xy.y, c.r, c.g, c.b, std::min({srgb.r, srgb.g, srgb.b}) < 0.0 ? " (clipped to the sRGB gamut)" : ""));
   }
   const double total = rs.total_flux();
   if (rs.header_flux >= 0.0 && std::abs(total - rs.header_flux) > 1e-3 * std::max(total, rs.header_flux))

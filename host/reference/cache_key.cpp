@@ -55,7 +55,7 @@ std::string matrix(const glm::dmat4& m) {
 // What the scene holds after loading (a scene parsed from a string has no file text to hash, and a
 // loaded scene may have been changed in code): meshes, instances, materials, textures,
 // environment and luminaire instances.
-std::string content_description(const scene::Scene& scene) {
+std::string content_description(const scene::Scene& scene, std::string (*stamp)(const fs::path&)) {
   const auto& g = scene.geometry;
   std::uint64_t h = 0xcbf29ce484222325ull;
   for (const auto& m : g.meshes) {
@@ -78,16 +78,35 @@ std::string content_description(const scene::Scene& scene) {
   }
   if (scene.environment) {
     const auto& e = *scene.environment;
-    d += fmt::format("environment {:.17g} {:.17g} ", e.rotation_deg, e.intensity) + file_stamp(e.file);
+    d += fmt::format("environment {:.17g} {:.17g} ", e.rotation_deg, e.intensity) + stamp(e.file);
   }
   for (const auto& l : scene.luminaires) {
     d += fmt::format("luminaire instance {:.17g}{}\n", l.intensity, matrix(l.to_world));
-    if (!l.manifest.empty()) d += file_stamp(l.manifest);
+    if (!l.manifest.empty()) d += stamp(l.manifest);
   }
   return d;
 }
 
+// A file by its bytes alone (not its path or time): the same on every machine.
+std::string file_content(const fs::path& p) { return fmt::format("file {:016x}\n", fnv1a(read_text(p))); }
+
 }  // namespace
+
+std::string content_key(const scene::Scene& scene, const ReferenceSettings& settings) {
+  std::string d =
+      fmt::format("nearfield reference content format {}\nsource {}\n", kCacheFormat, reference_source_hash());
+  const auto& c = scene.camera;
+  d +=
+      fmt::format("camera {} {} {} {} {} {} {} {} {} {:.17g} {}x{} {:.17g}\n", c.position.x, c.position.y, c.position.z,
+                  c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg, c.width, c.height, c.near);
+  for (const auto& [k, v] : settings.attributes()) d += fmt::format("{} {}\n", k, v);
+  if (!scene.file.empty()) {
+    d += "scene text " + fmt::format("{:016x}", fnv1a(read_text(scene.file))) + "\n";
+    for (const auto& f : scene::referenced_files(scene.file)) d += file_content(f);
+  }
+  for (const auto& l : scene.luminaires) d += fmt::format("luminaire {} {}\n", l.name, l.preset);
+  return fmt::format("{:016x}", fnv1a(d + content_description(scene, file_content)));
+}
 
 std::string cache_description(const scene::Scene& scene, const ReferenceSettings& settings) {
   std::string d =
@@ -96,6 +115,7 @@ std::string cache_description(const scene::Scene& scene, const ReferenceSettings
   d +=
       fmt::format("camera {} {} {} {} {} {} {} {} {} {:.17g} {}x{} {:.17g}\n", c.position.x, c.position.y, c.position.z,
                   c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg, c.width, c.height, c.near);
+  if (c.projection == scene::Camera::Projection::fisheye) d += "projection fisheye\n";
   for (const auto& [k, v] : settings.attributes()) d += fmt::format("{} {}\n", k, v);
   if (!scene.file.empty()) {
     d += "scene text " + fmt::format("{:016x}", fnv1a(read_text(scene.file))) + "\n";
@@ -103,7 +123,7 @@ std::string cache_description(const scene::Scene& scene, const ReferenceSettings
   }
   for (const auto& l : scene.luminaires)
     d += fmt::format("luminaire {} {} {}\n", l.name, l.preset, l.manifest.string());
-  return d + content_description(scene);
+  return d + content_description(scene, file_stamp);
 }
 
 std::string cache_key(const scene::Scene& scene, const ReferenceSettings& settings) {

@@ -23,4 +23,8 @@ const char* reference_source_hash();  // generated at build time (scripts/hash_s
 std::string cache_description(const scene::Scene& scene, const ReferenceSettings& settings);
 std::string cache_key(const scene::Scene& scene, const ReferenceSettings& settings);
 
+// As cache_key, but with every file by its content instead of its path, size and time, so the
+// same inputs give the same key on every machine (parts of a render, docs/cluster.md).
+std::string content_key(const scene::Scene& scene, const ReferenceSettings& settings);
+
 }  // namespace nf::ref

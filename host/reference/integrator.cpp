@@ -107,7 +107,11 @@ class Tracer {
     const scene::Camera& cam = scene_.camera;
     const double jx = set_.jitter ? rng.next() : 0.5, jy = set_.jitter ? rng.next() : 0.5;
     const scene::Camera::Ray ray = cam.ray(x + jx, y + jy);
-    const double tmin = cam.near / std::max(glm::dot(ray.direction, cam.forward()), 1e-6);
+    // near: a plane for the perspective camera, a sphere for the fisheye (whose rays reach 90
+    // degrees and beyond from the view direction).
+    const double tmin = cam.projection == scene::Camera::Projection::fisheye
+                            ? cam.near
+                            : cam.near / std::max(glm::dot(ray.direction, cam.forward()), 1e-6);
     ++c.camera;
     const RayHit hit = rays_.intersect(ray.origin, ray.direction, tmin, std::numeric_limits<double>::infinity());
     double nearest = hit.hit ? hit.t : std::numeric_limits<double>::infinity();
@@ -161,7 +165,7 @@ class Tracer {
       if (!(cos > 0.0)) continue;
       const dvec3 f = brdf_eval(sp.material, sp.ns, v, s.w);
       if (f == dvec3(0.0)) continue;
-      if (visible(sp, s.w, s.distance, c)) sum += f * (s.intensity * cos / (s.distance * s.distance));
+      if (visible(sp, s.w, s.distance, c)) sum += f * l.colour * (s.intensity * cos / (s.distance * s.distance));
     }
     return sum;
   }
@@ -222,14 +226,68 @@ class Tracer {
 
 }  // namespace
 
-ReferenceResult render_reference(const scene::Scene& scene, const std::vector<LightFieldLight>& lights,
-                                 const EnvironmentMap* environment, const ReferenceSettings& settings) {
+void ImageRegion::validate(int image_width, int image_height, int spp) const {
+  if (width < 1 || height < 1 || x < 0 || y < 0 || x + width > image_width || y + height > image_height)
+    fail(fmt::format("--tile {},{},{},{} is not a non-empty rectangle inside the {}x{} image", x, y, width, height,
+                     image_width, image_height));
+  if (first_sample < 0 || sample_count < 1 || first_sample + sample_count > spp)
+    fail(fmt::format("--samples {},{} is not a non-empty range inside 0..{} (--spp)", first_sample, sample_count, spp));
+}
+
+void finish_pixel(const SampleSums& root, int spp, float rgb[3], float& variance) {
+  const auto n = static_cast<double>(spp);
+  for (int k = 0; k < 3; ++k) rgb[k] = static_cast<float>(root[k] / n);
+  const double my = root[3] / n;
+  variance = spp > 1 ? static_cast<float>(std::max(0.0, (root[4] / n - my * my) / (n - 1.0))) : 0.0f;
+}
+
+namespace {
+
+// One pixel's samples of the region's range: one sum per node (sample_nodes), leaves summed
+// pairwise (reference/sample_sums.h). Returns the kind seen by the range's first sample.
+std::uint8_t pixel_sums(Tracer& tracer, const ReferenceSettings& settings, const ImageRegion& r,
+                        const std::vector<SampleNode>& nodes, int x, int y, int image_width, double* out, Counters& c) {
+  const std::uint64_t pixel =
+      static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image_width) + static_cast<std::uint64_t>(x);
+  std::uint8_t kind = 0;
+  PairwiseSums acc;
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    acc.clear();
+    for (std::int64_t s = nodes[n].first; s < nodes[n].end; ++s) {
+      Rng rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
+      std::uint8_t k = 0;
+      // Without jitter every sample sees the same point: its camera ray and light tables are
+      // computed once per pixel (the values are the same as if they were computed again).
+      dvec3 L = tracer.sample(x, y, rng, !settings.jitter && s > r.first_sample, k, c);
+      if (s == r.first_sample) kind = k;
+      if (!std::isfinite(L.x + L.y + L.z)) {
+        L = dvec3(0.0);
+        ++c.dropped;
+      }
+      const double yl = 0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z;
+      acc.push(0, {L.x, L.y, L.z, yl, yl * yl});
+    }
+    const SampleSums v = acc.result();
+    std::copy(v.begin(), v.end(), out + n * kSumChannels);
+  }
+  return kind;
+}
+
+}  // namespace
+
+ReferencePart render_reference_part(const scene::Scene& scene, const std::vector<LightFieldLight>& lights,
+                                    const EnvironmentMap* environment, const ReferenceSettings& settings,
+                                    const ImageRegion& region) {
   settings.validate(environment != nullptr);
   const int w = scene.camera.width, h = scene.camera.height;
-  ReferenceResult out;
-  out.image = Image(w, h, 3);
-  out.variance = Image(w, h, 1);
-  out.kinds.assign(static_cast<std::size_t>(w) * h, 0);
+  region.validate(w, h, settings.spp);
+  ReferencePart out;
+  out.region = region;
+  out.nodes = sample_nodes(region.first_sample, region.sample_count, settings.spp);
+  const std::size_t pixels = static_cast<std::size_t>(region.width) * static_cast<std::size_t>(region.height);
+  const std::size_t stride = out.nodes.size() * kSumChannels;
+  out.sums.assign(pixels * stride, 0.0);
+  out.kinds.assign(pixels, 0);
   Timer build;
   const RayScene rays(scene.geometry);
   out.stats.build_ms = build.ms();
@@ -237,41 +295,16 @@ ReferenceResult render_reference(const scene::Scene& scene, const std::vector<Li
   out.stats.threads = lum::resolve_threads(settings.threads);
   Timer timer;
   std::unique_ptr<Progress> progress;
-  if (settings.progress) progress = std::make_unique<Progress>("reference", static_cast<std::size_t>(h));
+  if (settings.progress) progress = std::make_unique<Progress>("reference", static_cast<std::size_t>(region.height));
   std::mutex mutex;
   Counters total;
-  lum::parallel_for(h, settings.threads, [&](int y) {
+  lum::parallel_for(region.height, settings.threads, [&](int row) {
     Tracer tracer(scene, rays, lights, environment, settings);
     Counters c;
-    const auto n = static_cast<double>(settings.spp);
-    for (int x = 0; x < w; ++x) {
-      const std::uint64_t pixel =
-          static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
-      dvec3 sum(0.0);
-      double sum_y = 0.0, sum_y2 = 0.0;
-      std::uint8_t kind = 0;
-      for (int s = 0; s < settings.spp; ++s) {
-        Rng rng(settings.seed, pixel, static_cast<std::uint64_t>(s));
-        std::uint8_t k = 0;
-        // Without jitter every sample sees the same point: its camera ray and light tables are
-        // computed once per pixel.
-        dvec3 L = tracer.sample(x, y, rng, !settings.jitter && s > 0, k, c);
-        if (s == 0) kind = k;
-        if (!std::isfinite(L.x + L.y + L.z)) {
-          L = dvec3(0.0);
-          ++c.dropped;
-        }
-        sum += L;
-        const double yl = 0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z;
-        sum_y += yl;
-        sum_y2 += yl * yl;
-      }
-      const dvec3 mean = sum / n;
-      for (int k = 0; k < 3; ++k) out.image.at(x, y, k) = static_cast<float>(mean[k]);
-      const double my = sum_y / n;
-      out.variance.at(x, y, 0) =
-          settings.spp > 1 ? static_cast<float>(std::max(0.0, (sum_y2 / n - my * my) / (n - 1.0))) : 0.0f;
-      out.kinds[pixel] = kind;
+    for (int col = 0; col < region.width; ++col) {
+      const std::size_t i = static_cast<std::size_t>(row) * region.width + col;
+      out.kinds[i] = pixel_sums(tracer, settings, region, out.nodes, region.x + col, region.y + row, w,
+                                out.sums.data() + i * stride, c);
     }
     std::lock_guard lock(mutex);
     total.camera += c.camera;
@@ -286,8 +319,29 @@ ReferenceResult render_reference(const scene::Scene& scene, const std::vector<Li
   out.stats.shadow_rays = total.shadow;
   out.stats.bounce_rays = total.bounce;
   out.stats.dropped = total.dropped;
-  out.stats.samples =
-      static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * static_cast<std::uint64_t>(settings.spp);
+  out.stats.samples = static_cast<std::uint64_t>(pixels) * static_cast<std::uint64_t>(region.sample_count);
+  return out;
+}
+
+ReferenceResult render_reference(const scene::Scene& scene, const std::vector<LightFieldLight>& lights,
+                                 const EnvironmentMap* environment, const ReferenceSettings& settings) {
+  const int w = scene.camera.width, h = scene.camera.height;
+  ReferencePart part =
+      render_reference_part(scene, lights, environment, settings, ImageRegion::whole(w, h, settings.spp));
+  ReferenceResult out;
+  out.image = Image(w, h, 3);
+  out.variance = Image(w, h, 1);
+  out.kinds = std::move(part.kinds);
+  out.stats = part.stats;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      SampleSums root;
+      std::copy_n(part.sums.data() + i * kSumChannels, kSumChannels, root.begin());
+      float rgb[3];
+      finish_pixel(root, settings.spp, rgb, out.variance.at(x, y, 0));
+      for (int k = 0; k < 3; ++k) out.image.at(x, y, k) = rgb[k];
+    }
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "core/image.h"
 #include "reference/environment_map.h"
 #include "reference/light_field_light.h"
+#include "reference/sample_sums.h"
 #include "scene/scene.h"
 
 namespace nf::ref {
@@ -59,7 +60,35 @@ struct ReferenceResult {
   std::vector<std::uint8_t> valid_mask() const;  // 1 on surfaces (tone mapping mean, metrics)
 };
 
+// A part of a reference render (docs/cluster.md): a pixel rectangle and a sample range.
+struct ImageRegion {
+  int x = 0, y = 0, width = 0, height = 0;  // pixels, rows from the top
+  int first_sample = 0, sample_count = 0;   // samples [first, first + count) of spp
+  static ImageRegion whole(int width, int height, int spp) { return {0, 0, width, height, 0, spp}; }
+  // Throws nf::Error naming the option (--tile, --samples) when outside the image or 0..spp.
+  void validate(int image_width, int image_height, int spp) const;
+};
+
+// The exact partial sums of a part: per pixel of the region (row-major), per node of
+// sample_nodes(first, count, spp), the kSumChannels sums of that node (reference/sample_sums.h).
+struct ReferencePart {
+  ImageRegion region;
+  std::vector<SampleNode> nodes;
+  std::vector<double> sums;         // region pixels x nodes x kSumChannels
+  std::vector<std::uint8_t> kinds;  // per region pixel, of its first sample in the part
+  ReferenceStats stats;
+};
+
+// The image from per-pixel root sums (what one machine and `nearfield merge` both do): mean
+// radiance as float32 and the variance of the mean luminance.
+void finish_pixel(const SampleSums& root, int spp, float rgb[3], float& variance);
+
 // `lights`: the scene's luminaire instances (prepared); `environment`: nullptr when none.
+ReferencePart render_reference_part(const scene::Scene& scene, const std::vector<LightFieldLight>& lights,
+                                    const EnvironmentMap* environment, const ReferenceSettings& settings,
+                                    const ImageRegion& region);
+
+// The whole image: render_reference_part of the whole region, finished per pixel.
 ReferenceResult render_reference(const scene::Scene& scene, const std::vector<LightFieldLight>& lights,
                                  const EnvironmentMap* environment, const ReferenceSettings& settings);
 

@@ -18,8 +18,8 @@
 
 namespace nf::render {
 
-static_assert(sizeof(NfFarfieldLight) == 80 && offsetof(NfFarfieldLight, nc) == 28 &&
-                  offsetof(NfFarfieldLight, cd_offset) == 68,
+static_assert(sizeof(NfFarfieldLight) == 96 && offsetof(NfFarfieldLight, nc) == 28 &&
+                  offsetof(NfFarfieldLight, cd_offset) == 68 && offsetof(NfFarfieldLight, cr) == 80,
               "NfFarfieldLight must match kernels/shared/farfield.h");
 
 FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<scene::FarfieldLightRef>& lights,
@@ -35,6 +35,7 @@ FarfieldContribution::FarfieldContribution(cl::Runtime& rt, const std::vector<sc
     d.py = static_cast<float>(pos.y);
     d.pz = static_cast<float>(pos.z);
     d.scale = static_cast<float>(l.intensity);
+    d.cr = static_cast<float>(l.colour.r), d.cg = static_cast<float>(l.colour.g), d.cb = static_cast<float>(l.colour.b);
     // world -> local rotation: the transpose of the rigid transform's rotation (columns = local axes)
     const glm::dvec3 ax(l.to_world[0]), ay(l.to_world[1]), az(l.to_world[2]);
     d.r0x = static_cast<float>(ax.x), d.r0y = static_cast<float>(ax.y), d.r0z = static_cast<float>(ax.z);

@@ -40,6 +40,7 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   f.sampling.seed = r.seed;
   f.sampling.lanes = r.lanes;
   f.sampling.roulette_block = r.roulette_block;
+  f.sampling.surface_shuffle = r.surface_shuffle;
   f.sampling.pixel_cache_mib = r.pixel_cache;
   f.visibility = parse_visibility(r.visibility, "render.visibility");
   f.shadow_map_size = r.shadow_map_size;
@@ -64,6 +65,7 @@ scene::RenderSettings render_settings(const FrameSettings& f) {
   r.seed = p.seed;
   r.lanes = p.lanes;
   r.roulette_block = p.roulette_block;
+  r.surface_shuffle = p.surface_shuffle;
   r.pixel_cache = p.pixel_cache_mib;
   r.tonemap = f.tonemap;
   return r;

@@ -13,11 +13,12 @@
 
 namespace nf::render {
 
-ReferenceRun run_reference(const scene::Scene& scene, const ref::ReferenceSettings& settings,
-                           const LuminaireLoadOptions& load) {
-  settings.validate(scene.environment.has_value());
-  ReferenceRun run;
-  run.key = ref::cache_key(scene, settings);
+namespace {
+
+// Loads the scene's luminaires and environment and calls render(lights, environment); returns the
+// loading time in ms.
+template <typename Render>
+double with_lights(const scene::Scene& scene, const LuminaireLoadOptions& load, Render render) {
   Timer t;
   const std::string name = scene.file.empty() ? std::string("scene") : scene.file.string();
   const LuminaireSet set = load_luminaires(scene.luminaires, name, load);
@@ -41,8 +42,33 @@ ReferenceRun run_reference(const scene::Scene& scene, const ref::ReferenceSettin
       fail(fmt::format("{}: /environment: {}", name, e.what()));
     }
   }
-  run.load_ms = t.ms();
-  run.result = ref::render_reference(scene, lights, env.get(), settings);
+  const double load_ms = t.ms();
+  render(lights, env.get());
+  return load_ms;
+}
+
+}  // namespace
+
+ReferenceRun run_reference(const scene::Scene& scene, const ref::ReferenceSettings& settings,
+                           const LuminaireLoadOptions& load) {
+  settings.validate(scene.environment.has_value());
+  ReferenceRun run;
+  run.key = ref::cache_key(scene, settings);
+  run.load_ms = with_lights(scene, load, [&](const auto& lights, const ref::EnvironmentMap* env) {
+    run.result = ref::render_reference(scene, lights, env, settings);
+  });
+  return run;
+}
+
+ReferencePartRun run_reference_part(const scene::Scene& scene, const ref::ReferenceSettings& settings,
+                                    const ref::ImageRegion& region, const LuminaireLoadOptions& load) {
+  settings.validate(scene.environment.has_value());
+  region.validate(scene.camera.width, scene.camera.height, settings.spp);
+  ReferencePartRun run;
+  run.content_key = ref::content_key(scene, settings);
+  run.load_ms = with_lights(scene, load, [&](const auto& lights, const ref::EnvironmentMap* env) {
+    run.part = ref::render_reference_part(scene, lights, env, settings, region);
+  });
   return run;
 }
 

@@ -23,6 +23,15 @@ struct ReferenceRun {
 ReferenceRun run_reference(const scene::Scene& scene, const ref::ReferenceSettings& settings,
                            const LuminaireLoadOptions& load = {});
 
+// A part of the image (docs/cluster.md): exact partial sums of a pixel rectangle and sample range.
+struct ReferencePartRun {
+  ref::ReferencePart part;
+  std::string content_key;  // ref::content_key: the same for the same inputs on every machine
+  double load_ms = 0.0;
+};
+ReferencePartRun run_reference_part(const scene::Scene& scene, const ref::ReferenceSettings& settings,
+                                    const ref::ImageRegion& region, const LuminaireLoadOptions& load = {});
+
 // As run_reference, but first looks for <cache_dir>/<prefix>-<key>.exr (image, variance and pixel
 // kinds, with the key's description in its metadata, compared on load) and stores a new result
 // there. `refresh`: render even when a valid file exists.

@@ -14,6 +14,7 @@
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "kernels/shared/surface_order.h"
 
 namespace nf::render {
 namespace {
@@ -161,6 +162,11 @@ int Sampler::lanes(const SamplingSettings& s) const {
   return kernels_.emplace(key, rt_.kernel(kFile, name, options)).first->second;
 }
 
+std::uint32_t surface_of_slot(const SamplingSettings& s, int count, int slot) {
+  return nf_surface_at(static_cast<nf_uint>(slot), static_cast<nf_uint>(count),
+                       static_cast<nf_uint>(std::clamp(s.surface_shuffle, 0, 20)), nf_surface_order_key(s.seed));
+}
+
 NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const {
   NfSampleParams p{};
   p.count = count;
@@ -174,6 +180,7 @@ NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire&
   p.image = 0;
   p.band = static_cast<float>(s.band);
   p.roulette_block = static_cast<nf_uint>(std::max(s.roulette_block, 1));
+  p.shuffle_bits = static_cast<nf_uint>(std::clamp(s.surface_shuffle, 0, 20));
   p.vis_words = vis_words;
   p.flux_total = static_cast<float>(lum.flux_total());
   p.group_mul = 1;
@@ -258,11 +265,12 @@ constexpr int kCacheAlign = 16;                                // the widest lan
 int cache_stride(int count) { return (count + kCacheAlign - 1) / kCacheAlign * kCacheAlign; }
 
 // What A_m(p) depends on besides the surfaces: the luminaire, the instance's transform and the
-// method's box (method, band, lanes through the build options).
+// method's box (method, band, lanes through the build options); the cache is laid out by launch
+// slot, so also the surface order (surface_shuffle and the seed that keys it).
 std::string cache_key(std::uint64_t view_version, int count, const LightInstance& li, const std::string& opts,
                       const SamplingSettings& s) {
-  std::string key = fmt::format("{}/{}/{}/{}/{}/", view_version, count, static_cast<const void*>(li.luminaire),
-                                to_string(s.method), s.band);
+  std::string key = fmt::format("{}/{}/{}/{}/{}/{}/{}/", view_version, count, static_cast<const void*>(li.luminaire),
+                                to_string(s.method), s.band, s.surface_shuffle, s.seed);
   const auto* bytes = reinterpret_cast<const unsigned char*>(&li.instance);
   for (std::size_t i = 0; i < sizeof(NfInstance); ++i) key += fmt::format("{:02x}", bytes[i]);
   return key + opts;

@@ -26,6 +26,10 @@ namespace nf::render {
 NfInstance make_instance(const glm::dmat4& world_to_local, double intensity = 1.0);
 NfInstance identity_instance(double intensity = 1.0);
 
+// The surface that launch slot `slot` of `count` shades under the settings' surface order (the
+// kernels' nf_slot_surface; docs/sampling.md "Surface order"): slots in = consecutive roulette blocks.
+std::uint32_t surface_of_slot(const SamplingSettings& s, int count, int slot);
+
 struct LightInstance {
   const DeviceLuminaire* luminaire = nullptr;
   NfInstance instance = identity_instance();

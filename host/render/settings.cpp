@@ -79,6 +79,8 @@ void SamplingSettings::validate() const {
     fail(fmt::format("sampling: lanes must be 0 (automatic), 1, 4, 8 or 16, got {}", lanes));
   if (roulette_block < 1 || roulette_block > 1024)
     fail(fmt::format("sampling: roulette_block must be 1..1024, got {}", roulette_block));
+  if (surface_shuffle < 0 || surface_shuffle > 20)
+    fail(fmt::format("sampling: surface_shuffle must be 0..20, got {}", surface_shuffle));
   if (pixel_cache_mib < 0 || pixel_cache_mib > 1048576)
     fail(fmt::format("sampling: pixel_cache must be 0..1048576 MiB, got {}", pixel_cache_mib));
 }

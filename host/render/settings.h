@@ -39,20 +39,23 @@ std::vector<std::string> structure_names();
 
 struct SamplingSettings {
   Method method = Method::ours;
-  SamplerKind sampler = SamplerKind::halton;
-  Balance balance = Balance::roulette;  // unbiased default (docs/sampling.md); see docs/sampling.md
+  SamplerKind sampler = SamplerKind::halton_scrambled;  // white noise per frame (docs/sampling.md)
+  Balance balance = Balance::roulette;                  // unbiased default (docs/sampling.md); see docs/sampling.md
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
-  int spp = 200;                               // K of Eq. 12, >= 1
-  int k_max = 0;                               // cap on K_m(p); 0 = no cap (K)
-  int search_depth = -1;                       // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
-  std::uint32_t seed = 1;                      // random and scrambled sequences
-  std::uint32_t frame = 0;                     // progressive frame index: advances every sequence
-  double band = 0.05;                          // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
+  int spp = 200;                           // K of Eq. 12, >= 1
+  int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
+  int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
+  std::uint32_t seed = 1;                  // random and scrambled sequences
+  std::uint32_t frame = 0;                 // progressive frame index: advances every sequence
+  double band = 0.05;                      // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
   int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
   // Consecutive surfaces sharing the roulette's uniform number per image and frame (balance roulette,
   // the equal-count rotation); 1 = per pixel (docs/sampling.md "Roulette blocks").
   int roulette_block = 16;
+  // log2 of the chunks of consecutive surfaces visited in a fixed pseudo-random order (0 = row
+  // order): scatters roulette blocks and lanes over the image (docs/sampling.md "Surface order").
+  int surface_shuffle = 6;
   // Device memory (MiB) for the per-pixel cache of A_m(p) across progressive frames of the same
   // view (docs/sampling.md "Pixel cache"); 0 = recompute every frame. Above it: recomputation.
   int pixel_cache_mib = 1024;

@@ -117,7 +117,12 @@ struct Geometry {
 // A pinhole camera. Pixel (x, y) counts x to the right and y DOWN from the top-left corner of
 // the image (row 0 = top, as in images and NfSurface buffers); pixel (i, j) covers
 // [i, i+1] x [j, j+1] and its centre is (i + 0.5, j + 0.5).
+// Projections: perspective (fov_y, any aspect) or fisheye, Radiance's angular fisheye (-vta -vh 180
+// -vv 180): equidistant, the angle from the view direction proportional to the distance from the
+// image centre, 90 degrees at the middle of each edge; square images only (docs/glare.md).
 struct Camera {
+  enum class Projection { perspective, fisheye };
+  Projection projection = Projection::perspective;
   glm::dvec3 position{0.0, 1.0, 5.0};
   glm::dvec3 target{0.0};
   glm::dvec3 up{0.0, 1.0, 0.0};
@@ -138,10 +143,21 @@ struct Camera {
 
   // The primary ray through continuous pixel coordinates (x, y) (see above).
   Ray ray(double x, double y) const {
+    if (projection == Projection::fisheye) return fisheye_ray(x, y);
     const double ty = tan_half_fov_y(), tx = ty * aspect();
     const double ndc_x = 2.0 * x / width - 1.0;
     const double ndc_y = 1.0 - 2.0 * y / height;
     const glm::dvec3 d = forward() + right() * (ndc_x * tx) + true_up() * (ndc_y * ty);
+    return {position, glm::normalize(d)};
+  }
+  // Angular fisheye: (a, b) = pi (x/w - 1/2, 1/2 - y/h), theta = |(a, b)| from the view direction,
+  // direction cos(theta) forward + sin(theta)/theta (a right + b up). The corners (theta up to
+  // 127 degrees) look behind the camera, as Radiance's -vta does.
+  Ray fisheye_ray(double x, double y) const {
+    constexpr double kPi = 3.14159265358979323846;
+    const double a = kPi * (x / width - 0.5), b = kPi * (0.5 - y / height), theta = std::hypot(a, b);
+    const double k = theta > 1e-12 ? std::sin(theta) / theta : 1.0;
+    const glm::dvec3 d = forward() * std::cos(theta) + (right() * a + true_up() * b) * k;
     return {position, glm::normalize(d)};
   }
   // The ray through the centre of pixel (i, j).

@@ -10,10 +10,14 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "core/color.h"
+#include "core/colorimetry.h"
 #include "core/error.h"
 #include "core/excerpt.h"
 #include "core/json_file.h"
 #include "core/log.h"
+#include "luminaire/io.h"
+#include "luminaire/optics_presets.h"
 #include "scene/json_read.h"
 #include "scene/loaders.h"
 #include "scene/material_json.h"
@@ -61,7 +65,7 @@ class Parser {
     Scene s;
     object(root, "",
            {"format", "version", "description", "camera", "materials", "objects", "luminaires", "farfield_lights",
-            "environment", "render"});
+            "environment", "render", "radiometric_to_photometric"});
     if (root.contains("format") && string(root["format"], "/format") != "nearfield-scene")
       error("/format", "expected \"nearfield-scene\"");
     if (root.contains("version") && integer(root["version"], "/version", 0, 1 << 30) != 1)
@@ -87,6 +91,10 @@ class Parser {
       for (std::size_t i = 0; i < lights.size(); ++i)
         s.farfield_lights.push_back(farfield_light(lights[i], at("/farfield_lights", i), i));
     }
+    if (root.contains("radiometric_to_photometric"))
+      s.radiometric_to_photometric =
+          number(root["radiometric_to_photometric"], "/radiometric_to_photometric", 1e-6, kMaxIntensity);
+    units(s);
     if (root.contains("environment")) s.environment = environment(root["environment"], "/environment");
     if (root.contains("render")) s.render = render(root["render"], "/render");
     s.local_environments = std::move(locals_);
@@ -151,17 +159,31 @@ class Parser {
 
   // ---- sections -------------------------------------------------------------
   Camera camera(const json& v, const std::string& ptr) const {
-    object(v, ptr, {"position", "target", "up", "fov_y", "resolution", "near"});
+    object(v, ptr, {"position", "target", "up", "fov_y", "resolution", "near", "projection"});
     Camera c;
     c.position = vec3(require(v, ptr, "position"), at(ptr, "position"));
     c.target = vec3(require(v, ptr, "target"), at(ptr, "target"));
     if (v.contains("up")) c.up = vec3(v["up"], at(ptr, "up"));
-    c.fov_y_deg = number(require(v, ptr, "fov_y"), at(ptr, "fov_y"), 0.0, 179.0);
-    if (c.fov_y_deg <= 0.0) error(at(ptr, "fov_y"), "must be > 0 degrees");
+    if (v.contains("projection")) {
+      const std::string p = string(v["projection"], at(ptr, "projection"));
+      if (p == "fisheye")
+        c.projection = Camera::Projection::fisheye;
+      else if (p != "perspective")
+        error(at(ptr, "projection"), fmt::format("'{}': expected \"perspective\" or \"fisheye\"", p));
+    }
+    const bool fisheye = c.projection == Camera::Projection::fisheye;
+    if (fisheye && v.contains("fov_y"))
+      error(at(ptr, "fov_y"), "a fisheye camera always spans 180 degrees (Radiance -vta): leave fov_y out");
+    if (!fisheye) {
+      c.fov_y_deg = number(require(v, ptr, "fov_y"), at(ptr, "fov_y"), 0.0, 179.0);
+      if (c.fov_y_deg <= 0.0) error(at(ptr, "fov_y"), "must be > 0 degrees");
+    }
     const json& res = require(v, ptr, "resolution");
     if (!res.is_array() || res.size() != 2) error(at(ptr, "resolution"), "expected [width, height]");
     c.width = integer(res[0], at(at(ptr, "resolution"), 0), 1, 16384);
     c.height = integer(res[1], at(at(ptr, "resolution"), 1), 1, 16384);
+    if (fisheye && c.width != c.height)
+      error(at(ptr, "resolution"), fmt::format("a fisheye camera needs a square image, got {}x{}", c.width, c.height));
     if (v.contains("near")) {
       c.near = number(v["near"], at(ptr, "near"), 0.0, 1e6);
       if (c.near <= 0.0) error(at(ptr, "near"), "must be > 0");
@@ -451,6 +473,7 @@ class Parser {
     }
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "luminaire transforms must be rigid");
+    l.units = luminaire_units(l, ptr);
     if (v.contains("intensity")) l.intensity = intensity(v["intensity"], at(ptr, "intensity"));
     return l;
   }
@@ -458,7 +481,7 @@ class Parser {
   // A far-field light: the table is read here, so a bad file fails with the scene; the readers'
   // messages name the file and the value (docs/photometry.md).
   FarfieldLightRef farfield_light(const json& v, const std::string& ptr, std::size_t index) const {
-    object(v, ptr, {"name", "file", "transform", "intensity"});
+    object(v, ptr, {"name", "file", "transform", "intensity", "color", "cct"});
     FarfieldLightRef l;
     l.name = v.contains("name") ? string(v["name"], at(ptr, "name")) : fmt::format("farfield{}", index);
     l.file = existing_file(require(v, ptr, "file"), at(ptr, "file"));
@@ -470,7 +493,78 @@ class Parser {
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "far-field light transforms must be rigid");
     if (v.contains("intensity")) l.intensity = intensity(v["intensity"], at(ptr, "intensity"));
+    l.colour = farfield_colour(v, ptr);
     return l;
+  }
+
+  // "color": [r, g, b] linear sRGB, scaled to Rec. 709 luminance 1 (the table's cd stay the
+  // luminous intensity); "cct": K, the blackbody of that temperature through the CIE 1931
+  // observer (docs/photometry.md, "Colour"). At most one of them; white without.
+  glm::dvec3 farfield_colour(const json& v, const std::string& ptr) const {
+    if (v.contains("color") && v.contains("cct")) error(ptr, "give at most one of 'color' and 'cct'");
+    if (v.contains("cct")) {
+      const double k = number(v["cct"], at(ptr, "cct"), 1000.0, 25000.0);
+      return color::unit_luminance_rgb(color::blackbody_xyz(k));
+    }
+    if (!v.contains("color")) return glm::dvec3(1.0);
+    const json& c = v["color"];
+    const std::string p = at(ptr, "color");
+    if (!c.is_array() || c.size() != 3) error(p, "expected [r, g, b] (linear sRGB)");
+    glm::dvec3 rgb;
+    for (int k = 0; k < 3; ++k)
+      rgb[k] = number(c[static_cast<std::size_t>(k)], at(p, static_cast<std::size_t>(k)), 0.0, kMaxIntensity);
+    const double y = color::kLumR * rgb.r + color::kLumG * rgb.g + color::kLumB * rgb.b;
+    if (!(y > 0.0)) error(p, "has luminance 0 (0.2126 r + 0.7152 g + 0.0722 b must be > 0)");
+    return rgb / y;
+  }
+
+  // The units of a luminaire: its manifest's "units" key (the rest of the manifest is checked
+  // when the luminaire is read; without the key a manifest is radiometric, as the reader has it),
+  // or its preset's (the ray-traced presets trace lumens; the analytic presets are radiometric).
+  lum::Units luminaire_units(const LuminaireRef& l, const std::string& ptr) const {
+    if (!l.preset.empty()) return lum::is_optics_preset(l.preset) ? lum::Units::photometric : lum::Units::radiometric;
+    json m;
+    try {
+      m = parse_json_text(read_text_file(l.manifest, "luminaire manifest"), l.manifest.string());
+    } catch (const Error& e) {
+      error(at(ptr, "manifest"), e.what());
+    }
+    const auto u = m.is_object() ? m.find("units") : m.end();
+    if (!m.is_object() || u == m.end() || *u == "radiometric") return lum::Units::radiometric;
+    if (*u == "photometric") return lum::Units::photometric;
+    error(at(ptr, "manifest"), fmt::format("{}: unknown 'units' {} (expected \"radiometric\" or \"photometric\")",
+                                           l.manifest.string(), u->dump()));
+  }
+
+  // Photometric sources (far-field lights: cd; light fields in lm, cd/m^2) and radiometric ones
+  // (W, W/(m^2 sr)) cannot be added as they are: such a scene is refused unless it states
+  // "radiometric_to_photometric": k (lm per W of the radiometric luminaires' luminance-weighted
+  // unit), which multiplies every radiometric luminaire's intensity by k (docs/scenes.md, "Units").
+  void units(Scene& s) const {
+    std::vector<std::string> photometric, radiometric;
+    for (std::size_t i = 0; i < s.luminaires.size(); ++i)
+      (s.luminaires[i].units == lum::Units::photometric ? photometric : radiometric)
+          .push_back(fmt::format("{} '{}' ({})", at("/luminaires", i), s.luminaires[i].name,
+                                 lum::to_string(s.luminaires[i].units)));
+    for (std::size_t i = 0; i < s.farfield_lights.size(); ++i)
+      photometric.push_back(
+          fmt::format("{} '{}' (photometric: cd)", at("/farfield_lights", i), s.farfield_lights[i].name));
+    if (!s.radiometric_to_photometric) {
+      if (!photometric.empty() && !radiometric.empty())
+        error("", fmt::format("mixes photometric sources ({}) with radiometric ones ({}); their values cannot be "
+                              "added. Give \"radiometric_to_photometric\": lm per W (e.g. 683 for light at 555 nm) "
+                              "to convert the radiometric ones (docs/scenes.md, \"Units\")",
+                              join(photometric), join(radiometric)));
+      return;
+    }
+    for (auto& l : s.luminaires) {
+      if (l.units != lum::Units::radiometric) continue;
+      l.unit_factor = *s.radiometric_to_photometric;
+      l.intensity *= l.unit_factor;
+      if (!(l.intensity <= kMaxIntensity))
+        error("/radiometric_to_photometric", fmt::format("times the intensity of luminaire '{}' is {:g}, above {:g}",
+                                                         l.name, l.intensity, kMaxIntensity));
+    }
   }
 
   Environment environment(const json& v, const std::string& ptr) const {

@@ -12,8 +12,10 @@
 #include <memory>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
 
 #include "luminaire/goniometric.h"
+#include "luminaire/luminaire.h"
 #include "scene/geometry.h"
 #include "scene/settings.h"
 
@@ -38,6 +40,11 @@ struct LuminaireRef {
   std::string preset;              // a generator preset (`nearfield luminaire gen --preset`), made on demand
   glm::dmat4 to_world{1.0};        // rigid: luminaire-local frame (S at z = 0, light towards +z) -> world
   double intensity = 1.0;          // multiplies the luminaire's radiance, in [0, kMaxIntensity]
+  // The manifest's or preset's units (docs/scenes.md, "Units"); a radiometric luminaire in a scene
+  // with "radiometric_to_photometric": k has its intensity multiplied by unit_factor = k when the
+  // scene is read (the file's "intensity" is intensity / unit_factor).
+  lum::Units units = lum::Units::radiometric;
+  double unit_factor = 1.0;
 };
 
 // One far-field goniometric point light (docs/photometry.md, "Far-field lights in scenes"): an
@@ -49,6 +56,9 @@ struct FarfieldLightRef {
   std::shared_ptr<const lum::Goniometric> table;  // the file's table, expanded to C in [0, 360]
   glm::dmat4 to_world{1.0};                       // rigid: light-local frame -> world
   double intensity = 1.0;                         // multiplies I, in [0, kMaxIntensity]
+  // "color" or "cct" (docs/photometry.md, "Colour"): linear sRGB with Rec. 709 luminance 1, so
+  // the table's cd stay the luminous intensity; white (1, 1, 1) by default.
+  glm::dvec3 colour{1.0};
 };
 
 struct Environment {
@@ -79,6 +89,9 @@ struct Scene {
   std::optional<Environment> environment;
   std::vector<LocalEnvironment> local_environments;  // in object order
   RenderSettings render;
+  // "radiometric_to_photometric" (lm per W; docs/scenes.md, "Units"): present when the scene
+  // converts its radiometric luminaires to photometric units; required when it mixes both.
+  std::optional<double> radiometric_to_photometric;
 
   // Step 0 builds shadow maps only when this holds (docs/rendering.md).
   bool needs_shadow_maps() const { return render.visibility == "shadowmaps" && geometry.can_occlude(); }

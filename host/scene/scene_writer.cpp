@@ -75,8 +75,13 @@ json raw(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 
 // Exact values (no cleaning): a saved view renders exactly as it was seen.
 json camera_json(const Camera& c) {
-  return json{{"position", raw(c.position)}, {"target", raw(c.target)},           {"up", raw(c.up)},
-              {"fov_y", c.fov_y_deg},        {"resolution", {c.width, c.height}}, {"near", c.near}};
+  json j{{"position", raw(c.position)}, {"target", raw(c.target)},           {"up", raw(c.up)},
+         {"fov_y", c.fov_y_deg},        {"resolution", {c.width, c.height}}, {"near", c.near}};
+  if (c.projection == Camera::Projection::fisheye) {
+    j.erase("fov_y");
+    j["projection"] = "fisheye";
+  }
+  return j;
 }
 
 // Every declared setting (scene/settings.h), at its path below "render", as the type it is
@@ -130,7 +135,7 @@ void apply_luminaires(json& root, const Scene& original, const SceneState& state
     if (!is_rigid(l.to_world, 1e-6))
       fail(fmt::format("saving a scene: luminaire {} has a transform that is not rigid", i));
     if (l.to_world != original.luminaires[i].to_world) lums[i]["transform"] = luminaire_transform(l, i);
-    lums[i]["intensity"] = l.intensity;
+    lums[i]["intensity"] = l.intensity / original.luminaires[i].unit_factor;  // the file's, before conversion
   }
 }
 

@@ -163,6 +163,12 @@ std::vector<Setting> declare() {
           "(1 = per pixel; larger: SIMD lanes skip the same images, neighbours' noise correlated)",
           [](auto& r) -> auto& { return r.roulette_block; }),
       integer(
+          "surface_shuffle", "surface_shuffle", 0, 20, "luminaires", R,
+          "log2 of the chunks of consecutive pixels inside which the kernels visit surfaces in a fixed "
+          "pseudo-random order, so roulette blocks and SIMD lanes are scattered instead of runs along a row "
+          "(0 = row order; docs/sampling.md \"Surface order\")",
+          [](auto& r) -> auto& { return r.surface_shuffle; }),
+      integer(
           "pixel_cache", "pixel_cache", 0, 1048576, "luminaires", R,
           "MiB of device memory for A_m(p) kept across progressive frames (0 = recompute every frame)",
           [](auto& r) -> auto& { return r.pixel_cache; }),

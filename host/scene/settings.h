@@ -20,23 +20,24 @@ namespace nf::scene {
 
 // Render settings as written in the file (strings for choices); the render layer interprets them.
 struct RenderSettings {
-  std::string method = "ours";            // ours | paper | uniform | uniform-equal | global
-  std::string sampler = "halton";         // halton | halton-scrambled | random
-  int spp = 200;                          // K, samples per pixel per frame, >= 1
-  int kmax = 0;                           // K_max, cap of samples per image per pixel; 0 = no cap
-  int search_depth = -1;                  // CDF evaluations per 1D inversion, 1..1024; -1 = unlimited (exact)
-  std::string search = "secant";          // secant | binary
-  std::string balance = "roulette";       // paper | min1 | roulette (min1 and roulette are unbiased)
-  std::string structure = "fused";        // per-image | fused (Step 1/2 passes)
-  std::string visibility = "shadowmaps";  // none | shadowmaps
-  int shadow_map_size = 256;              // pixels per side of each cell's shadow map, 16..4096
+  std::string method = "ours";               // ours | paper | uniform | uniform-equal | global
+  std::string sampler = "halton-scrambled";  // halton | halton-scrambled | random
+  int spp = 200;                             // K, samples per pixel per frame, >= 1
+  int kmax = 0;                              // K_max, cap of samples per image per pixel; 0 = no cap
+  int search_depth = -1;                     // CDF evaluations per 1D inversion, 1..1024; -1 = unlimited (exact)
+  std::string search = "secant";             // secant | binary
+  std::string balance = "roulette";          // paper | min1 | roulette (min1 and roulette are unbiased)
+  std::string structure = "fused";           // per-image | fused (Step 1/2 passes)
+  std::string visibility = "shadowmaps";     // none | shadowmaps
+  int shadow_map_size = 256;                 // pixels per side of each cell's shadow map, 16..4096
   // opencl | gl: where Step 0's visibility bitmask is computed (the same test)
   std::string visibility_pass = "opencl";
-  std::uint32_t seed = 1;  // sampler seed (random, halton-scrambled)
-  int lanes = 0;           // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
-  int roulette_block = 16;  // consecutive surfaces sharing the roulette's decisions, 1..1024 (1 = per pixel)
-  int pixel_cache = 1024;  // MiB for A_m(p) kept across progressive frames; 0 = off
-  TonemapParams tonemap;   // exposure, gamma
+  std::uint32_t seed = 1;    // sampler seed (random, halton-scrambled)
+  int lanes = 0;             // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
+  int roulette_block = 16;   // consecutive surfaces sharing the roulette's decisions, 1..1024 (1 = per pixel)
+  int surface_shuffle = 6;  // log2 of the chunk inside which surfaces are visited in random order; 0 = row order
+  int pixel_cache = 1024;    // MiB for A_m(p) kept across progressive frames; 0 = off
+  TonemapParams tonemap;     // exposure, gamma
   // environment (docs/environment.md)
   std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis | regular
   int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame

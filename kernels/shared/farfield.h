@@ -24,6 +24,8 @@ typedef struct {
   nf_int g_offset;  /* into angles */
   nf_int cd_offset; /* into cd */
   nf_int pad0, pad1;
-} NfFarfieldLight; /* 80 bytes */
+  nf_float cr, cg, cb; /* colour: linear sRGB with Rec. 709 luminance 1 (white: 1, 1, 1) */
+  nf_float pad2;
+} NfFarfieldLight; /* 96 bytes */
 
 #endif

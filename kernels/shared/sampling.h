@@ -70,7 +70,9 @@ typedef struct {
                           which take contiguous runs of work-groups (1 = identity). */
   nf_uint roulette_block; /* >= 1 consecutive surfaces share the roulette's uniform number per image
                              and frame (docs/sampling.md "Roulette blocks") */
-} NfSampleParams;         /* 52 bytes */
+  nf_uint shuffle_bits;   /* slots visit the surfaces in a pseudo-random order inside chunks of
+                             2^shuffle_bits (0 = row order; shared/surface_order.h) */
+} NfSampleParams;         /* 56 bytes */
 
 /* One sample of the debug kernel lf_debug_samples (tests: distributions and search cost). */
 typedef struct {

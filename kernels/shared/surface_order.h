@@ -1,0 +1,63 @@
+#ifndef NEARFIELD_SHARED_SURFACE_ORDER_H
+#define NEARFIELD_SHARED_SURFACE_ORDER_H
+/* The order in which the light-field kernels visit the surfaces (docs/sampling.md "Surface
+   order"). Slot i of the launch shades surface nf_surface_at(i, ...): a pseudo-random bijection
+   inside each chunk of 2^bits consecutive surfaces (row-major G-buffer pixels), so the NF_LANES
+   surfaces of one work-item, and the roulette blocks of consecutive slots, are scattered over the
+   chunk instead of forming runs along a row. bits = 0 is the identity (scanline order).
+
+   Inside a chunk of `size` surfaces the index runs through a 4-round Feistel network on d bits
+   (d = the smallest even number with 2^d >= size, so 2^d < 4 size); results >= size are fed
+   back in (cycle walking), which keeps it a bijection on [0, size) and takes fewer than 4
+   rounds on average. The same function runs on the host (tests, layouts) and in the kernels. */
+#include "shared/types.h"
+
+#ifdef __OPENCL_VERSION__
+#define NF_SO_INLINE static inline
+#else
+#define NF_SO_INLINE inline
+#endif
+
+NF_SO_INLINE nf_uint nf_so_hash(nf_uint x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+/* One pass of the Feistel network on 2 h bits (h >= 1). */
+NF_SO_INLINE nf_uint nf_so_feistel(nf_uint x, nf_uint h, nf_uint key) {
+  const nf_uint mask = (1U << h) - 1U;
+  nf_uint l = x >> h, r = x & mask;
+  for (nf_uint round = 0; round < 4U; ++round) {
+    const nf_uint f = nf_so_hash(r ^ key ^ (round * 0x9E3779B9U)) & mask;
+    const nf_uint t = l ^ f;
+    l = r;
+    r = t;
+  }
+  return (l << h) | r;
+}
+
+/* Surface shaded by slot `slot` of `count`, chunks of 2^bits (bits 0..20), permutation `key`. */
+NF_SO_INLINE nf_uint nf_surface_at(nf_uint slot, nf_uint count, nf_uint bits, nf_uint key) {
+  if (bits == 0U || slot >= count) return slot;
+  const nf_uint base = (slot >> bits) << bits;
+  const nf_uint left = count - base;
+  const nf_uint size = left < (1U << bits) ? left : (1U << bits);
+  if (size < 2U) return slot;
+  nf_uint h = 1U;
+  while ((1U << (2U * h)) < size) ++h;
+  const nf_uint k = nf_so_hash(key ^ nf_so_hash(base ^ 0x68bc21ebU));
+  nf_uint x = slot - base;
+  do {
+    x = nf_so_feistel(x, h, k);
+  } while (x >= size);
+  return base + x;
+}
+
+/* The permutation key of a launch with sampler seed `seed`. */
+NF_SO_INLINE nf_uint nf_surface_order_key(nf_uint seed) { return nf_so_hash(seed ^ 0x1b873593U); }
+
+#endif
