@@ -59,7 +59,8 @@ std::string small_ies(const std::string& symmetry, bool tilt_include) {
   if (symmetry == "none") c = {0, 90, 180, 270};
   const std::vector<double> gamma = {0, 22.5, 45, 67.5, 90, 135, 180};
   std::string s = "IESNA:LM-63-2002\n[TEST] nearfield fuzz seed\n[MANUFAC] nearfield\n[_ABSOLUTELUMENS] 1234\n";
-  s += tilt_include ? "TILT=INCLUDE\n1\n3\n0 45 90\n1 0.9 0.8\n" : "TILT=NONE\n";
+  // TILT=INCLUDE with unity factors: the only TILT block the reader accepts besides NONE
+  s += tilt_include ? "TILT=INCLUDE\n1\n3\n0 45 90\n1 1 1\n" : "TILT=NONE\n";
   s += fmt::format("1 -1 1.0 {} {} 1 2 0.1 0.2 0.05\n1.0 1.0 12.5\n", gamma.size(), c.size());
   for (double g : gamma) s += fmt::format("{} ", g);
   s += "\n";
