@@ -319,6 +319,8 @@ TEST(SamplingEstimator, LambertAndGgxAreUnbiased) {
 }
 
 // The Halton samplers are deterministic; progressive frames (advancing the sequence) converge.
+// 256 frames: with halton-scrambled each point's random rotation is one draw, and 64 frames left
+// errors of about 1 % (1.2 % at point 5 under one surface order), at the tolerance itself.
 TEST(SamplingEstimator, ProgressiveHaltonFramesConverge) {
   nf::cl::Runtime rt;
   Sampler sampler(rt);
@@ -332,7 +334,7 @@ TEST(SamplingEstimator, ProgressiveHaltonFramesConverge) {
   const auto ref = references(l, pts);
   for (auto sk : {SamplerKind::halton, SamplerKind::halton_scrambled}) {
     std::vector<glm::dvec3> acc(pts.size(), glm::dvec3(0.0));
-    const int frames = 64;
+    const int frames = 256;
     for (int f = 0; f < frames; ++f) {
       SamplingSettings s;
       s.sampler = sk;
