@@ -298,8 +298,10 @@ static float env_glossy_sample(const EnvGlossy* g, float2 u, float3* l) {
 /* ------------------------------------------------ regular sampling (Luksch et al. 2014 §5-7) -- */
 /* docs/regular-sampling.md. A pattern of N half vectors h_i in the lobe's frame (t, b, n), built
    on the host (render/regular_pattern.h); the estimator of Luksch Eq. 9 with the constant
-   half-vector density p_h = (1/N) sum_i D(h_i) (Eq. 18) and p(l_i) = p_h / (4 l_i.h_i) (Eq. 17):
-     L_lobe = (1/N) sum_i f(l_i) (n.l_i) Lbar(l_i) / p(l_i) = sum_i f(l_i) (n.l_i) Lbar 4 (v.h_i) / sum_i D(h_i)
+   half-vector density p_h (Eq. 18) and p(l_i) = p_h / (4 l_i.h_i) (Eq. 17), with quadrature weights
+   w_i = sin(theta_i) / theta_i (the pattern's solid angle per sample) and the cos theta of the
+   normalisation int D cos theta dh = 1 (docs/regular-sampling.md, issue 28):
+     L_lobe = sum_i w_i f(l_i) (n.l_i) Lbar 4 (v.h_i) / sum_i w_i D(h_i) cos theta_i
    (l_i.h_i = v.h_i for a reflection). Lbar is the pyramid lookup over the sample's solid angle
      Omega_i = (A / N) (v.h_i) / (v.n),  A = pi tan a_x tan a_y  (Eq. 14-15),
    a_x, a_y the angles between the lobe centre l_c = reflect(v, n) and the reflections of the
@@ -352,7 +354,12 @@ static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __glo
       hl = e.xyz;
     }
     const float D = g->kind == 1 ? nf_ggx_d(hl.z, g->alpha) : nf_kurt_d(hl.x, hl.y, hl.z, mx, my);
-    den += D;
+    /* quadrature weight: the pattern is uniform in the plane (theta cos phi, theta sin phi), so a
+       sample stands for a solid angle proportional to sin(theta) / theta; with cos theta the
+       denominator is the quadrature of int D cos theta dh (= 1 over the hemisphere) over the cone */
+    const float th = g->kind == 1 ? e.z * ggx_tmax : acos(clamp(hl.z, -1.0f, 1.0f));
+    const float w = th > 1e-4f ? sqrt(fmax(1.0f - hl.z * hl.z, 0.0f)) / th : 1.0f;
+    den += w * D * hl.z;
     const float3 h = hl.x * t + hl.y * b + hl.z * n;
     const float vh = dot(v, h);
     if (!(vh > 0.0f)) continue;
@@ -374,7 +381,7 @@ static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __glo
 #if NF_ENV_VIS
     f *= nf_env_vis_factor(g->vis, l, nl);
 #endif
-    num += f * Lb * (4.0f * vh);
+    num += f * Lb * (4.0f * vh * w);
   }
   const float3 r = den > 0.0f ? num / den : (float3)(0.0f);
   return all(isfinite(r)) ? r : (float3)(0.0f);

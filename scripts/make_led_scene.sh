@@ -20,7 +20,7 @@ if [[ ! -f "$rays" ]]; then
 fi
 out="$here/scenes/led"
 mkdir -p "$out"
-"$nf" luminaire import "$rays" -o "$out" --name osram
+"$nf" luminaire import "$rays" -o "$out" --name osram --force
 "$nf" luminaire farfield "$out/osram.json" -o "$out/osram.ies"
 echo "scenes/led/: osram.json, osram.exr (light field) and osram.ies (its far field); render with"
 echo "  $nf render $here/scenes/led.json -o out/led.exr --png out/led.png --stats out/led_stats.json"

@@ -294,7 +294,8 @@ fs::path evalglare_binary() {
 // evalglare's result line: "LABEL,LABEL,...: v0 v1 ..." (the labels depend on its options); UGR is
 // the value under the label "ugr".
 double evalglare_ugr(const fs::path& bin, const fs::path& hdr) {
-  const std::string cmd = "'" + bin.string() + "' -b 2000 '" + hdr.string() + "' 2>&1";
+  std::string cmd(1, '\'');  // built by append: GCC 12 warns (-Wstringop-overflow) on "'" + string
+  cmd.append(bin.string()).append("' -b 2000 '").append(hdr.string()).append("' 2>&1");
   FILE* f = popen(cmd.c_str(), "r");
   if (!f) return NAN;
   std::string out, line;

@@ -120,6 +120,7 @@ TEST(RegularPattern, BudgetPicksTheNearestCount) {
     std::vector<int> counts;
     for (int c = 1; c <= 64; ++c)
       for (const auto sp : {RegularSpacing::s1, RegularSpacing::s2}) {
+        if (sp == RegularSpacing::s2 && c == 1) continue;  // a ring on theta_max alone: never chosen
         const int k = regular_pattern(sp, c, 0.1, mx, my).size();
         if (k > 0) counts.push_back(k);
       }
@@ -132,6 +133,7 @@ TEST(RegularPattern, BudgetPicksTheNearestCount) {
   }
   EXPECT_EQ(nf::render::regular_pattern_for_budget(19, 0.1, 0.1, 0.1).size(), 19);
   EXPECT_EQ(nf::render::regular_pattern_for_budget(14, 0.1, 0.1, 0.1).size(), 14);  // Luksch Fig. 8
+  EXPECT_EQ(nf::render::regular_pattern_for_budget(4, 0.1, 0.1, 0.1).size(), 1);    // not s2's lone ring of 4
 }
 
 TEST(RegularPattern, ExtremesAndErrors) {

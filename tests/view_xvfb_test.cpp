@@ -240,10 +240,11 @@ TEST(ViewCli, BadOptionsFail) {
   v = run_nearfield("view " + scene + " --screenshot x.png");
   EXPECT_NE(v.exit_code, 0);
   EXPECT_NE(v.err.find("--frames"), std::string::npos) << v.err;
-  // Outputs into a missing folder fail before the window opens (not after the frames).
+  // Outputs into a missing folder fail before the window opens (not after the frames), with the
+  // message of every command's output checks (app/output_checks.h).
   v = run_nearfield("view " + scene + " --frames 1 --screenshot no-such-folder/x.png");
   EXPECT_NE(v.exit_code, 0);
-  EXPECT_NE(v.err.find("--screenshot no-such-folder/x.png: the folder 'no-such-folder' does not exist"),
+  EXPECT_NE(v.err.find("--screenshot no-such-folder/x.png: the output directory no-such-folder does not exist"),
             std::string::npos)
       << v.err;
   v = run_nearfield("view " + scene + " --frames 1 --stats no-such-folder/s.json");

@@ -13,6 +13,7 @@
 #include "app/command.h"
 #include "app/output_checks.h"
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/log.h"
 #include "core/timer.h"
 #include "luminaire/farfield.h"
@@ -152,14 +153,14 @@ struct ImportCli {
   std::string rays, out_dir = ".", grid = "16x16", basis = "bspline2", axis, name;
   double delta = 0.0, coverage = 0.98;
   int resolution = 48;
-  bool half = false;
+  bool half = false, force = false;
 };
 
 std::array<int, 2> parse_grid(const std::string& g) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
   if (std::sscanf(g.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-    fail(fmt::format("luminaire import: --grid '{}' is not WxH (e.g. 16x16)", g));
+    fail(fmt::format("luminaire import: --grid '{}' is not WxH (e.g. 16x16)", excerpt(g)));
   return {w, h};
 }
 
@@ -167,13 +168,33 @@ glm::dvec3 parse_axis(const std::string& a) {
   double v[3];
   char extra = 0;
   if (std::sscanf(a.c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &extra) != 3)
-    fail(fmt::format("luminaire import: --axis '{}' is not x,y,z", a));
+    fail(fmt::format("luminaire import: --axis '{}' is not x,y,z", excerpt(a)));
   return {v[0], v[1], v[2]};
+}
+
+// --name becomes NAME.json and NAME.exr inside -o: one plain file name, nothing that leaves -o.
+void check_import_name(const std::string& name, bool given) {
+  const std::string what = given ? fmt::format("--name '{}'", excerpt(name))
+                                 : fmt::format("the name '{}' (the ray file's stem; give --name)", excerpt(name));
+  if (name.empty() || name == "." || name == ".." || name.find_first_of("/\\") != std::string::npos ||
+      name.find('\0') != std::string::npos)
+    fail(fmt::format("luminaire import: {} must be a plain file name: no path separators, not . or ..", what));
 }
 
 void run_import(const ImportCli& c) {
   const std::string name = c.name.empty() ? std::filesystem::path(c.rays).stem().string() : c.name;
+  check_import_name(name, !c.name.empty());
   check_output_directory("-o", c.out_dir, {name + ".json", name + ".exr"}, c.rays, "luminaire import");
+  if (!c.force)  // a luminaire of that name in -o is replaced only when asked
+    for (const std::string& file : {name + ".json", name + ".exr"}) {
+      std::error_code ec;
+      const auto p = std::filesystem::path(c.out_dir) / file;
+      if (std::filesystem::exists(std::filesystem::symlink_status(p, ec)))
+        fail(
+            fmt::format("luminaire import: -o {}: {} already exists (a luminaire named '{}'); --force replaces it, "
+                        "or choose another --name",
+                        c.out_dir, p.string(), excerpt(name)));
+    }
   Timer t;
   const lum::RaySet rays = lum::read_rayset(c.rays);
   const double read_ms = t.ms();
@@ -185,7 +206,7 @@ void run_import(const ImportCli& c) {
   else if (c.basis == "quadratic2")
     o.basis = lum::BasisKind::quadratic2;
   else
-    fail(fmt::format("luminaire import: --basis '{}' is not bspline2 or quadratic2", c.basis));
+    fail(fmt::format("luminaire import: --basis '{}' is not bspline2 or quadratic2", excerpt(c.basis)));
   o.resolution = c.resolution;
   if (!c.axis.empty()) o.axis = parse_axis(c.axis);
   o.coverage = c.coverage;
@@ -255,6 +276,7 @@ const CommandRegistration reg("luminaire", [](CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1e-3, 1.0));
   imp->add_flag("--half", ic.half, "Store half floats (smaller, lossy)");
+  imp->add_flag("--force", ic.force, "Replace a luminaire of the same name in the output directory");
   imp->callback([] { run_import(ic); });
   static std::string ff_in, ff_out;
   auto* ff = cmd->add_subcommand("farfield", "Write a light field's far-field intensity as IES LM-63-2002");

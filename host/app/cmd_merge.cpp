@@ -80,6 +80,7 @@ void run_merge_cmd(const MergeCmd& o) {
   const bool as_part = fs::path(o.out).extension() == ".nfpart";
   if (!as_part) check_output_extension(o.out, ".exr", "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
+  if (!o.stats.empty()) check_output_extension(o.stats, ".json", "--stats");
   OutputFiles outputs{{"-o", o.out}};
   if (!o.png.empty()) outputs.emplace_back("--png", o.png);
   if (!o.stats.empty()) outputs.emplace_back("--stats", o.stats);

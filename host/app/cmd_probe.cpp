@@ -25,8 +25,10 @@
 
 #include "app/command.h"
 #include "app/illuminance_grid.h"
+#include "app/output_checks.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/image_io.h"
 #include "luminaire/goniometric.h"
 #include "luminaire/io.h"
@@ -79,7 +81,7 @@ std::vector<ref::Probe> read_points(std::istream& in, const std::string& name, b
       ++count;
     }
     if (bad || count != 6)
-      fail(fmt::format("{}:{}: expected 6 finite numbers 'x y z nx ny nz', got '{}'", name, number, body));
+      fail(fmt::format("{}:{}: expected 6 finite numbers 'x y z nx ny nz', got '{}'", name, number, excerpt(body, 80)));
     ref::Probe p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
     if (need_normal && p.n == glm::dvec3(0.0))
       fail(fmt::format("{}:{}: the normal (nx ny nz) must not be zero", name, number));
@@ -138,6 +140,15 @@ void run_grid(const ProbeOptions& o) {
     return g;
   }();
   const GridPoints g = grid_points(spec);
+  // The output policy (app/output_checks.h) before any work; both outputs committed together.
+  OutputFiles outputs;
+  if (!o.csv.empty()) outputs.emplace_back("--csv", o.csv);
+  if (!o.png.empty()) outputs.emplace_back("--png", o.png);
+  if (!o.csv.empty()) check_output_extension(o.csv, ".csv", "--csv");
+  if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
+  check_output_files(o.file, outputs, "the luminaire " + o.file);
+  OutputTransaction tx;
+  for (const auto& [option, path] : outputs) tx.add(path);
   std::vector<glm::dvec3> rgb;
   if (is_photometric(o.file)) {
     rgb = ref::farfield_irradiance(lum::read_goniometric(o.file), g.points);
@@ -147,7 +158,6 @@ void run_grid(const ProbeOptions& o) {
   }
   std::vector<double> e;
   for (const auto& v : rgb) e.push_back(0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z);  // Y of Rec. 709 primaries
-  OutputTransaction tx;
   if (!o.csv.empty()) write_text(tx, o.csv, grid_csv(g, e, "lx"));
   if (!o.png.empty()) write_png(tx, o.png, grid_picture(g, e));
   tx.commit();
@@ -165,7 +175,7 @@ void run_probe(const ProbeOptions& o) {
     fail("probe: --csv, --png and --spacing apply to --grid only");
   if (!o.grid.empty()) return run_grid(o);
   if (o.quantity != "irradiance" && o.quantity != "scalar")
-    fail(fmt::format("probe: --quantity must be irradiance or scalar, got '{}'", o.quantity));
+    fail(fmt::format("probe: --quantity must be irradiance or scalar, got '{}'", excerpt(o.quantity)));
   const bool scalar = o.quantity == "scalar";
   const bool reference = o.reference || o.method == "reference";
   if (!reference) render::parse_method(o.method, "--method");  // validate before any work

@@ -133,6 +133,7 @@ void run_reference_cmd(const ReferenceCmd& o) {
   Timer total;
   check_output_extensions(o.out, {".exr", ".hdr"}, "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
+  if (!o.stats.empty()) check_output_extension(o.stats, ".json", "--stats");
   std::vector<std::pair<std::string, std::string>> outputs{{"-o", o.out}};
   if (!o.png.empty()) outputs.emplace_back("--png", o.png);
   if (!o.stats.empty()) outputs.emplace_back("--stats", o.stats);
@@ -148,10 +149,10 @@ void run_reference_cmd(const ReferenceCmd& o) {
   set.threads = o.threads;
   set.progress = log::level() != log::Level::quiet;
   set.validate(scene.environment.has_value());  // before any heavy work
-  AtomicFile exr_file(o.out);
-  std::unique_ptr<AtomicFile> png_file, stats_file;
-  if (!o.png.empty()) png_file = std::make_unique<AtomicFile>(o.png);
-  if (!o.stats.empty()) stats_file = std::make_unique<AtomicFile>(o.stats);
+  // Temporaries registered now (a vanished output folder fails before rendering); every output is
+  // committed together at the end, or none (core/atomic_file.h).
+  OutputTransaction outputs_tx;
+  for (const auto& [option, path] : outputs) outputs_tx.add(path);
 
   const render::ReferenceRun run = render::run_reference(scene, set);
   const auto& st = run.result.stats;
@@ -169,21 +170,13 @@ void run_reference_cmd(const ReferenceCmd& o) {
   attrs.emplace_back("nearfield:view", radiance_view(scene.camera).format());
   for (const auto& kv : set.attributes()) attrs.push_back(kv);
   if (is_radiance_hdr(o.out))
-    write_radiance_hdr(exr_file.temp_path(), radiance_values(run.result.image),
-                       radiance_header(scene.camera));  // docs/glare.md
+    write_radiance_output(outputs_tx, o.out, run.result.image, scene.camera);  // docs/glare.md
   else
-    write_exr(exr_file.temp_path(), run.result.image, attrs);
-  if (png_file)
-    write_png(png_file->temp_path(), tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
-  if (stats_file) {
-    std::ofstream out(stats_file->temp_path(), std::ios::binary);
-    out << stats_json(o, scene, run, set, total.ms());
-    out.close();
-    if (!out) fail(fmt::format("{}: write failed", o.stats));
-  }
-  exr_file.commit();
-  if (png_file) png_file->commit();
-  if (stats_file) stats_file->commit();
+    write_exr(outputs_tx, o.out, run.result.image, attrs);
+  if (!o.png.empty())
+    write_png(outputs_tx, o.png, tonemap(run.result.image, run.result.valid_mask(), scene.render.tonemap));
+  if (!o.stats.empty()) write_text(outputs_tx, o.stats, stats_json(o, scene, run, set, total.ms()));
+  outputs_tx.commit();  // all outputs appear together, or none
   if (log::level() != log::Level::quiet)
     std::fputs(fmt::format("reference: {}x{}, {} spp, {} rays in {:.1f} s ({:.2f} Mrays/s, {} threads); wrote {}\n",
                            scene.camera.width, scene.camera.height, set.spp, st.rays(), st.render_ms / 1000.0,

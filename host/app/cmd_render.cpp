@@ -81,6 +81,7 @@ void run_render(const RenderCmd& o) {
   if (o.out.empty() && !o.dry_run) fail("render: -o OUT.exr is required (or --dry-run)");
   if (!o.out.empty()) check_output_extensions(o.out, {".exr", ".hdr"}, "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
+  if (!o.stats.empty()) check_output_extension(o.stats, ".json", "--stats");
   if (o.frames < 1) fail(fmt::format("--frames must be >= 1, got {}", o.frames));
   std::vector<std::pair<std::string, std::string>> outputs;
   if (!o.out.empty()) outputs.emplace_back("-o", o.out);

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "app/command.h"
+#include "app/output_checks.h"
 #include "app/viewer.h"
 #include "core/error.h"
 
@@ -48,14 +49,23 @@ void run_view(ViewCmd& c) {
   }
   if (!o.screenshot.empty() && o.frames == 0 && o.script.empty())
     fail("--screenshot needs --frames N or --script FILE (when to take it)");
-  // Outputs written at the end: their folders must exist now, not after the frames were rendered.
-  for (const auto& [option, path] : {std::pair<const char*, std::string>{"--screenshot", o.screenshot}, {"--stats", o.stats}}) {
-    if (path.empty()) continue;
-    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  // The output policy (app/output_checks.h) before the window opens: --screenshot names a PNG file
+  // (".png" added when it has no extension), neither output is a file the scene uses, the two are
+  // not one file, and their folders exist and are writable.
+  OutputFiles outputs;
+  if (!o.screenshot.empty()) {
     std::error_code ec;
-    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-      fail(fmt::format("{} {}: the folder '{}' does not exist", option, path, dir.string()));
+    if (std::filesystem::is_directory(o.screenshot, ec))
+      fail(fmt::format("--screenshot {}: is a directory, expected a file name", o.screenshot.string()));
+    if (o.screenshot.extension().empty()) o.screenshot += ".png";
+    check_output_extension(o.screenshot.string(), ".png", "--screenshot");
+    outputs.emplace_back("--screenshot", o.screenshot.string());
   }
+  if (!o.stats.empty()) {
+    check_output_extension(o.stats.string(), ".json", "--stats");
+    outputs.emplace_back("--stats", o.stats.string());
+  }
+  check_output_files(c.scene, outputs);
   const int code = run_viewer(o);
   if (code != 0) throw Error(fmt::format("view: exit code {}", code));
 }

@@ -11,6 +11,7 @@
 
 #include "app/false_colour.h"
 #include "core/error.h"
+#include "core/excerpt.h"
 
 namespace nf::app {
 
@@ -24,7 +25,8 @@ GridSpec parse_grid(const std::string& text, const std::string& where) {
     char* end = nullptr;
     const double d = std::strtod(token.c_str(), &end);
     if (token.empty() || end != token.c_str() + token.size() || !std::isfinite(d))
-      fail(fmt::format("{}: '{}' is not a finite number (expected 'ox,oy,oz;ux,uy,uz;vx,vy,vz')", where, token));
+      fail(fmt::format("{}: '{}' is not a finite number (expected 'ox,oy,oz;ux,uy,uz;vx,vy,vz')", where,
+                       excerpt(token)));
     v.push_back(d);
   }
   if (v.size() != 9) fail(fmt::format("{}: expected 9 numbers 'ox,oy,oz;ux,uy,uz;vx,vy,vz', got {}", where, v.size()));

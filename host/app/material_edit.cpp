@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "scene/material_json.h"
 
 namespace nf::app {
@@ -20,7 +21,7 @@ double number(const std::string& w) {
   char* end = nullptr;
   const double x = std::strtod(w.c_str(), &end);
   if (w.empty() || end != w.c_str() + w.size() || errno != 0 || !std::isfinite(x))
-    fail(fmt::format("'{}' is not a number", w));
+    fail(fmt::format("'{}' is not a number", excerpt(w)));
   return x;
 }
 
@@ -29,7 +30,7 @@ std::size_t lobe_index(const std::string& w) {
   char* end = nullptr;
   const long long j = std::strtoll(w.c_str(), &end, 10);
   if (w.empty() || end != w.c_str() + w.size() || errno != 0 || j < 0 || j > 1000)
-    fail(fmt::format("'{}' is not a lobe index", w));
+    fail(fmt::format("'{}' is not a lobe index", excerpt(w)));
   return static_cast<std::size_t>(j);
 }
 
@@ -46,7 +47,7 @@ int values_of(const Words& w) {
     const std::string& g = w[2];
     if (g == "ks") return 5;
     if (g == "r0" || g == "mx" || g == "my" || g == "alpha") return 3;
-    fail(fmt::format("lobe: unknown field '{}' (ks, r0, mx, my, alpha)", g));
+    fail(fmt::format("lobe: unknown field '{}' (ks, r0, mx, my, alpha)", excerpt(g)));
   }
   return -1;
 }
@@ -63,11 +64,11 @@ void check_material_edit(const Words& w) {
   const int n = values_of(w);
   if (n < 0)
     fail(fmt::format("unknown field '{}' (type, base_color, diffuse, metallic, roughness, lobe, add-lobe, remove-lobe)",
-                     w[0]));
+                     excerpt(w[0])));
   if (w.size() != static_cast<std::size_t>(n) + 1)
     fail(fmt::format("{}: expected {} value(s), got {}", w[0], n, w.size() - 1));
   if (w[0] == "type") {
-    if (!scene::material_kind(w[1])) fail(fmt::format("type: expected lambert, ggx or kurt, got '{}'", w[1]));
+    if (!scene::material_kind(w[1])) fail(fmt::format("type: expected lambert, ggx or kurt, got '{}'", excerpt(w[1])));
   } else if (w[0] == "lobe" || w[0] == "remove-lobe") {
     (void)lobe_index(w[1]);
     for (std::size_t i = 3; i < w.size(); ++i) (void)number(w[i]);

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
+
+#include "core/error.h"
 
 namespace nf::app {
 namespace {
@@ -70,9 +73,18 @@ void OrbitCamera::orbit(double yaw_deg, double pitch_deg) {
 void OrbitCamera::pan(double dx, double dy) {
   if (dx == 0.0 && dy == 0.0) return;
   const scene::Camera c = camera(1, 1);
-  exact_ = false;
   const double half_height = distance_ * c.tan_half_fov_y();
-  target_ += (c.right() * dx + c.true_up() * dy) * half_height;
+  const glm::dvec3 target = target_ + (c.right() * dx + c.true_up() * dy) * half_height;
+  const glm::dvec3 eye = target + (c.position - c.target);
+  auto inside = [](const glm::dvec3& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::fabs(p.x) <= max_coordinate &&
+           std::fabs(p.y) <= max_coordinate && std::fabs(p.z) <= max_coordinate;
+  };
+  if (!inside(target) || !inside(eye))
+    fail(fmt::format("pan {:g} {:g} would move the camera to ({:g}, {:g}, {:g}), beyond +-{:g} m", dx, dy, eye.x, eye.y,
+                     eye.z, max_coordinate));
+  exact_ = false;
+  target_ = target;
 }
 
 void OrbitCamera::zoom(double factor) {

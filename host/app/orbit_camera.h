@@ -20,6 +20,9 @@ class OrbitCamera {
   static constexpr double max_pitch = 89.0;
   static constexpr double min_distance = 1e-3;
   static constexpr double max_distance = 1e6;
+  // Scripted and interactive moves keep the target and the eye within +-max_coordinate metres
+  // (finite, with room for float arithmetic downstream); pan() refuses a move beyond.
+  static constexpr double max_coordinate = 1e6;
 
   OrbitCamera() : OrbitCamera(scene::Camera{}) {}
   // Takes target, eye distance, angles, up, fov and near from `camera`; camera() gives it back
@@ -31,6 +34,8 @@ class OrbitCamera {
   void orbit(double yaw_deg, double pitch_deg);
   // Moves the target (and eye) in the view plane by (dx, dy) times the half-height of the view
   // at the target's distance: pan(0, 1) moves the target up by distance * tan(fov_y / 2).
+  // Throws nf::Error (and leaves the camera as it was) when the target or the eye would leave
+  // +-max_coordinate or become non-finite.
   void pan(double dx, double dy);
   // Multiplies the eye distance by `factor` (> 0), clamped to [min_distance, max_distance].
   void zoom(double factor);

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <filesystem>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -38,13 +40,6 @@ fs::path input_clash(const fs::path& path, const std::set<fs::path>& inputs) {
   return {};
 }
 
-void check_not_input(const std::string& option, const std::string& path, const std::set<fs::path>& inputs,
-                     const std::string& what) {
-  const fs::path in = input_clash(path, inputs);
-  if (!in.empty())
-    fail(fmt::format("{} {}: refusing to overwrite {}, an input of {}", option, path, in.string(), what));
-}
-
 // `dir` is a writable directory; `whose` prefixes the message ("OPTION PATH").
 void check_writable_directory(const fs::path& dir, const std::string& whose) {
   std::error_code ec;
@@ -60,6 +55,14 @@ void check_not_directory(const fs::path& path, const std::string& whose) {
 }
 
 }  // namespace
+
+void check_not_input(const std::string& option, const std::string& path, const std::set<fs::path>& inputs,
+                     const std::string& what) {
+  const fs::path in = input_clash(path, inputs);
+  if (!in.empty())
+    fail(fmt::format("{}{}: refusing to overwrite {}, an input of {}", option.empty() ? "" : option + " ", path,
+                     in.string(), what));
+}
 
 void check_output_extension(const std::string& path, const std::string& ext, const std::string& option) {
   if (lower(fs::path(path).extension().string()) != ext)
@@ -78,11 +81,17 @@ void check_output_extensions(const std::string& path, const std::vector<std::str
 void check_output_files(const std::string& input_file, const OutputFiles& outputs, const std::string& what) {
   const std::set<fs::path> inputs = inputs_of(input_file);
   const std::string job = what.empty() ? "the scene " + input_file : what;
-  std::set<fs::path> seen;
+  std::vector<std::pair<std::string, fs::path>> seen;  // "OPTION PATH", canonical path
   for (const auto& [option, path] : outputs) {
     const std::string whose = option + " " + path;
-    if (!seen.insert(scene::canonical_or_self(path)).second)
-      fail(fmt::format("{}: the same file is given for two outputs", whose));
+    const fs::path c = scene::canonical_or_self(path);
+    for (const auto& [other, p] : seen) {
+      std::error_code ec;
+      // The same path, a symlink to it (canonical), or a hard link to the same existing file.
+      if (p == c || (fs::exists(p, ec) && fs::exists(c, ec) && fs::equivalent(p, c, ec)))
+        fail(fmt::format("{}: the same file as {} (no two outputs may share a file)", whose, other));
+    }
+    seen.emplace_back(whose, c);
     check_not_input(option, path, inputs, job);
     check_not_directory(path, whose);
     const fs::path dir = fs::path(path).parent_path();

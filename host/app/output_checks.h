@@ -4,6 +4,8 @@
 // extension, must not be given twice, must not replace an input of the job (the input file and the
 // files it names, followed into luminaire manifests and glTF files; by path, symlink or hard link),
 // and must go into an existing, writable directory.
+#include <filesystem>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,5 +30,10 @@ void check_output_files(const std::string& input_file, const OutputFiles& output
 // DIR) must not be a directory or an input of `input_file` (none when empty).
 void check_output_directory(const std::string& option, const std::string& dir, const std::vector<std::string>& files,
                             const std::string& input_file = "", const std::string& what = "");
+
+// Throws nf::Error "OPTION PATH: refusing to overwrite INPUT, an input of WHAT" when `path` is one of
+// `inputs` (scene::referenced_files: canonical paths; by path, symlink or hard link).
+void check_not_input(const std::string& option, const std::string& path, const std::set<std::filesystem::path>& inputs,
+                     const std::string& what);
 
 }  // namespace nf::app

@@ -11,16 +11,48 @@
 #include <fmt/format.h>
 
 #include "app/material_edit.h"
+#include "app/orbit_camera.h"
 #include "app/view_settings.h"
 #include "core/error.h"
+#include "core/excerpt.h"
+#include "scene/scene.h"
 
 namespace nf::app {
 namespace {
 
-std::vector<std::string> split(const std::string& line) {
-  std::istringstream in(line);
+// The words of one line: separated by blanks, '#' outside quotes starts a comment, and a word in
+// double quotes may hold blanks and '#' ("gold ball"; \" and \\ inside quotes stand for " and \).
+// `where` prefixes errors ("FILE:LINE").
+std::vector<std::string> split(const std::string& line, const std::string& where) {
   std::vector<std::string> words;
-  for (std::string w; in >> w;) words.push_back(w);
+  std::size_t i = 0;
+  const auto blank = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f'; };
+  while (i < line.size()) {
+    if (blank(line[i])) {
+      ++i;
+      continue;
+    }
+    if (line[i] == '#') break;
+    std::string w;
+    bool quoted = false;
+    while (i < line.size() && !blank(line[i]) && line[i] != '#') {
+      if (line[i] != '"') {
+        w += line[i++];
+        continue;
+      }
+      quoted = true;
+      ++i;  // the opening quote: up to the closing one
+      for (;;) {
+        if (i >= line.size()) fail(fmt::format("{}: a quote (\") is not closed", where));
+        if (line[i] == '"') break;
+        if (line[i] == '\\' && i + 1 < line.size() && (line[i + 1] == '"' || line[i + 1] == '\\')) ++i;
+        w += line[i++];
+      }
+      ++i;  // the closing quote
+    }
+    if (w.empty() && !quoted) continue;
+    words.push_back(w);
+  }
   return words;
 }
 
@@ -41,7 +73,7 @@ bool is_integer(const std::string& v, long long lo) {
 void check_arg(const Script& s, const ScriptCommand& c, std::size_t i, ScriptArg kind) {
   const std::string& v = c.args[i];
   auto bad = [&](const char* what) {
-    fail(fmt::format("{}: {}: argument {} '{}' {}", s.where(c), c.name, i + 1, v, what));
+    fail(fmt::format("{}: {}: argument {} '{}' {}", s.where(c), c.name, i + 1, excerpt(v), what));
   };
   switch (kind) {
     case ScriptArg::number:
@@ -75,13 +107,29 @@ void check_set(const Script& s, const ScriptCommand& c) {
 void check_luminaire(const Script& s, const ScriptCommand& c) {
   const std::string& what = c.args[1];
   if (what != "translate" && what != "rotate" && what != "intensity")
-    fail(fmt::format("{}: luminaire: expected translate, rotate or intensity, got '{}'", s.where(c), what));
+    fail(fmt::format("{}: luminaire: expected translate, rotate or intensity, got '{}'", s.where(c), excerpt(what)));
   if (what == "intensity" && c.args.size() != 3)
     fail(fmt::format("{}: luminaire intensity: expected 1 number", s.where(c)));
   if (what != "intensity" && c.args.size() != 5 && c.args.size() != 6)
     fail(fmt::format("{}: luminaire {}: expected 3 numbers and an optional frame count", s.where(c), what));
-  if (what == "intensity" && !(script_number(s, c, 2) >= 0.0))
-    fail(fmt::format("{}: luminaire intensity: must be >= 0", s.where(c)));
+  if (what == "intensity")  // the scene file's rule (scene/scene.h), so a saved view loads and renders
+    scene::check_intensity(script_number(s, c, 2), fmt::format("{}: luminaire intensity", s.where(c)));
+}
+
+// pan DX DY, look-at P T: the camera stays within OrbitCamera::max_coordinate (pan() checks the
+// result when it runs; a huge step is refused here already).
+void check_pan(const Script& s, const ScriptCommand& c) {
+  for (std::size_t i = 0; i < 2; ++i)
+    if (!(std::fabs(script_number(s, c, i)) <= OrbitCamera::max_coordinate))
+      fail(fmt::format("{}: pan: argument {} must be within +-{:g} view half-heights", s.where(c), i + 1,
+                       OrbitCamera::max_coordinate));
+}
+
+void check_look_at(const Script& s, const ScriptCommand& c) {
+  for (std::size_t i = 0; i < 6; ++i)
+    if (!(std::fabs(script_number(s, c, i)) <= OrbitCamera::max_coordinate))
+      fail(fmt::format("{}: look-at: argument {} must be within +-{:g} m", s.where(c), i + 1,
+                       OrbitCamera::max_coordinate));
 }
 
 // material NAME FIELD VALUE...: the grammar of app/material_edit.h.
@@ -97,19 +145,19 @@ void material_command(ScriptContext& x) {
   auto& ms = x.state.materials;
   const std::string& name = x.text(0);
   const auto it = std::find_if(ms.begin(), ms.end(), [&](const nf::scene::Material& m) { return m.name == name; });
-  if (it == ms.end()) fail(fmt::format("no material '{}' in the scene", name));
+  if (it == ms.end()) fail(fmt::format("no material '{}' in the scene", excerpt(name)));
   apply_material_edit(*it, std::vector<std::string>(x.command.args.begin() + 1, x.command.args.end()));
 }
 
 void check_display(const Script& s, const ScriptCommand& c) {
   if (c.args[0] != "image" && c.args[0] != "A" && c.args[0] != "K" && c.args[0] != "VSGL")
-    fail(fmt::format("{}: display: expected image, A, K or VSGL, got '{}'", s.where(c), c.args[0]));
+    fail(fmt::format("{}: display: expected image, A, K or VSGL, got '{}'", s.where(c), excerpt(c.args[0])));
 }
 
 void check_section(const Script& s, const ScriptCommand& c) {
   const auto& names = panel_sections();
   if (std::find(names.begin(), names.end(), c.args[0]) == names.end())
-    fail(fmt::format("{}: section: unknown panel section '{}'", s.where(c), c.args[0]));
+    fail(fmt::format("{}: section: unknown panel section '{}'", s.where(c), excerpt(c.args[0])));
 }
 
 void check_zoom(const Script& s, const ScriptCommand& c) {
@@ -219,7 +267,7 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "DX DY [N]",
        "pan in view half-heights at the target distance",
        "0.15 0.05",
-       {},
+       check_pan,
        camera_motion},
       {"zoom",
        {A::number},
@@ -235,7 +283,7 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "PX PY PZ TX TY TZ",
        "absolute camera (keeps up and fov)",
        "0 1 4 0 0.5 0",
-       {},
+       check_look_at,
        [](X& x) {
          x.state.orbit.look_at({x.number(0), x.number(1), x.number(2)}, {x.number(3), x.number(4), x.number(5)});
        }},
@@ -341,7 +389,7 @@ ScriptCommand parse_line(const Script& s, const std::vector<std::string>& words,
   c.name = words[0];
   c.args.assign(words.begin() + 1, words.end());
   const ScriptCommandSpec* spec = find_script_command(c.name);
-  if (!spec) fail(fmt::format("{}: unknown command '{}' (see docs/viewer.md)", s.where(c), c.name));
+  if (!spec) fail(fmt::format("{}: unknown command '{}' (see docs/viewer.md)", s.where(c), excerpt(c.name)));
   const std::size_t lo = spec->required.size(), hi = lo + spec->optional.size();
   if (c.args.size() < lo || c.args.size() > hi)
     fail(fmt::format("{}: {}: expected {} argument(s), got {}", s.where(c), c.name,
@@ -369,18 +417,21 @@ Script parse_script(const std::string& text, const std::string& name) {
   int line = 0;
   for (std::string raw; std::getline(in, raw);) {
     ++line;
-    const auto hash = raw.find('#');
-    const std::vector<std::string> words = split(hash == std::string::npos ? raw : raw.substr(0, hash));
+    const std::vector<std::string> words = split(raw, fmt::format("{}:{}", name, line));
     if (!words.empty()) s.commands.push_back(parse_line(s, words, line));
   }
   return s;
 }
 
 Script load_script(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    fail(fmt::format("{}: is a directory, expected a script file", file.string()));
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(fmt::format("{}: cannot read the script", file.string()));
   std::ostringstream ss;
   ss << in.rdbuf();
+  if (in.bad()) fail(fmt::format("{}: cannot read the script", file.string()));
   return parse_script(ss.str(), file.string());
 }
 
@@ -422,7 +473,13 @@ bool ScriptRunner::step(ViewerState& state, ScriptActions& actions) {
   if (animation_) {
     Animation& a = *animation_;
     if (a.kind == "orbit") state.orbit.orbit(a.a, a.b);
-    if (a.kind == "pan") state.orbit.pan(a.a, a.b);
+    if (a.kind == "pan") {
+      try {
+        state.orbit.pan(a.a, a.b);
+      } catch (const Error& e) {  // the command that started the animation ran last
+        fail(fmt::format("{}: pan: {}", script_.where(commands[pc_ - 1]), e.what()));
+      }
+    }
     if (a.kind == "zoom") state.orbit.zoom(a.a);
     if (a.kind == "translate" || a.kind == "rotate") {
       ++a.step;
@@ -438,7 +495,7 @@ bool ScriptRunner::step(ViewerState& state, ScriptActions& actions) {
 void ScriptRunner::execute(const ScriptCommand& c, ViewerState& state, ScriptActions& actions) {
   const ScriptCommandSpec* spec = find_script_command(c.name);
   try {
-    if (!spec) fail(fmt::format("unknown command '{}' (see docs/viewer.md)", c.name));
+    if (!spec) fail(fmt::format("unknown command '{}' (see docs/viewer.md)", excerpt(c.name)));
     ScriptContext x{script_, c, state, *this, actions};
     spec->run(x);
   } catch (const Error& e) {

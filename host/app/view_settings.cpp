@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "scene/settings.h"
 
 namespace nf::app {
@@ -17,7 +18,7 @@ double parse_number(const std::string& name, const std::string& v) {
   char* end = nullptr;
   const double x = std::strtod(v.c_str(), &end);
   if (v.empty() || end != v.c_str() + v.size() || errno != 0 || !std::isfinite(x))
-    fail(fmt::format("{}: '{}' is not a number", name, v));
+    fail(fmt::format("{}: '{}' is not a number", name, excerpt(v)));
   return x;
 }
 
@@ -25,7 +26,8 @@ long long parse_int(const std::string& name, const std::string& v, long long lo,
   errno = 0;
   char* end = nullptr;
   const long long x = std::strtoll(v.c_str(), &end, 10);
-  if (v.empty() || end != v.c_str() + v.size() || errno != 0) fail(fmt::format("{}: '{}' is not an integer", name, v));
+  if (v.empty() || end != v.c_str() + v.size() || errno != 0)
+    fail(fmt::format("{}: '{}' is not an integer", name, excerpt(v)));
   if (x < lo || x > hi) fail(fmt::format("{}: {} is out of range [{}, {}]", name, x, lo, hi));
   return x;
 }
@@ -33,7 +35,7 @@ long long parse_int(const std::string& name, const std::string& v, long long lo,
 bool parse_switch(const std::string& name, const std::string& v) {
   if (v == "on" || v == "true" || v == "1") return true;
   if (v == "off" || v == "false" || v == "0") return false;
-  fail(fmt::format("{}: expected on or off, got '{}'", name, v));
+  fail(fmt::format("{}: expected on or off, got '{}'", name, excerpt(v)));
 }
 
 // Applies one setting to `s`: a declared render setting (scene/settings.h) or one of the
@@ -49,7 +51,7 @@ void set_one(ViewSettings& s, const std::string& name, const std::string& v) {
   } else if (name == "scale") {
     s.scale = parse_number(name, v);
     if (!(s.scale >= kMinScale && s.scale <= kMaxScale))
-      fail(fmt::format("scale: must be in [{}, {}], got {}", kMinScale, kMaxScale, v));
+      fail(fmt::format("scale: must be in [{}, {}], got {}", kMinScale, kMaxScale, excerpt(v)));
   } else if (name == "fast_motion") {
     s.fast_motion = parse_switch(name, v);
   } else if (name == "pause") {
@@ -59,7 +61,7 @@ void set_one(ViewSettings& s, const std::string& name, const std::string& v) {
   } else {
     std::string all;
     for (const auto& n : setting_names()) all += (all.empty() ? "" : ", ") + n;
-    fail(fmt::format("unknown setting '{}' (one of: {})", name, all));
+    fail(fmt::format("unknown setting '{}' (one of: {})", excerpt(name), all));
   }
 }
 

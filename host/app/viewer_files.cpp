@@ -2,7 +2,8 @@
 // screenshot, statistics JSON (viewer_stats.h). Every file is
 // written to a temporary name and renamed into place; an image's EXR and PNG are committed
 // together. Inputs of the scene are never overwritten: the scene file being viewed only after
-// the user confirms in the panel (scripts: refused), luminaire files never.
+// the user confirms in the panel (scripts: refused), every other file the scene uses (textures,
+// environment map, glTF, luminaire manifests and images, IES/LDT files) never.
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/output_checks.h"
 #include "app/viewer_loop.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -32,6 +34,8 @@ std::string lower_extension(const fs::path& p) {
 
 fs::path with_extension(fs::path p, const std::string& ext, const std::string& what) {
   if (p.empty()) fail(fmt::format("{}: no file name given", what));
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) fail(fmt::format("{} {}: is a directory, expected a file name", what, p.string()));
   if (p.extension().empty()) p += ext;
   if (lower_extension(p) != ext) fail(fmt::format("{} {}: the file name must end in {}", what, p.string(), ext));
   return p;
@@ -45,25 +49,35 @@ bool same_file(const fs::path& a, const fs::path& b) {
 
 }  // namespace
 
-std::vector<fs::path> Viewer::luminaire_files() const {
-  std::vector<fs::path> files;
-  for (const auto& l : original_.luminaires) {
-    if (l.manifest.empty()) continue;
-    files.push_back(l.manifest);
-    std::ifstream in(l.manifest);
-    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    if (!j.is_discarded() && j.contains("image") && j["image"].is_object() && j["image"].contains("file") &&
-        j["image"]["file"].is_string())
-      files.push_back(l.manifest.parent_path() / j["image"]["file"].get<std::string>());
+void Viewer::refuse_inputs(const fs::path& p, bool confirmed, const std::string& what) const {
+  if (same_file(p, original_.file)) {
+    if (confirmed) return;
+    fail(fmt::format("{}: refusing to overwrite the scene file being viewed", p.string()));
   }
-  return files;
+  check_not_input(what, p.string(), scene_inputs_, "the scene " + original_.file.string());
 }
 
-void Viewer::refuse_inputs(const fs::path& p, bool confirmed) const {
-  if (!confirmed && same_file(p, original_.file))
-    fail(fmt::format("{}: refusing to overwrite the scene file being viewed", p.string()));
-  for (const auto& f : luminaire_files())
-    if (same_file(p, f)) fail(fmt::format("{}: refusing to overwrite a luminaire file of the scene", p.string()));
+// Every output a script names (the EXR and PNG of `save`), checked against the scene's files
+// before the window opens, so a script never renders and then fails on (or replaces) an input.
+void Viewer::check_script_outputs() const {
+  if (!script_) return;
+  for (const auto& c : script_->script().commands) {
+    if (c.args.empty() || (c.name != "save" && c.name != "save-scene" && c.name != "screenshot")) continue;
+    try {
+      const fs::path p = with_extension(c.args[0],
+                                        c.name == "save"         ? ".exr"
+                                        : c.name == "save-scene" ? ".json"
+                                                                 : ".png",
+                                        c.name);
+      refuse_inputs(p, false, c.name);
+      if (c.name == "save") {
+        fs::path png = p;
+        refuse_inputs(png.replace_extension(".png"), false, c.name + " (its PNG)");
+      }
+    } catch (const Error& e) {
+      fail(fmt::format("{}: {}", script_->script().where(c), e.what()));
+    }
+  }
 }
 
 // ---------------------------------------------------------------- saving ---------------------
@@ -72,8 +86,8 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
   const fs::path exr = with_extension(path, ".exr", "save");
   fs::path png = exr;
   png.replace_extension(".png");
-  refuse_inputs(exr, confirmed);
-  refuse_inputs(png, confirmed);
+  refuse_inputs(exr, confirmed, "save");
+  refuse_inputs(png, confirmed, "save (its PNG)");
   OutputTransaction tx;
   tx.add(exr);
   tx.add(png);
@@ -100,7 +114,7 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
 
 void Viewer::write_scene(const fs::path& path, bool confirmed) {
   const fs::path json = with_extension(path, ".json", "save-scene");
-  refuse_inputs(json, confirmed);
+  refuse_inputs(json, confirmed, "save-scene");
   scene::SceneState st;
   st.camera = state_.orbit.camera(render_width(), render_height());
   for (std::size_t i = 0; i < state_.lums.size(); ++i) {
@@ -120,7 +134,7 @@ void Viewer::write_scene(const fs::path& path, bool confirmed) {
 
 void Viewer::write_screenshot(const fs::path& path, bool confirmed) {
   const fs::path png = with_extension(path, ".png", "screenshot");
-  refuse_inputs(png, confirmed);
+  refuse_inputs(png, confirmed, "screenshot");
   int w = 0, h = 0;
   window_->framebuffer_size(w, h);
   if (w <= 0 || h <= 0) fail("screenshot: the window has no pixels");
@@ -145,7 +159,11 @@ void Viewer::request_save(const std::string& kind, const fs::path& path) {
   try {
     const std::string ext = kind == "scene" ? ".json" : kind == "image" ? ".exr" : ".png";
     const fs::path p = with_extension(path, ext, kind);
-    refuse_inputs(p, true);  // luminaire files: never
+    refuse_inputs(p, true, kind);  // the scene's other files: never
+    if (kind == "image") {
+      fs::path png = p;
+      refuse_inputs(png.replace_extension(".png"), true, kind);
+    }
     std::error_code ec;
     fs::path other = p;
     other.replace_extension(".png");

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/error.h"
 #include "scene/scene_writer.h"
 
 namespace nf::app {
@@ -137,7 +138,12 @@ void ViewerInput::handle_mouse(ViewerState& s, int fw, int fh) {
   const float dx = io.MouseDelta.x, dy = io.MouseDelta.y;
   const bool moved = (dx != 0.0f || dy != 0.0f) && std::isfinite(dx) && std::isfinite(dy);
   const double to_half_heights = 2.0 / std::max(fh, 1);
-  auto pan = [&] { s.orbit.pan(-dx * to_half_heights, dy * to_half_heights); };
+  auto pan = [&] {
+    try {
+      s.orbit.pan(-dx * to_half_heights, dy * to_half_heights);
+    } catch (const Error&) {  // beyond OrbitCamera::max_coordinate: the camera stays
+    }
+  };
   if (moved && dragging(ImGuiMouseButton_Left)) {
     if (io.KeyCtrl)
       drag_luminaire(s, dx, dy, false, fw, fh);

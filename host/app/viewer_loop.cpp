@@ -26,6 +26,7 @@
 #include "core/timer.h"
 #include "gl/tonemap.h"
 #include "scene/material_json.h"
+#include "scene/referenced_files.h"
 #include "scene/scene_writer.h"
 
 namespace nf::app {
@@ -85,7 +86,9 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
       fail(fmt::format("--set {}={}: {}", name, value, e.what()));
     }
   }
+  scene_inputs_ = scene::referenced_files(scene.file);
   if (!o.script.empty()) script_.emplace(load_script(o.script));  // a bad script fails before the window opens
+  check_script_outputs();
   state_.panel = o.panel;
 
   int ww = o.window_width, wh = o.window_height;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -62,16 +63,20 @@ class Viewer final : public ViewerActions, public ScriptActions {
   int render_height() const;
 
   // files (viewer_files.cpp)
-  // `confirmed`: the user agreed to overwrite the scene file being viewed (never a luminaire file).
+  // `confirmed`: the user agreed to overwrite the scene file being viewed (never another input).
   void write_image(const std::filesystem::path& exr, bool confirmed);
   void write_scene(const std::filesystem::path& json, bool confirmed);
   void write_screenshot(const std::filesystem::path& png, bool confirmed = false);
-  void refuse_inputs(const std::filesystem::path& p, bool confirmed) const;
+  // Refuses (nf::Error naming `what` and the path) an output that is a file the scene uses.
+  void refuse_inputs(const std::filesystem::path& p, bool confirmed, const std::string& what = "") const;
+  void check_script_outputs() const;  // every save/save-scene/screenshot of the script, before the window opens
   void write_stats();
-  std::vector<std::filesystem::path> luminaire_files() const;  // manifests and their images
 
   ViewerOptions opt_;
   scene::Scene original_;  // the file's camera, luminaires and render settings (no geometry)
+  // Every file the scene uses (scene::referenced_files: the scene, its textures, environment map,
+  // glTF files, luminaire manifests and images, IES/LDT files): no viewer output may replace one.
+  std::set<std::filesystem::path> scene_inputs_;
   std::unique_ptr<gl::Window> window_;
   std::unique_ptr<render::Renderer> renderer_;
   bool imgui_ready_ = false;

@@ -12,6 +12,7 @@
 
 #include "render/stats.h"
 #include "scene/material_json.h"
+#include "scene/scene.h"
 #include "scene/settings.h"
 
 namespace nf::app {
@@ -390,7 +391,7 @@ void Panel::luminaires() {
   LuminaireEdit& e = s.lums[static_cast<std::size_t>(s.selected)];
   ImGui::DragScalarN("translate (m)", ImGuiDataType_Double, &e.translate.x, 3, 0.01f, nullptr, nullptr, "%.3f");
   ImGui::DragScalarN("rotate (deg)", ImGuiDataType_Double, &e.euler.x, 3, 0.5f, nullptr, nullptr, "%.2f");
-  const double zero = 0.0, big = 1e6;
+  const double zero = 0.0, big = scene::kMaxIntensity;  // the scene's rule
   ImGui::DragScalar("intensity", ImGuiDataType_Double, &e.intensity, 0.01f, &zero, &big, "%.3f");
   e.intensity = std::max(e.intensity, 0.0);
   if (ImGui::Button("reset luminaire")) s.reset_luminaire(static_cast<std::size_t>(s.selected));

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 
 namespace nf {
 namespace {
@@ -56,7 +57,7 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& name)
     const auto [line, col] = line_col(text, e.byte > 0 ? e.byte - 1 : 0);
     std::string what = e.what();
     if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
-    fail(fmt::format("{}: JSON syntax error at line {}, column {}: {}", name, line, col, what));
+    fail(fmt::format("{}: JSON syntax error at line {}, column {}: {}", name, line, col, excerpt(what, 160)));
   } catch (const nlohmann::json::out_of_range& e) {
     // "number overflow parsing '1e400'": find that literal (as a whole number token) in the text.
     std::string what = e.what(), literal;
@@ -74,10 +75,10 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& name)
     }
     if (at == std::string::npos)
       fail(fmt::format("{}: number out of range: {} (JSON numbers must be within +-1.8e308)", name,
-                       literal.empty() ? what : literal));
+                       excerpt(literal.empty() ? what : literal, 80)));
     const auto [line, col] = line_col(text, at);
-    fail(fmt::format("{}: number out of range at line {}, column {}: {} (JSON numbers must be within +-1.8e308)",
-                     name, line, col, literal));
+    fail(fmt::format("{}: number out of range at line {}, column {}: {} (JSON numbers must be within +-1.8e308)", name,
+                     line, col, excerpt(literal, 80)));
   } catch (const nlohmann::json::exception& e) {
     fail(fmt::format("{}: invalid JSON: {}", name, e.what()));
   }

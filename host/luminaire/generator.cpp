@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/memory.h"
 #include "core/progress.h"
 #include "luminaire/basis.h"
@@ -176,7 +177,7 @@ Spec find_spec(const std::string& name) {
   if (name == "panel") return panel();
   std::string known;
   for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
-  fail(fmt::format("unknown luminaire preset '{}' (known: {})", name, known));
+  fail(fmt::format("unknown luminaire preset '{}' (known: {})", excerpt(name), known));
 }
 
 // ---- the virtual acquisition ------------------------------------------------------------------

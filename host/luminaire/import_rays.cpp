@@ -129,7 +129,9 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   if (o.axis) axis = *o.axis;
   const double alen = std::sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
   if (!(alen > 1e-12) || !std::isfinite(alen))
-    fail(fmt::format("{}: the emission axis is undefined (mean direction is zero); give --axis", where));
+    fail(o.axis ? fmt::format("{}: --axis {:g},{:g},{:g} is not a finite non-zero direction", where, o.axis->x,
+                              o.axis->y, o.axis->z)
+                : fmt::format("{}: the emission axis is undefined (mean direction is zero); give --axis", where));
   LuminaireFrame& f = rep.frame;
   f.ez = axis / alen;
   const glm::dvec3 ref = std::abs(f.ez.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
@@ -208,8 +210,8 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
     if (!(cells <= 1e6))
       fail(
           fmt::format("{}: the basis would need cells of {:.3g} pixels to cover rays up to |tan theta| = {:.4g} "
-                      "at delta = {:.4g} m; lower --coverage or --delta, or give --axis",
-                      where, cells, rep.tan_max, delta));
+                      "at delta = {:.4g} m; lower --coverage or --delta, or {} --axis",
+                      where, cells, rep.tan_max, delta, o.axis ? "check" : "give"));
     kcell[a] = std::max(1, static_cast<int>(cells));
     b.cell[a] = kcell[a] * pix;
     const double ideal = centre[a] - 0.5 * (n - 1 + o.grid[a]) * b.cell[a];
@@ -303,7 +305,10 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
       needed[static_cast<std::size_t>(qy * tw + qx)] = 1;
     }
   }
-  if (rep.kept_rays == 0) fail(where + ": no ray falls inside the light field's planes; check --axis");
+  if (rep.kept_rays == 0)
+    fail(where + (o.axis ? fmt::format(": no ray falls inside the light field's planes; check --axis {:g},{:g},{:g}",
+                                       o.axis->x, o.axis->y, o.axis->z)
+                         : std::string(": no ray falls inside the light field's planes; give --axis")));
 
   // ---- etendue table for the offsets that occur.
   const EtendueKernel kernel(b.kind, b.cell.x, b.cell.y, pix, delta);

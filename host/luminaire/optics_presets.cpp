@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/memory.h"
 #include "luminaire/headlight_reflector.h"
 #include "luminaire/led_matrix.h"
@@ -48,7 +49,7 @@ OpticsPreset optics_preset(const std::string& name, double scale) {
     o.resolution = 32;
     rays = 3e6;
   } else {
-    fail(fmt::format("unknown ray-traced preset '{}'", name));
+    fail(fmt::format("unknown ray-traced preset '{}'", excerpt(name)));
   }
   o.resolution = std::max(4, static_cast<int>(std::lround(o.resolution * scale)));
   p.rays = std::max<std::size_t>(20000, static_cast<std::size_t>(rays * scale * scale));
@@ -59,7 +60,7 @@ TracedRays trace_optics_preset(const std::string& name, std::size_t rays, unsign
   if (name == "headlight-reflector") return trace_headlight_reflector(HeadlightReflector{}, rays, threads);
   if (name == "led-matrix") return trace_led_matrix(LedMatrix{}, rays, threads);
   if (name == "projector") return trace_projector_module(ProjectorModule{}, rays, threads);
-  fail(fmt::format("unknown ray-traced preset '{}'", name));
+  fail(fmt::format("unknown ray-traced preset '{}'", excerpt(name)));
 }
 
 std::uint64_t optics_preset_memory(const std::string& name, double scale) {

@@ -47,20 +47,6 @@ bool parse_decimal(std::string_view token, double& value) {
   return true;
 }
 
-std::string excerpt(std::string_view text) {
-  constexpr std::size_t kMax = 32;
-  std::string out;
-  for (std::size_t k = 0; k < text.size() && k < kMax; ++k) {
-    const auto c = static_cast<unsigned char>(text[k]);
-    if (c >= 0x20 && c < 0x7f && c != '\\')
-      out.push_back(static_cast<char>(c));
-    else
-      out += fmt::format("\\x{:02x}", c);
-  }
-  if (text.size() > kMax) out += "...";
-  return out;
-}
-
 std::string_view trim_blanks(std::string_view text) {
   const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
   while (!text.empty() && blank(text.front())) text.remove_prefix(1);

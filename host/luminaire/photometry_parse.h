@@ -5,6 +5,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/excerpt.h"
+
 namespace nf::lum {
 
 // The whole of `token` as a decimal number: an optional sign, digits with at most one '.', and an
@@ -12,9 +14,8 @@ namespace nf::lum {
 // trailing characters are refused, and so is a value beyond the double range. Underflow gives 0.
 bool parse_decimal(std::string_view token, double& value);
 
-// `text` as a message quotes it: at most 32 characters, bytes outside printable ASCII as \xNN,
-// "..." when cut.
-std::string excerpt(std::string_view text);
+// nf::excerpt (core/excerpt.h): `text` as a message quotes it, short and escaped.
+using nf::excerpt;
 
 // `text` without leading and trailing blanks (spaces, tabs, CR, LF).
 std::string_view trim_blanks(std::string_view text);

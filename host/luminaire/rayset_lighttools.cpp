@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/memory.h"
 
 namespace nf::lum {
@@ -66,10 +67,11 @@ RaySet read_lighttools_ascii(const std::filesystem::path& path) {
     }
     const auto colon = t.find(':');
     if (colon == std::string::npos)
-      fail(fmt::format("{}:{}: expected a 'key: value' header line or lt_startofdata, found '{}'", file, line_no, t));
+      fail(fmt::format("{}:{}: expected a 'key: value' header line or lt_startofdata, found '{}'", file, line_no,
+                       excerpt(t)));
     const std::string key = t.substr(0, colon), value = trim(t.substr(colon + 1));
     auto bad = [&](const std::string& what) -> void {
-      fail(fmt::format("{}:{}: header field '{}' {}", file, line_no, key, what));
+      fail(fmt::format("{}:{}: header field '{}' {}", file, line_no, excerpt(key), what));
     };
     if (key == "lt_length_units") {
       if (value == "millimeters")
@@ -81,32 +83,32 @@ RaySet read_lighttools_ascii(const std::filesystem::path& path) {
       else if (value == "inches")
         unit = 0.0254;
       else
-        bad(fmt::format("is '{}' (supported: millimeters, centimeters, meters, inches)", value));
+        bad(fmt::format("is '{}' (supported: millimeters, centimeters, meters, inches)", excerpt(value)));
     } else if (key == "lt_datatype") {
       if (value == "luminous_flux")
         rs.kind = FluxKind::luminous;
       else if (value == "radiant_flux" || value == "power")
         rs.kind = FluxKind::radiant;
       else
-        bad(fmt::format("is '{}' (supported: luminous_flux, radiant_flux)", value));
+        bad(fmt::format("is '{}' (supported: luminous_flux, radiant_flux)", excerpt(value)));
       kind_known = true;
     } else if (key == "lt_far_field_data") {
-      if (value != "no") bad(fmt::format("is '{}': far-field ray data have no positions to import", value));
+      if (value != "no") bad(fmt::format("is '{}': far-field ray data have no positions to import", excerpt(value)));
     } else if (key == "lt_color_info") {
       if (value == "wavelength")
         has_wavelength = true;
       else if (value != "none")
-        bad(fmt::format("is '{}' (supported: none, wavelength)", value));
+        bad(fmt::format("is '{}' (supported: none, wavelength)", excerpt(value)));
     } else if (key == "lt_data_origin") {
       std::istringstream v(value);
-      if (!(v >> origin.x >> origin.y >> origin.z)) bad(fmt::format("'{}' is not three numbers", value));
+      if (!(v >> origin.x >> origin.y >> origin.z)) bad(fmt::format("'{}' is not three numbers", excerpt(value)));
     } else if (key == "lt_radiant_flux" || key == "lt_luminous_flux") {
       std::istringstream v(value);
       double f = 0.0;
-      if (!(v >> f) || !(f >= 0.0 && std::isfinite(f))) bad(fmt::format("'{}' is not a flux >= 0", value));
+      if (!(v >> f) || !(f >= 0.0 && std::isfinite(f))) bad(fmt::format("'{}' is not a flux >= 0", excerpt(value)));
       rs.header_flux = f;
     } else {
-      rs.notes.push_back(fmt::format("ignored header field {}", key));
+      rs.notes.push_back(fmt::format("ignored header field {}", excerpt(key)));
     }
   }
   if (!started) fail(fmt::format("{}: no lt_startofdata line (is this a LightTools ASCII ray file?)", file));
@@ -129,7 +131,7 @@ RaySet read_lighttools_ascii(const std::filesystem::path& path) {
     std::string rest;
     if (n != cols || (v >> rest))
       fail(fmt::format("{}:{}: expected {} numbers (x y z kx ky kz flux{}), found '{}'", file, line_no, cols,
-                       has_wavelength ? " wavelength" : "", t));
+                       has_wavelength ? " wavelength" : "", excerpt(t, 80)));
     for (int c = 0; c < cols; ++c)
       if (!std::isfinite(x[c])) fail(fmt::format("{}:{}: non-finite value in column {}", file, line_no, c + 1));
     // Direction scaled by its largest component before squaring, so any finite non-zero vector

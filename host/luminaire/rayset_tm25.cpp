@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/colorimetry.h"
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/memory.h"
 
 namespace nf::lum {
@@ -231,7 +232,8 @@ RaySet read_tm25(const std::filesystem::path& path) {
 
   const std::string name = r.utf32(kFileBlock + kFlagBlock, kTextBlock);
   const std::string maker = r.utf32(kFileBlock + kFlagBlock + kTextBlock, kTextBlock);
-  if (!name.empty() || !maker.empty()) rs.notes.push_back(fmt::format("light source '{}' by '{}'", name, maker));
+  if (!name.empty() || !maker.empty())
+    rs.notes.push_back(fmt::format("light source '{}' by '{}'", excerpt(name, 80), excerpt(maker, 80)));
   if (!date.empty()) rs.notes.push_back(fmt::format("created {}", date));
 
   // Variable blocks: spectral tables (4.7.4, padded to 32 bytes), additional column names (4.7.5),

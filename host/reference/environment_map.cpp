@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "luminaire/io.h"
 
 namespace nf::ref {
 namespace {
@@ -44,8 +45,15 @@ EnvironmentMap::EnvironmentMap(const Image& image, double rotation_deg, double i
     for (int a = 0; a < w_; ++a) {
       glm::dvec3 c;
       for (int k = 0; k < 3; ++k) c[k] = image.at(a, r, image.channels >= 3 ? k : 0);
-      if (!(c.x >= 0.0 && c.y >= 0.0 && c.z >= 0.0) || !std::isfinite(c.x + c.y + c.z))
-        fail(fmt::format("{}: pixel ({}, {}) is not finite and >= 0", name, a, r));
+      // Texels as luminaire pixels (docs/robustness.md): finite, >= 0 and, times the intensity,
+      // within [0, lum::kMaxPixel], so single-precision sums over the map stay finite.
+      for (int k = 0; k < 3; ++k)
+        if (!(c[k] >= 0.0 && std::isfinite(c[k]) && c[k] * intensity <= lum::kMaxPixel))
+          fail(fmt::format(
+              "{}: texel ({}, {}) {} = {:g}{} is outside the supported range [0, {:g}]", name, a, r,
+              image.channels >= 3 ? "RGB"[k] : 'Y', c[k],
+              intensity == 1.0 ? std::string() : fmt::format(" (x intensity {:g} = {:g})", intensity, c[k] * intensity),
+              lum::kMaxPixel));
       const std::size_t i = static_cast<std::size_t>(r) * w_ + a;
       texels_[i] = c * intensity;
       weight_[i] = (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) * intensity * sin_v;

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "luminaire/parallel.h"
@@ -38,7 +39,7 @@ std::string to_string(Only o) {
 Only parse_only(const std::string& s, const std::string& what) {
   for (Only o : {Only::all, Only::luminaires, Only::environment, Only::indirect})
     if (to_string(o) == s) return o;
-  fail(fmt::format("{}: unknown value '{}' (known: all | luminaires | environment | indirect)", what, s));
+  fail(fmt::format("{}: unknown value '{}' (known: all | luminaires | environment | indirect)", what, excerpt(s)));
 }
 
 void ReferenceSettings::validate(bool has_environment) const {

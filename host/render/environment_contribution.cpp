@@ -8,6 +8,7 @@
 #include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/timer.h"
 #include "reference/ray_scene.h"
 #include "render/kurt_table.h"
@@ -24,14 +25,15 @@ int glossy_index(const std::string& s) {
   if (s == "env-is") return 3;
   if (s == "env-fis") return 4;
   if (s == "regular") return 5;
-  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is | env-fis | regular)", s));
+  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is | env-fis | regular)",
+                   excerpt(s)));
 }
 
 int filter_index(const std::string& s) {
   if (s == "box") return 0;
   if (s == "gauss4") return 1;
   if (s == "gauss6") return 2;
-  fail(fmt::format("env_filter: unknown filter '{}' (box | gauss4 | gauss6)", s));
+  fail(fmt::format("env_filter: unknown filter '{}' (box | gauss4 | gauss6)", excerpt(s)));
 }
 
 // Level sizes from (w, h) down to the top: halved (rounded down, at least 1) until 1 x 1 for the
@@ -408,7 +410,7 @@ void EnvironmentContribution::set_filter(const std::string& filter) {
 
 void EnvironmentContribution::set_param(const std::string& param) {
   if (param != "latlong" && param != "paraboloid")
-    fail(fmt::format("env_param: unknown parametrisation '{}' (latlong | paraboloid)", param));
+    fail(fmt::format("env_param: unknown parametrisation '{}' (latlong | paraboloid)", excerpt(param)));
   if (param == param_) return;
   param_ = param;
   if (param_ == "paraboloid") {  // built while in use only

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "cl/buffers.h"
 #include "core/error.h"
@@ -71,41 +72,68 @@ void FarfieldContribution::set_materials(const std::vector<scene::Material>& mat
   kurt_count_ = static_cast<int>(table.size());
 }
 
-// The shadow map of a far-field light: gl::ShadowMaps with one cell whose reference light is the
-// light itself (local origin), looking along local +z with a symmetric frustum of 75 degrees per
-// side (the largest the light-field maps use; tan 75 = 3.73). Directions beyond it are lit.
+// The shadow maps of a far-field light: a cube of six gl::ShadowMaps around the light (the light
+// emits over its whole sphere, docs/photometry.md), each with one cell whose reference light is
+// the light itself (local origin), looking along one of the local axes +-x, +-y, +-z with a
+// symmetric frustum of 45 degrees per side widened to tan = kCubeTan, so that neighbouring faces
+// overlap by a few texels and no direction falls between them. A point is lit when every face
+// says so: a face that does not see the point counts it as lit (gl/shadow_maps.h), and the face
+// (or two, at an edge) that sees it decides. Issue 28: one 75-degree map along +z left everything
+// beyond 75 degrees lit, so a light inside a closed box lit the floor outside it.
+namespace {
+
+constexpr double kCubeTan = 1.05;
+
+// Rotations taking local +z onto the six face axes (+z, -z, +x, -x, +y, -y).
+std::vector<glm::dmat4> cube_faces() {
+  const double half = 0.5 * 3.14159265358979323846;
+  const glm::dmat4 id(1.0);
+  return {id,
+          glm::rotate(id, 2.0 * half, glm::dvec3(0, 1, 0)),
+          glm::rotate(id, half, glm::dvec3(0, 1, 0)),
+          glm::rotate(id, -half, glm::dvec3(0, 1, 0)),
+          glm::rotate(id, -half, glm::dvec3(1, 0, 0)),
+          glm::rotate(id, half, glm::dvec3(1, 0, 0))};
+}
+
+}  // namespace
+
 void FarfieldContribution::update_visibility(const FrameInputs& in, ContributionFrame& f) {
   const bool wanted = in.settings.visibility == Visibility::shadowmaps && in.scene_gpu && in.gbuffer && in.geometry &&
                       in.geometry->can_occlude();
   vis_used_ = wanted;
   if (!wanted) return;
+  const std::size_t faces = cube_faces().size();
   if (maps_.empty() || map_size_ != in.settings.shadow_map_size) {
     Timer t;
     maps_.clear();
     map_size_ = in.settings.shadow_map_size;
-    const double k = std::tan(75.0 * 3.14159265358979323846 / 180.0);
-    for (const auto& m : to_world_) {
-      gl::ShadowMapSpec spec;
-      spec.lights = {glm::dvec3(0.0)};
-      spec.cells_x = spec.cells_y = 1;
-      spec.to_world = m;
-      spec.size = map_size_;
-      spec.frustum = gl::ShadowFrustum{-k, k, -k, k, 0.005};
-      maps_.push_back(std::make_unique<gl::ShadowMaps>(spec));
-      maps_.back()->render(*in.scene_gpu);
-    }
+    for (const auto& m : to_world_)
+      for (const auto& face : cube_faces()) {
+        gl::ShadowMapSpec spec;
+        spec.lights = {glm::dvec3(0.0)};
+        spec.cells_x = spec.cells_y = 1;
+        spec.to_world = m * face;
+        spec.size = map_size_;
+        spec.frustum = gl::ShadowFrustum{-kCubeTan, kCubeTan, -kCubeTan, kCubeTan, 0.005};
+        maps_.push_back(std::make_unique<gl::ShadowMaps>(spec));
+        maps_.back()->render(*in.scene_gpu);
+      }
     f.parts_ms.emplace_back("shadow maps", t.ms());
     f.step1_ms += t.ms();
     vis_valid_ = false;
   }
   if (vis_valid_ && in.view_version != 0 && in.view_version == vis_version_) return;
   Timer t;
-  const std::size_t n = static_cast<std::size_t>(std::max(in.count, 0)), nl = maps_.size();
+  const std::size_t n = static_cast<std::size_t>(std::max(in.count, 0)), nl = to_world_.size();
   std::vector<std::uint32_t> bits(visibility_bytes(n, nl) / sizeof(std::uint32_t), 0u);
-  for (std::size_t k = 0; k < nl; ++k) {
-    const std::vector<std::uint32_t> v = maps_[k]->visibility(*in.gbuffer);  // one word per pixel
-    if (v.size() != n) fail(fmt::format("far-field shadow map {}: {} visibility words for {} pixels", k, v.size(), n));
-    for (std::size_t p = 0; p < n; ++p) bits[p * nl + k] = v[p] & 1u;
+  for (std::size_t p = 0; p < n; ++p)
+    for (std::size_t k = 0; k < nl; ++k) bits[p * nl + k] = 1u;
+  for (std::size_t m = 0; m < maps_.size(); ++m) {
+    const std::size_t k = m / faces;
+    const std::vector<std::uint32_t> v = maps_[m]->visibility(*in.gbuffer);  // one word per pixel
+    if (v.size() != n) fail(fmt::format("far-field shadow map {}: {} visibility words for {} pixels", m, v.size(), n));
+    for (std::size_t p = 0; p < n; ++p) bits[p * nl + k] &= v[p] & 1u;
   }
   vis_ = cl::upload(rt_, bits, "uploading the far-field visibility");
   vis_bytes_ = visibility_bytes(n, nl);

@@ -4,11 +4,11 @@
 // and per frame one launch of kernels/farfield.cl that shades every G-buffer surface with
 //   L_o = sum_lights f_r(w, v) max(0, n.w) I(C, gamma) / r^2
 // (I bilinear in C and gamma, as lum::Goniometric::intensity). Visibility: with the frame's
-// `visibility = shadowmaps` (and geometry that can occlude), one perspective shadow map per light
-// (gl::ShadowMaps with a single cell at the light, looking along its +z, at most 75 degrees off
-// axis per side; points outside count as lit), rendered once, and per view a GL pass over the
-// G-buffer giving one bit per pixel and light; otherwise every light reaches every surface that
-// faces it.
+// `visibility = shadowmaps` (and geometry that can occlude), a cube of six perspective shadow maps
+// per light (gl::ShadowMaps with a single cell at the light, looking along its +-x, +-y, +-z,
+// overlapping by a few texels: the light's whole sphere), rendered once, and per view a GL pass
+// over the G-buffer per face, combined into one bit per pixel and light (lit when every face that
+// sees the point says so); otherwise every light reaches every surface that faces it.
 #include <cstdint>
 #include <memory>
 #include <vector>

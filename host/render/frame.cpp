@@ -180,8 +180,7 @@ void Renderer::set_luminaire_transform(std::size_t i, const glm::dmat4& to_world
 
 void Renderer::set_luminaire_intensity(std::size_t i, double intensity) {
   if (i >= instances_.size()) fail(fmt::format("luminaire {} out of range ({} instances)", i, instances_.size()));
-  if (!(intensity >= 0.0) || !std::isfinite(intensity))
-    fail(fmt::format("luminaire {}: intensity must be finite and >= 0, got {}", i, intensity));
+  scene::check_intensity(intensity, fmt::format("luminaire {}: intensity", i));  // the scene file's rule
   if (instances_[i].intensity == intensity) return;
   instances_[i].intensity = intensity;
   scene_.luminaires[i].intensity = intensity;

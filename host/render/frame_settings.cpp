@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 
 namespace nf::render {
 
@@ -12,7 +13,7 @@ std::string to_string(Visibility v) { return v == Visibility::none ? "none" : "s
 Visibility parse_visibility(const std::string& s, const std::string& what) {
   if (s == "none") return Visibility::none;
   if (s == "shadowmaps") return Visibility::shadowmaps;
-  fail(fmt::format("{}: unknown visibility '{}' (none, shadowmaps)", what, s));
+  fail(fmt::format("{}: unknown visibility '{}' (none, shadowmaps)", what, excerpt(s)));
 }
 
 void FrameSettings::validate() const {

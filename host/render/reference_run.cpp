@@ -141,11 +141,10 @@ ReferenceRun cached_reference(const scene::Scene& scene, const ref::ReferenceSet
   const ImageAttributes attrs{{kDescription, description},
                               {"nearfield:render_ms", fmt::format("{:.3f}", r.stats.render_ms)},
                               {"nearfield:rays", std::to_string(r.stats.rays())}};
-  AtomicFile out(file), out_aux(aux_file);
-  write_exr(out.temp_path(), r.image, attrs);
-  write_exr(out_aux.temp_path(), aux, attrs);
-  out.commit();
-  out_aux.commit();
+  OutputTransaction tx;  // the image and its aux file together, or neither
+  write_exr(tx, file, r.image, attrs);
+  write_exr(tx, aux_file, aux, attrs);
+  tx.commit();
   return run;
 }
 

@@ -92,6 +92,9 @@ RegularPattern regular_pattern_for_budget(int budget, double eps0, double mx, do
   for (int c = 1; c <= kMaxCircles; ++c) {
     bool over = true;
     for (const RegularSpacing sp : {RegularSpacing::s1, RegularSpacing::s2}) {
+      // s2 with one circle is a ring on theta_max alone: nothing inside it, so a wide lobe's
+      // samples all reflect below the horizon (black at small eps0, issue 28). Never chosen.
+      if (sp == RegularSpacing::s2 && c == 1) continue;
       RegularPattern p = regular_pattern(sp, c, eps0, mx, my);
       if (p.h.empty()) continue;
       if (p.size() <= budget) over = false;

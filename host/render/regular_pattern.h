@@ -37,7 +37,7 @@ double regular_theta_max(double eps0, double mx, double my);
 RegularPattern regular_pattern(RegularSpacing spacing, int circles, double eps0, double mx, double my);
 
 // The pattern with the sample count nearest `budget` among both spacings and n_c = 1 .. 64 (ties:
-// the smaller count, then s1); never empty.
+// the smaller count, then s1), except s2 with n_c = 1 (a ring on theta_max alone); never empty.
 RegularPattern regular_pattern_for_budget(int budget, double eps0, double mx, double my);
 
 // The anisotropic Beckmann D(h) of Luksch Eq. 4-5 in double (normalised: int D cos th dh = 1),

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 
 namespace nf::render {
 namespace {
@@ -47,7 +48,7 @@ E parse_of(const Table<E, N>& t, std::string s, const std::string& what) {
   std::replace(s.begin(), s.end(), '_', '-');
   for (const auto& [e, n] : t)
     if (s == n) return e;
-  fail(fmt::format("{}: unknown value '{}' (valid: {})", what, s, fmt::join(names_of(t), ", ")));
+  fail(fmt::format("{}: unknown value '{}' (valid: {})", what, excerpt(s), fmt::join(names_of(t), ", ")));
 }
 
 }  // namespace

@@ -5,11 +5,13 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/excerpt.h"
 
 namespace nf::scene {
 
 void JsonWhere::fail(const std::string& message) const {
-  const std::string p = ptr.empty() ? "/" : ptr;
+  // The pointer holds the file's own keys: quoted as an excerpt (a 20 MB key, escape bytes).
+  const std::string p = ptr.empty() ? "/" : excerpt(ptr, 120);
   nf::fail(file.empty() ? fmt::format("{}: {}", p, message) : fmt::format("{}: {}: {}", file, p, message));
 }
 
@@ -75,7 +77,7 @@ std::string json_string(const nlohmann::json& v, const JsonWhere& w) {
 std::string json_choice(const nlohmann::json& v, const JsonWhere& w, const std::vector<std::string>& allowed) {
   const std::string s = json_string(v, w);
   if (std::find(allowed.begin(), allowed.end(), s) == allowed.end())
-    w.fail(fmt::format("unknown value '{}' (allowed: {})", s, join_names(allowed)));
+    w.fail(fmt::format("unknown value '{}' (allowed: {})", excerpt(s), join_names(allowed)));
   return s;
 }
 

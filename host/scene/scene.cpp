@@ -13,6 +13,7 @@
 #include "core/color.h"
 #include "core/colorimetry.h"
 #include "core/error.h"
+#include "core/excerpt.h"
 #include "core/json_file.h"
 #include "core/log.h"
 #include "luminaire/io.h"
@@ -107,7 +108,7 @@ class Parser {
     for (auto it = v.begin(); it != v.end(); ++it) {
       if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return it.key() == k; })) {
         std::vector<std::string> names(allowed.begin(), allowed.end());
-        error(at(ptr, it.key()), fmt::format("unknown key '{}' (allowed here: {})", it.key(), join(names)));
+        error(at(ptr, it.key()), fmt::format("unknown key '{}' (allowed here: {})", excerpt(it.key()), join(names)));
       }
     }
   }
@@ -118,6 +119,13 @@ class Parser {
   JsonWhere where(const std::string& ptr) const { return {name_, ptr}; }
   double number(const json& v, const std::string& ptr, double lo = -1e300, double hi = 1e300) const {
     return json_number(v, where(ptr), lo, hi);
+  }
+  // "intensity" of a luminaire, far-field light or environment: the rule of check_intensity().
+  double intensity(const json& v, const std::string& ptr) const {
+    const double d = number(v, ptr);
+    const std::string problem = intensity_problem(d);
+    if (!problem.empty()) error(ptr, problem);
+    return d;
   }
   int integer(const json& v, const std::string& ptr, long long lo, long long hi) const {
     return json_integer(v, where(ptr), lo, hi);
@@ -283,7 +291,7 @@ class Parser {
       const std::string name = v.get<std::string>();
       if (auto it = material_index_.find(name); it != material_index_.end()) return it->second;
       if (name == "default") return default_material(g);
-      error(ptr, fmt::format("unknown material '{}'", name));
+      error(ptr, fmt::format("unknown material '{}'", excerpt(name)));
     }
     if (v.is_object()) {
       g.materials.push_back(material_def(v, ptr, object_name + "/material"));
@@ -359,7 +367,8 @@ class Parser {
       for (auto it = v.begin(); it != v.end(); ++it)
         if (std::none_of(keys.begin(), keys.end(), [&](const char* k) { return it.key() == k; })) {
           std::vector<std::string> names(keys.begin(), keys.end());
-          error(at(ptr, it.key()), fmt::format("unknown key '{}' for a {} (allowed: {})", it.key(), type, join(names)));
+          error(at(ptr, it.key()),
+                fmt::format("unknown key '{}' for a {} (allowed: {})", excerpt(it.key()), type, join(names)));
         }
     };
     const glm::dmat4 to_world =
@@ -460,12 +469,12 @@ class Parser {
       if (l.preset.empty() || !std::all_of(l.preset.begin(), l.preset.end(), [](unsigned char c) {
             return std::isalnum(c) || c == '_' || c == '-' || c == '.';
           }))
-        error(at(ptr, "preset"), fmt::format("'{}' is not a preset name", l.preset));
+        error(at(ptr, "preset"), fmt::format("'{}' is not a preset name", excerpt(l.preset)));
     }
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "luminaire transforms must be rigid");
     l.units = luminaire_units(l, ptr);
-    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    if (v.contains("intensity")) l.intensity = intensity(v["intensity"], at(ptr, "intensity"));
     return l;
   }
 
@@ -483,7 +492,7 @@ class Parser {
     }
     if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
     if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "far-field light transforms must be rigid");
-    if (v.contains("intensity")) l.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    if (v.contains("intensity")) l.intensity = intensity(v["intensity"], at(ptr, "intensity"));
     l.colour = farfield_colour(v, ptr);
     return l;
   }
@@ -563,7 +572,7 @@ class Parser {
     Environment e;
     e.file = existing_file(require(v, ptr, "file"), at(ptr, "file"));
     if (v.contains("rotation")) e.rotation_deg = number(v["rotation"], at(ptr, "rotation"));
-    if (v.contains("intensity")) e.intensity = number(v["intensity"], at(ptr, "intensity"), 0.0, kMaxIntensity);
+    if (v.contains("intensity")) e.intensity = intensity(v["intensity"], at(ptr, "intensity"));
     return e;
   }
 
@@ -634,6 +643,17 @@ Scene parse_scene(const std::string& json_text, const std::string& name, const s
   Parser parser(name, base_dir);
   Scene s = parser.parse(root);
   return s;
+}
+
+std::string intensity_problem(double v) {
+  if (!std::isfinite(v)) return "expected a finite number";
+  if (v < 0.0 || v > kMaxIntensity) return fmt::format("{} is out of range [{}, {}]", v, 0.0, kMaxIntensity);
+  return "";
+}
+
+void check_intensity(double v, const std::string& what) {
+  const std::string problem = intensity_problem(v);
+  if (!problem.empty()) fail(fmt::format("{}: {}", what, problem));
 }
 
 Scene load_scene(const std::filesystem::path& file) {

@@ -26,6 +26,12 @@ namespace nf::scene {
 // under the largest float, so single-precision device sums cannot overflow to Inf; larger values
 // are refused when the scene is read (docs/scenes.md, docs/robustness.md).
 constexpr double kMaxIntensity = 1e6;
+// The rule for every "intensity" (luminaires, far-field lights, the environment), shared by the scene
+// loader and the viewer's edits: finite and within [0, kMaxIntensity]. intensity_problem() gives ""
+// or the problem ("2e+06 is out of range [0, 1000000]"); check_intensity() throws nf::Error
+// "WHAT: problem".
+std::string intensity_problem(double v);
+void check_intensity(double v, const std::string& what);
 
 // One luminaire instance. Exactly one of `manifest` and `preset` is set.
 struct LuminaireRef {

@@ -9,6 +9,8 @@
 //   OUT_DIR/lighttools/     LightTools ASCII variants; real .ray files of DATA_DIR/raysets cut to 200 rays
 //   OUT_DIR/ies/            LM-63 text for every symmetry, TILT=INCLUDE, write_ies output; DATA_DIR/photometry/ies
 //   OUT_DIR/eulumdat/       EULUMDAT for symmetry indicators 0..4; DATA_DIR/photometry/ldt
+//   OUT_DIR/envmap/         small lat-long maps as Radiance RGBE (flat and run-length) and EXR
+//   OUT_DIR/view_script/    every script command's example, one per file and all in one
 // Every ray-set and photometry seed is read back through its reader: a seed the reader refuses
 // fails this program (the corpus would start from nothing).
 #include <fmt/format.h>
@@ -18,6 +20,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/view_script.h"
+#include "core/image.h"
+#include "core/image_io.h"
+#include "core/radiance_hdr.h"
 #include "fuzz/fuzz_checks.h"
 #include "fuzz/fuzz_seed_files.h"
 #include "fuzz/fuzz_support.h"
@@ -26,6 +32,7 @@
 #include "luminaire/io.h"
 #include "luminaire/rayset_lighttools.h"
 #include "luminaire/rayset_tm25.h"
+#include "reference/environment_map.h"
 
 namespace fs = std::filesystem;
 
@@ -80,6 +87,36 @@ void write_measured_seeds(const fs::path& out, const fs::path& data) {
     nf::fuzz::check_goniometric(nf::lum::read_eulumdat(e.path()));
 }
 
+// Environment maps: a 1 x 1 uniform sky, an 8 x 4 map with a bright horizon band (RGBE rows
+// shorter than 8 texels are stored flat) and a 16 x 8 one (run-length rows), each also as EXR.
+void write_environment_seeds(const fs::path& out) {
+  fs::create_directories(out / "envmap");
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{8, 4}, std::pair{16, 8}}) {
+    nf::Image img(w, h, 3);
+    for (float& v : img.pixels) v = 0.5f;
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k) img.at(x, h / 2, k) = 40.0f + static_cast<float>(k);
+    const std::string stem = fmt::format("sky_{}x{}", w, h);
+    nf::write_radiance_hdr(out / "envmap" / (stem + ".hdr"), img, {});
+    nf::write_exr(out / "envmap" / (stem + ".exr"), img);
+  }
+  for (const auto& e : fs::directory_iterator(out / "envmap")) (void)nf::ref::EnvironmentMap::load(e.path(), 0.0, 1.0);
+}
+
+// Viewer scripts: every command's own example (they parse: tests/view_script_commands_test.cpp).
+void write_script_seeds(const fs::path& out) {
+  fs::create_directories(out / "view_script");
+  std::string all = "# every command\n";
+  for (const auto& spec : nf::app::script_commands()) {
+    const std::string line = spec.name + (spec.example.empty() ? "" : " " + spec.example) + "\n";
+    nf::fuzz::write_file(out / "view_script" / (spec.name + ".script"), line);
+    if (spec.name != "quit") all += line;
+  }
+  nf::fuzz::write_file(out / "view_script" / "all.script", all + "quit\n");
+  for (const auto& e : fs::directory_iterator(out / "view_script"))
+    (void)nf::app::load_script(e.path());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,6 +167,8 @@ int main(int argc, char** argv) {
     nf::fuzz::write_file(out / "gltf" / "square.gltf", nf::fuzz::small_gltf());
     nf::fuzz::write_file(out / "gltf" / "square.glb", nf::fuzz::small_glb());
     write_measured_seeds(out, argc > 3 ? fs::path(argv[3]) : fs::path());
+    write_environment_seeds(out);
+    write_script_seeds(out);
     std::printf("seed corpus written to %s\n", out.string().c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fuzz_seeds: %s\n", e.what());
