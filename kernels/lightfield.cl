@@ -72,6 +72,7 @@
 #endif
 
 #include "common/brdf.h"
+#include "common/cdf_inversion.h"
 #include "common/equal_counts.h"
 #include "common/lanes.h"
 #include "common/random.h"
@@ -441,163 +442,11 @@ NF_INLINE vf nf_pixel_luminance(__global const long* img, int L1, vi col, vi row
 
 /* ---------------------------------------------------------------- CDF inversion ----------- */
 
-/* Inversion of a piecewise-linear cumulative J on integer knots, J(lo) = jlo <= t < jhi = J(hi),
-   for the lanes in `run`: finds the knot interval [k, k+1] holding t and the fraction inside it,
-   from the exact inverse of that linear piece.
-   Secant (paper §5): regula falsi with the Illinois modification, stopping when the bracket is one
-   piece. Each step evaluates J at the two knots around the interpolated point (k = floor, k + 1:
-   independent reads whose latencies overlap), which brackets t at once wherever J is close to
-   linear; a bracket of two pieces gets one evaluation at its middle knot.
-   Binary: one evaluation at the middle knot per step.
-   `depth` caps the evaluations of J per inversion; a bracket still wider than one piece is then
-   inverted linearly across (the speed/accuracy knob). *iters counts the evaluations. */
-#if NF_SEARCH == NF_SEARCH_SECANT
-#define NF_PAIRS 1
-#else
-#define NF_PAIRS 0
-#endif
-
-/* Chooses k (and pair lanes) for the current bracket. */
-#if NF_PAIRS
-#define NF_INVERT_CHOOSE                                                      \
-  const vi room = hi - lo;                                                    \
-  const vi pair = run & (room >= 3) & (it + 1 < depth);                       \
-  const vf den_ = ghi - glo;                                                  \
-  const vf q_ = SEL((vf)(0.5f), clamp(-glo / den_, 0.0f, 1.0f), den_ > 0.0f); \
-  const vf x_ = q_ * CVT_F(room);                                             \
-  vi k = lo + SEL(CVT_I(x_ + 0.5f), CVT_I(x_), pair);                         \
-  k = min(max(k, lo + 1), hi - 1 - SEL((vi)(0), (vi)(1), pair));              \
-  k = SEL(lo, k, run);                                                        \
-  const vi k1 = SEL(k, k + 1, pair);
-#define NF_INVERT_STATE                                                           \
-  vf glo = jlo - t, ghi = jhi - t; /* Illinois-modified values, glo <= 0 < ghi */ \
-  vi side = (vi)(0);
-#else
-#define NF_INVERT_CHOOSE                      \
-  const vi pair = (vi)(0);                    \
-  vi k = SEL(lo, lo + ((hi - lo) >> 1), run); \
-  const vi k1 = k;
-#define NF_INVERT_STATE
-#endif
-
-/* Moves the bracket ends given J(k) = jk and, for pair lanes, J(k+1) = jk1. Defines the masks
-   a (J(k) <= t), b (J(k+1) <= t), mid (t inside [k, k+1]) and gt (t < J(k)). */
-#define NF_INVERT_MOVE                                  \
-  it += SEL((vi)(0), SEL((vi)(1), (vi)(2), pair), run); \
-  const vi a = run & (jk <= t);                         \
-  const vi b = pair & (jk1 <= t);                       \
-  const vi mid = a & pair & !b;                         \
-  const vi gt = run & !a;                               \
-  lo = SEL(lo, SEL(k, k1, b), a);                       \
-  jlo = SEL(jlo, SEL(jk, jk1, b), a);                   \
-  hi = SEL(SEL(hi, k, gt), k1, mid);                    \
-  jhi = SEL(SEL(jhi, jk, gt), jk1, mid);                \
-  NF_INVERT_ILLINOIS                                    \
-  run = run & (hi - lo > 1) & (it < depth);
-
-#if NF_PAIRS
-#define NF_INVERT_ILLINOIS                                 \
-  {                                                        \
-    const vi s_old = side, lo_only = a & !mid;             \
-    glo = SEL(glo, jlo - t, a);                            \
-    ghi = SEL(ghi, jhi - t, gt | mid);                     \
-    ghi = SEL(ghi, ghi * 0.5f, lo_only & (s_old == -1));   \
-    glo = SEL(glo, glo * 0.5f, gt & (s_old == 1));         \
-    side = SEL(SEL(side, (vi)(1), gt), (vi)(-1), lo_only); \
-  }
-#else
-#define NF_INVERT_ILLINOIS
-#endif
-
-/* The exact inverse inside the final bracket (one piece), or linear across it (depth reached). */
-#define NF_INVERT_FINISH                                                \
-  *iters += it;                                                         \
-  const vf den = jhi - jlo;                                             \
-  const vi width = max(hi - lo, (vi)(1));                               \
-  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f); \
-  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);        \
-  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);                  \
-  *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);
-
-#if NF_PAIRS
-#define NF_EVAL_SECOND(EVAL) const vf jk1 = EVAL(k1);
-#else
-#define NF_EVAL_SECOND(EVAL) const vf jk1 = jk;
-#endif
-
-#define NF_INVERT_BODY(EVAL)                \
-  vi it = (vi)(0);                          \
-  NF_INVERT_STATE                           \
-  run = run & (hi - lo > 1) & (it < depth); \
-  while (ANY(run)) {                        \
-    NF_INVERT_CHOOSE                        \
-    const vf jk = EVAL(k);                  \
-    NF_EVAL_SECOND(EVAL)                    \
-    NF_INVERT_MOVE                          \
-  }                                         \
-  NF_INVERT_FINISH                          \
-  return lo + kk;
-
-/* ours, along x: J(k) = w0 (D_0(k) - b0) + (D_1(k) - b1) + w2 (D_2(k) - b2), 3 row bands, from the
-   SAT entries at rows r0..r3 of column k. The search keeps the entries of its bracket ends
-   (vlo[], vhi[]), so that the y set-up of the column found needs no further reads. */
-NF_INLINE vf nf_j_x3(vl v0, vl v1, vl v2, vl v3, vl b0, vl b1, vl b2, vf w0, vf w2) {
-  return w0 * CVT_F((v1 - v0) - b0) + CVT_F((v2 - v1) - b1) + w2 * CVT_F((v3 - v2) - b2);
-}
-NF_INLINE vi nf_invert_x3(__global const long* img, vi r0, vi r1, vi r2, vi r3, vl b0, vl b1, vl b2, vf w0, vf w2,
-                          vi lo, vi hi, vf jlo, vf jhi, vf t, vi run, int depth, vf* frac, vi* iters, vl* vlo, vl* vhi,
-                          vi* width_out) {
-  vi it = (vi)(0);
-  NF_INVERT_STATE
-  run = run & (hi - lo > 1) & (it < depth);
-  while (ANY(run)) {
-    NF_INVERT_CHOOSE
-    const vl v0 = GATHER(img, r0 + k), v1 = GATHER(img, r1 + k), v2 = GATHER(img, r2 + k), v3 = GATHER(img, r3 + k);
-    const vf jk = nf_j_x3(v0, v1, v2, v3, b0, b1, b2, w0, w2);
-#if NF_PAIRS
-    const vl u0 = GATHER(img, r0 + k1), u1 = GATHER(img, r1 + k1), u2 = GATHER(img, r2 + k1), u3 = GATHER(img, r3 + k1);
-    const vf jk1 = nf_j_x3(u0, u1, u2, u3, b0, b1, b2, w0, w2);
-#else
-    const vl u0 = v0, u1 = v1, u2 = v2, u3 = v3;
-    const vf jk1 = jk;
-#endif
-    NF_INVERT_MOVE
-    /* the SAT entries of the new bracket ends */
-    vlo[0] = SELL(vlo[0], SELL(v0, u0, b), a);
-    vlo[1] = SELL(vlo[1], SELL(v1, u1, b), a);
-    vlo[2] = SELL(vlo[2], SELL(v2, u2, b), a);
-    vlo[3] = SELL(vlo[3], SELL(v3, u3, b), a);
-    vhi[0] = SELL(SELL(vhi[0], v0, gt), u0, mid);
-    vhi[1] = SELL(SELL(vhi[1], v1, gt), u1, mid);
-    vhi[2] = SELL(SELL(vhi[2], v2, gt), u2, mid);
-    vhi[3] = SELL(SELL(vhi[3], v3, gt), u3, mid);
-  }
-  NF_INVERT_FINISH
-  *width_out = width;
-  return lo + kk;
-}
-
-/* paper / global, along x: the full-column cumulative J(k) = SAT[Ny][k] - b. */
-#define NF_EVAL_ROW(k) CVT_F(GATHER(img, rowN + (k)) - b)
-NF_INLINE vi nf_invert_row(__global const long* img, int rowN, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t, vi run,
-                           int depth, vf* frac, vi* iters){NF_INVERT_BODY(NF_EVAL_ROW)}
-
-/* along y in column col: the column cumulative J(k) = (SAT[k][col+1] - SAT[k][col]) - b. */
-NF_INLINE vf nf_eval_col(__global const long* img, int L1, vi col, vl b, vi k) {
-  const vi o = k * L1 + col;
-  return CVT_F((GATHER(img, o + 1) - GATHER(img, o)) - b);
-}
-#define NF_EVAL_COL(k) nf_eval_col(img, L1, col, b, (k))
-NF_INLINE vi nf_invert_col(__global const long* img, int L1, vi col, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t, vi run,
-                           int depth, vf* frac, vi* iters) {
-  NF_INVERT_BODY(NF_EVAL_COL)
-}
-
-/* One axis: u in [0, 1) -> cell and fraction inside the cell, given the masses of the first /
-   interior / last pieces. Inside the partial first and last cells the density is constant, so
-   the position is linear in the mass; the interior goes to the search. Lanes outside `act` get
-   in-range garbage. `kind` picks the interior cumulative: 0 = x (3 bands), 1 = x (full column),
-   2 = y (column col). */
+/* The interior cumulatives inverted by nf_sample_axis, read from the SAT (kind):
+   0 = ours, along x: J(k) = w0 (D_0(k) - b0) + (D_1(k) - b1) + w2 (D_2(k) - b2), 3 row bands, from
+       the SAT entries at rows r0..r3 of column k;
+   1 = paper / global, along x: the full-column cumulative J(k) = SAT[Ny][k] - b0 (row offset rowN);
+   2 = along y in column col: the column cumulative J(k) = (SAT[k][col+1] - SAT[k][col]) - b0. */
 typedef struct {
   vi r0, r1, r2, r3; /* kind 0: row offsets of the bands */
   vl b0, b1, b2;
@@ -606,6 +455,62 @@ typedef struct {
   int rowN; /* kind 1 */
 } NfCum;
 
+NF_INLINE vf nf_j_x3(vl v0, vl v1, vl v2, vl v3, vl b0, vl b1, vl b2, vf w0, vf w2) {
+  return w0 * CVT_F((v1 - v0) - b0) + CVT_F((v2 - v1) - b1) + w2 * CVT_F((v3 - v2) - b2);
+}
+
+NF_INLINE vf nf_eval_col(__global const long* img, int L1, vi col, vl b, vi k) {
+  const vi o = k * L1 + col;
+  return CVT_F((GATHER(img, o + 1) - GATHER(img, o)) - b);
+}
+
+/* J(k) of cumulative `kind`; kind 0 also returns the four SAT entries read (v[4]). */
+NF_INLINE vf nf_cum_eval(__global const long* img, int L1, int kind, const NfCum* e, vi k, vl* v) {
+  if (kind == 0) {
+    v[0] = GATHER(img, e->r0 + k), v[1] = GATHER(img, e->r1 + k), v[2] = GATHER(img, e->r2 + k),
+    v[3] = GATHER(img, e->r3 + k);
+    return nf_j_x3(v[0], v[1], v[2], v[3], e->b0, e->b1, e->b2, e->w0, e->w2);
+  }
+  if (kind == 1) return CVT_F(GATHER(img, e->rowN + k) - e->b0);
+  return nf_eval_col(img, L1, e->col, e->b0, k);
+}
+
+/* Inverts cumulative `kind` on [lo, hi] with J(lo) = 0 (common/cdf_inversion.h). For kind 0 the
+   search keeps the SAT entries of its bracket ends (vlo[], vhi[]), so that the y set-up of the
+   column found needs no further reads; *width gets the final bracket's width. */
+NF_INLINE vi nf_invert(__global const long* img, int L1, int kind, const NfCum* e, vi lo, vi hi, vf jhi, vf t, vi run,
+                       int depth, vf* frac, vi* iters, vl* vlo, vl* vhi, vi* width) {
+  NfInversion s;
+  nf_inversion_begin(&s, lo, hi, (vf)(0.0f), jhi, t, run, depth);
+  while (ANY(s.run)) {
+    nf_inversion_choose(&s);
+    vl v[4], u[4];
+    const vf jk = nf_cum_eval(img, L1, kind, e, s.k, v);
+#if NF_PAIRS
+    const vf jk1 = nf_cum_eval(img, L1, kind, e, s.k1, u);
+#else
+    const vf jk1 = jk;
+    for (int r = 0; r < 4; ++r) u[r] = v[r];
+#endif
+    nf_inversion_move(&s, jk, jk1);
+    if (kind == 0) {
+      /* the SAT entries of the new bracket ends */
+      for (int r = 0; r < 4; ++r) {
+        vlo[r] = SELL(vlo[r], SELL(v[r], u[r], s.b), s.a);
+        vhi[r] = SELL(SELL(vhi[r], v[r], s.gt), u[r], s.mid);
+      }
+    }
+  }
+  const vi cell = nf_inversion_finish(&s, frac, iters);
+  *width = s.width;
+  return cell;
+}
+
+/* One axis: u in [0, 1) -> cell and fraction inside the cell, given the masses of the first /
+   interior / last pieces. Inside the partial first and last cells the density is constant, so
+   the position is linear in the mass; the interior goes to the search. Lanes outside `act` get
+   in-range garbage. `kind` picks the interior cumulative: 0 = x (3 bands), 1 = x (full column),
+   2 = y (column col). */
 NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const NfCum* e, const NfSpan* s, vf mf, vf mm,
                             vf ml, vf u, vi act, int depth, vf* frac, vi* iters, const NfBoxSums* B, vl* cl, vl* cr,
                             vi* have) {
@@ -640,20 +545,15 @@ NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const Nf
     /* interior: J(e1) = 0 <= t' < J(e2) = mm */
     const vf tt = fmin(fmax(t - mf, 0.0f), mm * NF_ONE_MINUS_ULP);
     vf fi;
-    vi ci;
+    vi width;
+    const vi ci = nf_invert(img, L1, kind, e, s->e1, s->e2, mm, tt, inter, depth, &fi, iters, vlo, vhi, &width);
     if (kind == 0) {
-      vi width;
-      ci = nf_invert_x3(img, e->r0, e->r1, e->r2, e->r3, e->b0, e->b1, e->b2, e->w0, e->w2, s->e1, s->e2, (vf)(0.0f),
-                        mm, tt, inter, depth, &fi, iters, vlo, vhi, &width);
       for (int r = 0; r < 4; ++r) {
         cl[r] = SELL(cl[r], vlo[r], inter);
         cr[r] = SELL(cr[r], vhi[r], inter);
       }
       *have = !inter | (width == 1);
-    } else if (kind == 1)
-      ci = nf_invert_row(img, e->rowN, e->b0, s->e1, s->e2, (vf)(0.0f), mm, tt, inter, depth, &fi, iters);
-    else
-      ci = nf_invert_col(img, L1, e->col, e->b0, s->e1, s->e2, (vf)(0.0f), mm, tt, inter, depth, &fi, iters);
+    }
     cell = SEL(cell, ci, inter);
     fr = SEL(fr, fi, inter);
   }
