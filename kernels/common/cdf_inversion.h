@@ -30,12 +30,12 @@
 #endif
 
 typedef struct {
-  vi lo, hi;   /* the bracket: J(lo) = jlo <= t < jhi = J(hi) */
+  vi lo, hi; /* the bracket: J(lo) = jlo <= t < jhi = J(hi) */
   vf jlo, jhi;
-  vf t;        /* the target */
-  vi run;      /* lanes still searching */
-  vi it;       /* evaluations of J so far */
-  int depth;   /* cap of it */
+  vf t;      /* the target */
+  vi run;    /* lanes still searching */
+  vi it;     /* evaluations of J so far */
+  int depth; /* cap of it */
 #if NF_PAIRS
   vf glo, ghi; /* Illinois-modified values, glo <= 0 < ghi */
   vi side;     /* which end moved last: -1 lo, 1 hi, 0 none */
