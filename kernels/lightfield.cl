@@ -75,6 +75,7 @@
 #include "common/cdf_inversion.h"
 #include "common/equal_counts.h"
 #include "common/lanes.h"
+#include "common/material.h"
 #include "common/random.h"
 
 /* Band boxes narrower than this (pixels) are balanced with the luminance at p (z = 0 limit). */
@@ -228,30 +229,18 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
     vy[l] = M[4] * S.vx + M[5] * S.vy + M[6] * S.vz;
     vz[l] = M[8] * S.vx + M[9] * S.vy + M[10] * S.vz;
     nf_normalize3(&vx[l], &vy[l], &vz[l]);
-    brdf[l] = S.brdf;
-    /* NF_BRDF_KURT (shared/surface.h): base = world tangent, metallic = table index. */
-    km[l] = 0;
-    tx[l] = ty[l] = tz[l] = 0.0f;
-    if (brdf[l] == NF_BRDF_KURT) {
-      const float kf = S.metallic;
-      if (kf >= 0.0f && kf < (float)kurt_count) {
-        km[l] = (int)kf;
-        tx[l] = M[0] * S.base_r + M[1] * S.base_g + M[2] * S.base_b;
-        ty[l] = M[4] * S.base_r + M[5] * S.base_g + M[6] * S.base_b;
-        tz[l] = M[8] * S.base_r + M[9] * S.base_g + M[10] * S.base_b;
-        S.metallic = S.base_r = S.base_g = S.base_b = 0.0f;
-      } else {
-        brdf[l] = NF_BRDF_LAMBERT; /* no such material: black */
-        S.base_r = S.base_g = S.base_b = 0.0f;
-      }
-    }
-    const float rough = clamp(S.roughness, 0.0f, 1.0f);
-    al[l] = fmax(rough * rough, 1e-3f);
-    me[l] = clamp(S.metallic, 0.0f, 1.0f);
-    br[l] = fmax(S.base_r, 0.0f);
-    bg[l] = fmax(S.base_g, 0.0f);
-    bb[l] = fmax(S.base_b, 0.0f);
-    if (!isfinite(br[l] + bg[l] + bb[l])) br[l] = bg[l] = bb[l] = 0.0f;
+    /* common/material.h; a Kurt tangent goes to the luminaire frame like v */
+    const NfMaterial mat = nf_material_decode(S, kurt_count);
+    brdf[l] = mat.brdf;
+    km[l] = mat.kmat;
+    tx[l] = M[0] * mat.tangent.x + M[1] * mat.tangent.y + M[2] * mat.tangent.z;
+    ty[l] = M[4] * mat.tangent.x + M[5] * mat.tangent.y + M[6] * mat.tangent.z;
+    tz[l] = M[8] * mat.tangent.x + M[9] * mat.tangent.y + M[10] * mat.tangent.z;
+    al[l] = mat.alpha;
+    me[l] = mat.metallic;
+    br[l] = mat.base.x;
+    bg[l] = mat.base.y;
+    bb[l] = mat.base.z;
     if (!(isfinite(px[l]) && isfinite(py[l]) && isfinite(pz[l]))) {
       valid[l] = 0;
       px[l] = py[l] = pz[l] = 0.0f;
