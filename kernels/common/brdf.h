@@ -59,7 +59,7 @@ NF_INLINE void nf_brdf_cos(const NfShade* sh, vf wx, vf wy, vf wz, vf* r, vf* g,
     const vf D = a2 / fmax(NF_PI * dd * dd, 1e-30f);
     const vf nlp = fmax(nl, 0.0f);
     const vf V = nf_smith_v(nlp, nv, a2);
-    const vf s5 = nf_schlick_w(vh);
+    const vf s5 = nf_schlick_wv(vh);
     const vf dv = D * V, kd = (1.0f - sh->metallic) * (1.0f / NF_PI);
     const vf Fr = nf_schlick(nf_f0(sh->br, sh->metallic), s5), Fg = nf_schlick(nf_f0(sh->bg, sh->metallic), s5),
              Fb = nf_schlick(nf_f0(sh->bb, sh->metallic), s5);

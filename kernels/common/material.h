@@ -56,8 +56,13 @@ NF_INLINE NfMaterial nf_material_decode(NfSurface s, int kurt_count) {
   return m;
 }
 
-/* Schlick's weight (1 - c)^5 with c (v.h, or n.v at the lobe's peak) clamped to [0, 1]. */
-NF_INLINE vf nf_schlick_w(vf c) {
+/* Schlick's weight (1 - c)^5 with c (v.h, or n.v at the lobe's peak) clamped to [0, 1]; scalar, and
+   per lane (nf_schlick_wv). */
+NF_INLINE float nf_schlick_w(float c) {
+  const float s = 1.0f - clamp(c, 0.0f, 1.0f);
+  return s * s * s * s * s;
+}
+NF_INLINE vf nf_schlick_wv(vf c) {
   const vf s = 1.0f - clamp(c, 0.0f, 1.0f);
   return s * s * s * s * s;
 }
