@@ -34,8 +34,8 @@ struct HostMaterial {
   double alpha, metallic, base[3], tangent[3];
 };
 
-// docs/materials.md: alpha = max(clamp(roughness, 0, 1)^2, 1e-3), metallic clamped to [0, 1], base
-// >= 0 per channel and all 0 when one is not finite; Kurt: a table index in [0, count) selects the
+// docs/kernels.md: alpha = max(clamp(roughness, 0, 1)^2, 1e-3), metallic clamped to [0, 1], base
+// max(base, 0) per channel (a NaN channel is 0) and all 0 when one is infinite; Kurt: a table index in [0, count) selects the
 // entry and the base field is the tangent, else Lambert with a black base.
 HostMaterial host_decode(const NfSurface& s, int kurt_count) {
   HostMaterial m{s.brdf, 0, 0, 0, {s.base_r, s.base_g, s.base_b}, {0, 0, 0}};
@@ -53,12 +53,9 @@ HostMaterial host_decode(const NfSurface& s, int kurt_count) {
   const double rough = std::clamp(static_cast<double>(s.roughness), 0.0, 1.0);
   m.alpha = std::max(rough * rough, 1e-3);
   m.metallic = std::clamp(metallic, 0.0, 1.0);
-  bool finite = true;
-  for (double& c : m.base) {
-    finite = finite && std::isfinite(c);
-    c = std::max(c, 0.0);
-  }
-  if (!finite)
+  // fmax: a NaN channel becomes 0; then an infinite channel blacks out all three
+  for (double& c : m.base) c = std::isnan(c) ? 0.0 : std::max(c, 0.0);
+  if (!std::isfinite(m.base[0] + m.base[1] + m.base[2]))
     for (double& c : m.base) c = 0;
   return m;
 }
@@ -71,8 +68,8 @@ TEST(KernelMaterial, DecodeMatchesHostIncludingClamps) {
       material_surface(NF_BRDF_GGX, 1.7f, 1.5f, -0.2f, 0.5f, 2.0f),    // clamps above / negative base
       material_surface(NF_BRDF_GGX, -0.4f, -0.2f, 0.1f, 0.1f, 0.1f),   // clamps below
       material_surface(NF_BRDF_GGX, 0.01f, 0.0f, 0.1f, 0.2f, 0.3f),    // alpha floor (1e-4 -> 1e-3)
-      material_surface(NF_BRDF_LAMBERT, 0.5f, 0.0f, 0.3f, inf, 0.3f),  // non-finite base -> black
-      material_surface(NF_BRDF_LAMBERT, 0.5f, 0.0f, nan, 0.3f, 0.3f),
+      material_surface(NF_BRDF_LAMBERT, 0.5f, 0.0f, 0.3f, inf, 0.3f),  // infinite channel -> black
+      material_surface(NF_BRDF_LAMBERT, 0.5f, 0.0f, nan, 0.3f, 0.3f),  // NaN channel -> 0, others kept
       material_surface(NF_BRDF_KURT, 0.5f, 1.0f, 0.6f, -0.8f, 0.0f),  // table entry 1, tangent kept
       material_surface(NF_BRDF_KURT, 0.5f, 0.0f, 1.0f, 0.0f, 0.0f),   // entry 0
       material_surface(NF_BRDF_KURT, 0.5f, 2.0f, 1.0f, 0.0f, 0.0f),   // past the table -> black lambert

@@ -8,7 +8,7 @@
    environment, vsgl):
      alpha    = max(clamp(roughness, 0, 1)^2, NF_ALPHA_MIN)
      metallic = clamp(metallic, 0, 1)
-     base     = max(base, 0) per channel, all 0 when any channel is not finite
+     base     = max(base, 0) per channel (fmax: a NaN channel is 0), all 0 when one is infinite
      kurt     = a surface with brdf NF_BRDF_KURT whose table index (the metallic field, an exact small
                 integer) is in [0, kurt_count): kmat = the index, tangent = the base field (world frame,
                 any length), metallic = base = 0. An index outside the table: NF_BRDF_LAMBERT with a
