@@ -59,7 +59,6 @@
 #define NF_DIR_PASS
 #define NF_DIR_KARG
 #endif
-/* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 /* Methods that draw uniformly on B_m(p) (uniform, uniform-equal). */
 #define NF_UNIFORM_BOX (NF_METHOD == NF_METHOD_UNIFORM || NF_METHOD == NF_METHOD_UNIFORM_EQUAL)
 /* Methods that draw through the restricted CDFs of B_m(p) (ours, ours-equal). */
@@ -67,6 +66,7 @@
 /* Methods with K / M samples per image instead of the balanced K_m(p) of Eq. 12
    (uniform-equal, ours-equal: common/equal_counts.h). */
 #define NF_EQUAL_COUNTS (NF_METHOD == NF_METHOD_UNIFORM_EQUAL || NF_METHOD == NF_METHOD_OURS_EQUAL)
+/* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
