@@ -2,7 +2,7 @@
 #define NEARFIELD_COMMON_CDF_INVERSION_H
 /* Inversion of a piecewise-linear cumulative J on integer knots, J(lo) = jlo <= t < jhi = J(hi),
    for the lanes in `run`: finds the knot interval [k, k+1] holding t and the fraction inside it,
-   from the exact inverse of that linear piece (docs/sampling.md, "CDF inversion").
+   from the exact inverse of that linear piece (docs/sampling.md, "Inversion"; docs/kernels.md).
    Secant (paper §5): regula falsi with the Illinois modification, stopping when the bracket is one
    piece. Each step evaluates J at the two knots around the interpolated point (k = floor, k + 1:
    independent reads whose latencies overlap), which brackets t at once wherever J is close to
