@@ -1,8 +1,10 @@
-/* Test kernels for the BRDF library (common/brdf.h, docs/materials.md): importance samples with
-   their densities, and BRDF values, so that tests can check the device code against host
-   double-precision formulas and chi-square tests. Scalar (NF_LANES = 1). */
+/* Test kernels for the BRDF library (common/brdf.h, common/material.h, docs/materials.md):
+   importance samples with their densities, BRDF values, the surface decode and the shared terms,
+   so that tests can check the device code against host double-precision formulas and chi-square
+   tests. Scalar (NF_LANES = 1). */
 #include "common/brdf.h"
 #include "common/lanes.h"
+#include "common/material.h"
 #include "common/random.h"
 
 /* Sample i of `count`: kind 0 = cosine about n, 1 = GGX half vector about n reflected about v.
@@ -88,4 +90,33 @@ __kernel void brdf_debug_kurt_eval(__global const NfKurtMaterial* table, const i
   float r, g, b;
   nf_brdf_cos(&s, dirs[i].x, dirs[i].y, dirs[i].z, &r, &g, &b);
   out[i] = (float4)(r, g, b, nf_kurt_pdf(table + mat, n4.xyz, t4.xyz, v4.xyz, dirs[i].xyz));
+}
+
+/* The surface decode (common/material.h) of `count` surfaces with a table of kurt_count entries:
+   out[3 i] = (brdf, alpha, metallic, kmat), out[3 i + 1] = (base, 0), out[3 i + 2] = (tangent, 0). */
+__kernel void brdf_debug_material(__global const NfSurface* in, const int count, const int kurt_count,
+                                  __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const NfMaterial m = nf_material_decode(in[i], kurt_count);
+  out[3 * i] = (float4)((float)m.brdf, m.alpha, m.metallic, (float)m.kmat);
+  out[3 * i + 1] = (float4)(m.base, 0.0f);
+  out[3 * i + 2] = (float4)(m.tangent, 0.0f);
+}
+
+/* The shared BRDF terms (common/material.h) at `count` inputs in[2 i] = (c, f0, nl, nv),
+   in[2 i + 1] = (a2, r0_j, alpha_j, vh): out[2 i] = (nf_schlick_w(c), nf_schlick(f0, w),
+   nf_smith_v(nl, nv, a2), nf_kurt_lobe_f(r0_j, w)), out[2 i + 1] = (nf_kurt_lobe_den(alpha_j, vh, nl, nv),
+   nf_schlick3(nf_f0_3(f0 as base, clamp(alpha_j, 0, 1) as metallic), w).x, 0, 0). */
+__kernel void brdf_debug_terms(__global const float4* in, const int count, __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  const float4 a = in[2 * i], b = in[2 * i + 1];
+  NfKurtLobe L;
+  L.r0 = b.y;
+  L.alpha = b.z;
+  const float w = nf_schlick_w(a.x);
+  out[2 * i] = (float4)(w, nf_schlick(a.y, w), nf_smith_v(a.z, a.w, b.x), nf_kurt_lobe_f(L, w));
+  out[2 * i + 1] = (float4)(nf_kurt_lobe_den(L, b.w, a.z, a.w),
+                            nf_schlick3(nf_f0_3((float3)(a.y), clamp(b.z, 0.0f, 1.0f)), w).x, 0.0f, 0.0f);
 }

@@ -16,6 +16,7 @@
    density pyramid of Tokuyoshi 2016 Eq. 3).                                                   */
 #define NF_LANES 1
 #include "common/brdf.h"
+#include "common/material.h"
 #include "common/pyramid.h"
 #include "common/random.h"
 #include "common/sh.h"
@@ -177,12 +178,9 @@ static float3 env_l0(const EnvMap* m, float3 w) {
   return nf_pyr_nearest(m->pyr, m->lv, 0, nf_latlong_uv(nf_env_to_map(w, m->rot))).xyz;
 }
 
-/* Schlick's Fresnel with F0 = mix(0.04, base, metallic) (docs/materials.md). */
+/* Schlick's Fresnel with F0 = mix(0.04, base, metallic) (common/material.h, docs/materials.md). */
 static float3 env_fresnel(float3 base, float metallic, float c) {
-  const float3 f0 = mix((float3)(0.04f), base, metallic);
-  const float s = 1.0f - clamp(c, 0.0f, 1.0f);
-  const float s5 = s * s * s * s * s;
-  return f0 + (1.0f - f0) * s5;
+  return nf_schlick3(nf_f0_3(base, metallic), nf_schlick_w(c));
 }
 
 /* The GGX material's specular lobe times the cosine, F D V (n.l), V the height-correlated
@@ -190,15 +188,14 @@ static float3 env_fresnel(float3 base, float metallic, float c) {
 static float3 env_specular_cos(float3 n, float3 v, float3 l, float alpha, float3 base, float metallic) {
   const float nl = dot(n, l);
   if (nl <= 0.0f) return (float3)(0.0f);
-  const float nv = fmax(dot(n, v), 1e-4f);
+  const float nv = fmax(dot(n, v), NF_NV_MIN);
   float3 h = l + v;
   const float h2 = dot(h, h);
   if (!(h2 > 1e-30f)) return (float3)(0.0f);
   h *= rsqrt(h2);
   const float a2 = alpha * alpha;
   const float D = nf_ggx_d(dot(n, h), alpha);
-  const float den = nl * sqrt(nv * nv * (1.0f - a2) + a2) + nv * sqrt(nl * nl * (1.0f - a2) + a2);
-  const float V = 0.5f / fmax(den, 1e-12f);
+  const float V = nf_smith_v(nl, nv, a2);
   return env_fresnel(base, metallic, dot(v, h)) * (D * V * nl);
 }
 
@@ -230,15 +227,14 @@ static float3 env_kurt_lobes(const EnvGlossy* g, float3 l, float* pdf) {
   const float3 h = hs * rsqrt(h2);
   const float hx = dot(h, t), hy = dot(h, b), hz = dot(h, g->n), vh = dot(g->v, h);
   const float vhc = fmax(clamp(vh, 0.0f, 1.0f), 1e-6f);
-  const float nv = fmax(dot(g->n, g->v), 1e-4f), q = 1.0f - vhc, q5 = q * q * q * q * q;
+  const float nv = fmax(dot(g->n, g->v), NF_NV_MIN), q5 = nf_schlick_w(vhc);
   const int count = clamp(g->km->count, 0, NF_KURT_MAX_LOBES);
   float3 f = (float3)(0.0f);
   float p = 0.0f;
   for (int j = 0; j < count; ++j) {
     const NfKurtLobe L = g->km->lobe[j];
-    const float r0 = clamp(L.r0, 0.0f, 1.0f), al = clamp(L.alpha, 0.0f, 1.0f);
     const float D = nf_kurt_d(hx, hy, hz, nf_kurt_m(L.mx), nf_kurt_m(L.my));
-    f += fmax((float3)(L.ks_r, L.ks_g, L.ks_b), 0.0f) * ((r0 + (1.0f - r0) * q5) * D / (4.0f * vhc * pow(nl * nv, al)));
+    f += nf_kurt_ks(L) * (nf_kurt_lobe_f(L, q5) * D / nf_kurt_lobe_den(L, vhc, nl, nv));
     if (vh > 0.0f) p += g->w[1 + j] * D * hz / (4.0f * vh);
   }
   *pdf = isfinite(p) ? p / g->ws : 0.0f;
@@ -332,7 +328,7 @@ static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __glo
     my = nf_kurt_m(L.my);
   }
   const float3 n = g->n, v = g->v;
-  const float nv = fmax(dot(n, v), 1e-4f);
+  const float nv = fmax(dot(n, v), NF_NV_MIN);
   /* Eq. 14-15: the lobe ellipse from the border half vectors (tan th = sqrt(-ln eps0) m for
      Beckmann, alpha sqrt(eps0^(-1/2) - 1) for GGX) along t and b */
   const float kb = g->kind == 1 ? sqrt(fmax(rsqrt(eps0) - 1.0f, 0.0f)) : sqrt(-log(eps0));
@@ -373,10 +369,8 @@ static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __glo
       f = env_specular_cos(n, v, l, g->alpha, g->base, g->metallic);
     } else {
       /* ks_j F_j D_j (n.l) / (4 (v.h) ((n.l)(n.v))^alpha_j) */
-      const float r0 = clamp(L.r0, 0.0f, 1.0f), al = clamp(L.alpha, 0.0f, 1.0f);
-      const float vhc = fmax(fmin(vh, 1.0f), 1e-6f), q = 1.0f - vhc, q5 = q * q * q * q * q;
-      f = fmax((float3)(L.ks_r, L.ks_g, L.ks_b), 0.0f) *
-          ((r0 + (1.0f - r0) * q5) * D * nl / (4.0f * vhc * pow(nl * nv, al)));
+      const float vhc = fmax(fmin(vh, 1.0f), 1e-6f), q5 = nf_schlick_w(vhc);
+      f = nf_kurt_ks(L) * (nf_kurt_lobe_f(L, q5) * D * nl / nf_kurt_lobe_den(L, vhc, nl, nv));
     }
 #if NF_ENV_VIS
     f *= nf_env_vis_factor(g->vis, l, nl);
@@ -458,28 +452,29 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
 #endif
     return;
   }
+  const NfMaterial mat = nf_material_decode(s, kurt_count); /* common/material.h */
   EnvGlossy g;
   g.n = normalize((float3)(s.nx, s.ny, s.nz));
   g.v = (float3)(s.vx, s.vy, s.vz);
-  g.base = (float3)(s.base_r, s.base_g, s.base_b);
+  g.base = mat.base;
   g.t = (float3)(0.0f);
-  g.alpha = fmax(s.roughness * s.roughness, 1e-3f);
-  g.metallic = s.metallic;
+  g.alpha = mat.alpha;
+  g.metallic = mat.metallic;
   g.km = kurt;
   g.ws = 0.0f;
   g.mat = 0;
   g.vis = vis16 + 4 * p;
-  g.kind = s.brdf == NF_BRDF_GGX ? 1 : 0;
+  g.kind = mat.brdf == NF_BRDF_GGX ? 1 : 0;
   const float3 n = g.n, v = g.v, base = g.base;
   const int ggx = g.kind == 1;
   const float inv_n = 1.0f / (float)n_samples;
   /* diffuse weight w_d: diffuse radiance = w_d / pi * E(n) */
-  float3 wd = s.brdf == NF_BRDF_LAMBERT ? base : (s.brdf == NF_BRDF_IRRADIANCE ? (float3)(NF_PI) : (float3)(0.0f));
-  if (s.brdf == NF_BRDF_KURT && s.metallic >= 0.0f && s.metallic < (float)kurt_count) {
-    /* shared/surface.h: base = world tangent, metallic = table index; diffuse kd, glossy the lobes */
-    g.mat = (int)s.metallic;
+  float3 wd = mat.brdf == NF_BRDF_LAMBERT ? base : (mat.brdf == NF_BRDF_IRRADIANCE ? (float3)(NF_PI) : (float3)(0.0f));
+  if (mat.brdf == NF_BRDF_KURT) {
+    /* a table entry (common/material.h): diffuse kd, glossy the lobes */
+    g.mat = mat.kmat;
     g.km = kurt + g.mat;
-    g.t = base;
+    g.t = mat.tangent;
     wd = fmax((float3)(g.km->kd_r, g.km->kd_g, g.km->kd_b), 0.0f);
     nf_kurt_weights(g.km, dot(n, v), g.w);
     g.ws = 1.0f - g.w[0];
@@ -488,7 +483,7 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
   float3 lo = (float3)(0.0f);
 #if NF_ENV_DIFFUSE == 0
   /* SH: the GGX diffuse lobe (1 - F) (1 - metallic) base / pi with F taken at n.v */
-  if (ggx) wd = (1.0f - env_fresnel(base, s.metallic, dot(n, v))) * (1.0f - s.metallic) * base;
+  if (ggx) wd = (1.0f - env_fresnel(base, mat.metallic, dot(n, v))) * (1.0f - mat.metallic) * base;
 #if NF_ENV_VIS
   /* sum_k L_k (V cos)_k, clamped to [0, E(n)] */
   lo += wd * (1.0f / NF_PI) * nf_env_vis_irradiance(lsh16, vis16 + 4 * p, nf_sh9_irradiance(sh, n));
@@ -506,7 +501,7 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       float3 w = wd;
       if (ggx) {
         const float3 h = normalize(l + v);
-        w = (1.0f - env_fresnel(base, s.metallic, dot(v, h))) * (1.0f - s.metallic) * base;
+        w = (1.0f - env_fresnel(base, mat.metallic, dot(v, h))) * (1.0f - mat.metallic) * base;
       }
 #if NF_ENV_VIS
       w *= nf_env_vis_factor(vis16 + 4 * p, l, dot(n, l));

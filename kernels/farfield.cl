@@ -17,6 +17,7 @@
    renderer does the same). */
 #define NF_LANES 1
 #include "common/brdf.h"
+#include "common/material.h"
 #include "shared/farfield.h"
 
 #define NF_FF_MIN_R2 1e-12f /* (1e-6 m)^2 */
@@ -84,30 +85,18 @@ __kernel void farfield_shade(__global const NfSurface* surfaces, const int count
   sh.vx = s.vx;
   sh.vy = s.vy;
   sh.vz = s.vz;
-  sh.brdf = s.brdf;
-  sh.kmat = 0;
-  sh.tx = sh.ty = sh.tz = 0.0f;
+  const NfMaterial mat = nf_material_decode(s, kurt_count); /* common/material.h */
+  sh.brdf = mat.brdf;
+  sh.kmat = mat.kmat;
+  sh.tx = mat.tangent.x;
+  sh.ty = mat.tangent.y;
+  sh.tz = mat.tangent.z;
   sh.kurt = kurt_count > 0 ? kurt : 0;
-  float metallic = s.metallic, br = s.base_r, bg = s.base_g, bb = s.base_b;
-  if (s.brdf == NF_BRDF_KURT) {
-    /* shared/surface.h: base = world tangent, metallic = the material table index */
-    if (s.metallic >= 0.0f && s.metallic < (float)kurt_count) {
-      sh.kmat = (int)s.metallic;
-      sh.tx = s.base_r;
-      sh.ty = s.base_g;
-      sh.tz = s.base_b;
-    } else {
-      sh.brdf = NF_BRDF_LAMBERT; /* no such material: black */
-    }
-    metallic = br = bg = bb = 0.0f;
-  }
-  const float rough = clamp(s.roughness, 0.0f, 1.0f);
-  sh.alpha = fmax(rough * rough, 1e-3f);
-  sh.metallic = clamp(metallic, 0.0f, 1.0f);
-  sh.br = fmax(br, 0.0f);
-  sh.bg = fmax(bg, 0.0f);
-  sh.bb = fmax(bb, 0.0f);
-  if (!isfinite(sh.br + sh.bg + sh.bb)) sh.br = sh.bg = sh.bb = 0.0f;
+  sh.alpha = mat.alpha;
+  sh.metallic = mat.metallic;
+  sh.br = mat.base.x;
+  sh.bg = mat.base.y;
+  sh.bb = mat.base.z;
   float3 lo = (float3)(0.0f);
   for (int k = 0; k < n_lights; ++k) {
     if (has_vis && !(vis[(long)p * n_lights + k] & 1u)) continue;

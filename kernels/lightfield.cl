@@ -59,7 +59,6 @@
 #define NF_DIR_PASS
 #define NF_DIR_KARG
 #endif
-/* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 /* Methods that draw uniformly on B_m(p) (uniform, uniform-equal). */
 #define NF_UNIFORM_BOX (NF_METHOD == NF_METHOD_UNIFORM || NF_METHOD == NF_METHOD_UNIFORM_EQUAL)
 /* Methods that draw through the restricted CDFs of B_m(p) (ours, ours-equal). */
@@ -67,13 +66,16 @@
 /* Methods with K / M samples per image instead of the balanced K_m(p) of Eq. 12
    (uniform-equal, ours-equal: common/equal_counts.h). */
 #define NF_EQUAL_COUNTS (NF_METHOD == NF_METHOD_UNIFORM_EQUAL || NF_METHOD == NF_METHOD_OURS_EQUAL)
+/* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
 
 #include "common/brdf.h"
+#include "common/cdf_inversion.h"
 #include "common/equal_counts.h"
 #include "common/lanes.h"
+#include "common/material.h"
 #include "common/random.h"
 
 /* Band boxes narrower than this (pixels) are balanced with the luminance at p (z = 0 limit). */
@@ -227,30 +229,18 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
     vy[l] = M[4] * S.vx + M[5] * S.vy + M[6] * S.vz;
     vz[l] = M[8] * S.vx + M[9] * S.vy + M[10] * S.vz;
     nf_normalize3(&vx[l], &vy[l], &vz[l]);
-    brdf[l] = S.brdf;
-    /* NF_BRDF_KURT (shared/surface.h): base = world tangent, metallic = table index. */
-    km[l] = 0;
-    tx[l] = ty[l] = tz[l] = 0.0f;
-    if (brdf[l] == NF_BRDF_KURT) {
-      const float kf = S.metallic;
-      if (kf >= 0.0f && kf < (float)kurt_count) {
-        km[l] = (int)kf;
-        tx[l] = M[0] * S.base_r + M[1] * S.base_g + M[2] * S.base_b;
-        ty[l] = M[4] * S.base_r + M[5] * S.base_g + M[6] * S.base_b;
-        tz[l] = M[8] * S.base_r + M[9] * S.base_g + M[10] * S.base_b;
-        S.metallic = S.base_r = S.base_g = S.base_b = 0.0f;
-      } else {
-        brdf[l] = NF_BRDF_LAMBERT; /* no such material: black */
-        S.base_r = S.base_g = S.base_b = 0.0f;
-      }
-    }
-    const float rough = clamp(S.roughness, 0.0f, 1.0f);
-    al[l] = fmax(rough * rough, 1e-3f);
-    me[l] = clamp(S.metallic, 0.0f, 1.0f);
-    br[l] = fmax(S.base_r, 0.0f);
-    bg[l] = fmax(S.base_g, 0.0f);
-    bb[l] = fmax(S.base_b, 0.0f);
-    if (!isfinite(br[l] + bg[l] + bb[l])) br[l] = bg[l] = bb[l] = 0.0f;
+    /* common/material.h; a Kurt tangent goes to the luminaire frame like v */
+    const NfMaterial mat = nf_material_decode(S, kurt_count);
+    brdf[l] = mat.brdf;
+    km[l] = mat.kmat;
+    tx[l] = M[0] * mat.tangent.x + M[1] * mat.tangent.y + M[2] * mat.tangent.z;
+    ty[l] = M[4] * mat.tangent.x + M[5] * mat.tangent.y + M[6] * mat.tangent.z;
+    tz[l] = M[8] * mat.tangent.x + M[9] * mat.tangent.y + M[10] * mat.tangent.z;
+    al[l] = mat.alpha;
+    me[l] = mat.metallic;
+    br[l] = mat.base.x;
+    bg[l] = mat.base.y;
+    bb[l] = mat.base.z;
     if (!(isfinite(px[l]) && isfinite(py[l]) && isfinite(pz[l]))) {
       valid[l] = 0;
       px[l] = py[l] = pz[l] = 0.0f;
@@ -357,33 +347,7 @@ NF_INLINE vf nf_visibility(__global const uint* vis, int words, vu pix, vi lit, 
 
 /* ---------------------------------------------------------------- boxes and SAT sums ------ */
 
-/* One axis of a box cut into (partial first, full middle, partial last) cells, as in
-   nf::lum::split_span: edges e0..e3 (cell boundaries), weights w0, 1, w2 (covered fractions).
-   Every edge is in [0, n] for every lane, whatever the input (NaN included). */
-typedef struct {
-  vi e0, e1, e2, e3;
-  vf w0, w2;
-  vf lo, hi; /* the clipped box, continuous coordinates */
-} NfSpan;
-
-NF_INLINE vi nf_split(vf lo, vf hi, int n, NfSpan* s) {
-  lo = clamp(lo, 0.0f, (float)n);
-  hi = clamp(hi, 0.0f, (float)n);
-  const vi ok = hi > lo;
-  hi = SEL(lo, hi, ok);
-  s->lo = lo;
-  s->hi = hi;
-  const vi k0 = min(CVT_I(floor(lo)), (vi)(n - 1));
-  const vi k1 = max(CVT_I(ceil(hi)), k0 + 1);
-  const vi one = (k1 - k0 == 1) | !ok;
-  s->e0 = k0;
-  s->e1 = SEL(k0 + 1, k0, !ok);
-  s->e2 = SEL(k1 - 1, s->e1, one);
-  s->e3 = SEL(k1, s->e1, one);
-  s->w0 = SEL(CVT_F(k0 + 1) - lo, hi - lo, one);
-  s->w2 = SEL(hi - CVT_F(k1 - 1), (vf)(0.0f), one);
-  return ok;
-}
+#include "common/sat_box.h"
 
 /* B_m(p) (Eq. 7) clipped to the image, in pixel coordinates. The support of Phi_(i,j) is
    [o + (i,j) h, o + (i+n, j+n) h]; its projection through p onto S is p + (u - p) f per axis. */
@@ -398,337 +362,7 @@ NF_INLINE vi nf_box(const NfCtx* c, const NfLuminaire* L, int m, NfSpan* sx, NfS
   return okx & okr & c->lit;
 }
 
-/* The masses of a box in SAT units along x, and the band bases for sampling:
-     first = w0x * sum_d wd S(col e0, band d), mid = sum_d wd S(cols e1..e2, band d),
-     last  = w2x * sum_d wd S(col e2, band d),
-   S = exact int64 sub-box sums; band d = rows [r_d, r_d+1) with weights (w0r, 1, w2r).
-   A_m(p) / (quantum pixel_area) = first + mid + last (Eq. 10), all terms >= 0. */
-typedef struct {
-  vf first, mid, last;
-  vl b0, b1, b2; /* band sums over the columns < e1 (base of the interior cumulative) */
-  vl v[4][4];    /* the SAT entries at rows r0..r3 x columns e0..e3 (reused by the y set-up) */
-} NfBoxSums;
-
-NF_INLINE void nf_box_sums(__global const long* img, int L1, const NfSpan* sx, const NfSpan* sr, NfBoxSums* B) {
-  const vi r0 = sr->e0 * L1, r1 = sr->e1 * L1, r2 = sr->e2 * L1, r3 = sr->e3 * L1;
-  const vi c0 = sx->e0, c1 = sx->e1, c2 = sx->e2, c3 = sx->e3;
-  const vl a0 = GATHER(img, r0 + c0), a1 = GATHER(img, r0 + c1), a2 = GATHER(img, r0 + c2), a3 = GATHER(img, r0 + c3);
-  const vl b0 = GATHER(img, r1 + c0), b1 = GATHER(img, r1 + c1), b2 = GATHER(img, r1 + c2), b3 = GATHER(img, r1 + c3);
-  const vl d0 = GATHER(img, r2 + c0), d1 = GATHER(img, r2 + c1), d2 = GATHER(img, r2 + c2), d3 = GATHER(img, r2 + c3);
-  const vl e0 = GATHER(img, r3 + c0), e1 = GATHER(img, r3 + c1), e2 = GATHER(img, r3 + c2), e3 = GATHER(img, r3 + c3);
-  /* band d at column k: D_d(k) = row r_{d+1} - row r_d */
-  const vl D00 = b0 - a0, D01 = b1 - a1, D02 = b2 - a2, D03 = b3 - a3;
-  const vl D10 = d0 - b0, D11 = d1 - b1, D12 = d2 - b2, D13 = d3 - b3;
-  const vl D20 = e0 - d0, D21 = e1 - d1, D22 = e2 - d2, D23 = e3 - d3;
-  const vf w0 = sr->w0, w2 = sr->w2;
-  B->first = sx->w0 * (w0 * CVT_F(D01 - D00) + CVT_F(D11 - D10) + w2 * CVT_F(D21 - D20));
-  B->mid = w0 * CVT_F(D02 - D01) + CVT_F(D12 - D11) + w2 * CVT_F(D22 - D21);
-  B->last = sx->w2 * (w0 * CVT_F(D03 - D02) + CVT_F(D13 - D12) + w2 * CVT_F(D23 - D22));
-  B->b0 = D01;
-  B->b1 = D11;
-  B->b2 = D21;
-  B->v[0][0] = a0, B->v[0][1] = a1, B->v[0][2] = a2, B->v[0][3] = a3;
-  B->v[1][0] = b0, B->v[1][1] = b1, B->v[1][2] = b2, B->v[1][3] = b3;
-  B->v[2][0] = d0, B->v[2][1] = d1, B->v[2][2] = d2, B->v[2][3] = d3;
-  B->v[3][0] = e0, B->v[3][1] = e1, B->v[3][2] = e2, B->v[3][3] = e3;
-}
-
-/* Luminance of pixel (col, row) of image m from the SAT, exact: 4 entries (indices in range). */
-NF_INLINE vf nf_pixel_luminance(__global const long* img, int L1, vi col, vi row, float q) {
-  const vi a = row * L1 + col;
-  return CVT_F((GATHER(img, a + L1 + 1) - GATHER(img, a + L1)) - (GATHER(img, a + 1) - GATHER(img, a))) * q;
-}
-
-/* ---------------------------------------------------------------- CDF inversion ----------- */
-
-/* Inversion of a piecewise-linear cumulative J on integer knots, J(lo) = jlo <= t < jhi = J(hi),
-   for the lanes in `run`: finds the knot interval [k, k+1] holding t and the fraction inside it,
-   from the exact inverse of that linear piece.
-   Secant (paper §5): regula falsi with the Illinois modification, stopping when the bracket is one
-   piece. Each step evaluates J at the two knots around the interpolated point (k = floor, k + 1:
-   independent reads whose latencies overlap), which brackets t at once wherever J is close to
-   linear; a bracket of two pieces gets one evaluation at its middle knot.
-   Binary: one evaluation at the middle knot per step.
-   `depth` caps the evaluations of J per inversion; a bracket still wider than one piece is then
-   inverted linearly across (the speed/accuracy knob). *iters counts the evaluations. */
-#if NF_SEARCH == NF_SEARCH_SECANT
-#define NF_PAIRS 1
-#else
-#define NF_PAIRS 0
-#endif
-
-/* Chooses k (and pair lanes) for the current bracket. */
-#if NF_PAIRS
-#define NF_INVERT_CHOOSE                                                      \
-  const vi room = hi - lo;                                                    \
-  const vi pair = run & (room >= 3) & (it + 1 < depth);                       \
-  const vf den_ = ghi - glo;                                                  \
-  const vf q_ = SEL((vf)(0.5f), clamp(-glo / den_, 0.0f, 1.0f), den_ > 0.0f); \
-  const vf x_ = q_ * CVT_F(room);                                             \
-  vi k = lo + SEL(CVT_I(x_ + 0.5f), CVT_I(x_), pair);                         \
-  k = min(max(k, lo + 1), hi - 1 - SEL((vi)(0), (vi)(1), pair));              \
-  k = SEL(lo, k, run);                                                        \
-  const vi k1 = SEL(k, k + 1, pair);
-#define NF_INVERT_STATE                                                           \
-  vf glo = jlo - t, ghi = jhi - t; /* Illinois-modified values, glo <= 0 < ghi */ \
-  vi side = (vi)(0);
-#else
-#define NF_INVERT_CHOOSE                      \
-  const vi pair = (vi)(0);                    \
-  vi k = SEL(lo, lo + ((hi - lo) >> 1), run); \
-  const vi k1 = k;
-#define NF_INVERT_STATE
-#endif
-
-/* Moves the bracket ends given J(k) = jk and, for pair lanes, J(k+1) = jk1. Defines the masks
-   a (J(k) <= t), b (J(k+1) <= t), mid (t inside [k, k+1]) and gt (t < J(k)). */
-#define NF_INVERT_MOVE                                  \
-  it += SEL((vi)(0), SEL((vi)(1), (vi)(2), pair), run); \
-  const vi a = run & (jk <= t);                         \
-  const vi b = pair & (jk1 <= t);                       \
-  const vi mid = a & pair & !b;                         \
-  const vi gt = run & !a;                               \
-  lo = SEL(lo, SEL(k, k1, b), a);                       \
-  jlo = SEL(jlo, SEL(jk, jk1, b), a);                   \
-  hi = SEL(SEL(hi, k, gt), k1, mid);                    \
-  jhi = SEL(SEL(jhi, jk, gt), jk1, mid);                \
-  NF_INVERT_ILLINOIS                                    \
-  run = run & (hi - lo > 1) & (it < depth);
-
-#if NF_PAIRS
-#define NF_INVERT_ILLINOIS                                 \
-  {                                                        \
-    const vi s_old = side, lo_only = a & !mid;             \
-    glo = SEL(glo, jlo - t, a);                            \
-    ghi = SEL(ghi, jhi - t, gt | mid);                     \
-    ghi = SEL(ghi, ghi * 0.5f, lo_only & (s_old == -1));   \
-    glo = SEL(glo, glo * 0.5f, gt & (s_old == 1));         \
-    side = SEL(SEL(side, (vi)(1), gt), (vi)(-1), lo_only); \
-  }
-#else
-#define NF_INVERT_ILLINOIS
-#endif
-
-/* The exact inverse inside the final bracket (one piece), or linear across it (depth reached). */
-#define NF_INVERT_FINISH                                                \
-  *iters += it;                                                         \
-  const vf den = jhi - jlo;                                             \
-  const vi width = max(hi - lo, (vi)(1));                               \
-  vf pos = SEL((vf)(0.0f), (t - jlo) / den * CVT_F(width), den > 0.0f); \
-  pos = clamp(pos, (vf)(0.0f), CVT_F(width) * NF_ONE_MINUS_ULP);        \
-  const vi kk = clamp(CVT_I(pos), (vi)(0), width - 1);                  \
-  *frac = clamp(pos - CVT_F(kk), 0.0f, NF_ONE_MINUS_ULP);
-
-#if NF_PAIRS
-#define NF_EVAL_SECOND(EVAL) const vf jk1 = EVAL(k1);
-#else
-#define NF_EVAL_SECOND(EVAL) const vf jk1 = jk;
-#endif
-
-#define NF_INVERT_BODY(EVAL)                \
-  vi it = (vi)(0);                          \
-  NF_INVERT_STATE                           \
-  run = run & (hi - lo > 1) & (it < depth); \
-  while (ANY(run)) {                        \
-    NF_INVERT_CHOOSE                        \
-    const vf jk = EVAL(k);                  \
-    NF_EVAL_SECOND(EVAL)                    \
-    NF_INVERT_MOVE                          \
-  }                                         \
-  NF_INVERT_FINISH                          \
-  return lo + kk;
-
-/* ours, along x: J(k) = w0 (D_0(k) - b0) + (D_1(k) - b1) + w2 (D_2(k) - b2), 3 row bands, from the
-   SAT entries at rows r0..r3 of column k. The search keeps the entries of its bracket ends
-   (vlo[], vhi[]), so that the y set-up of the column found needs no further reads. */
-NF_INLINE vf nf_j_x3(vl v0, vl v1, vl v2, vl v3, vl b0, vl b1, vl b2, vf w0, vf w2) {
-  return w0 * CVT_F((v1 - v0) - b0) + CVT_F((v2 - v1) - b1) + w2 * CVT_F((v3 - v2) - b2);
-}
-NF_INLINE vi nf_invert_x3(__global const long* img, vi r0, vi r1, vi r2, vi r3, vl b0, vl b1, vl b2, vf w0, vf w2,
-                          vi lo, vi hi, vf jlo, vf jhi, vf t, vi run, int depth, vf* frac, vi* iters, vl* vlo, vl* vhi,
-                          vi* width_out) {
-  vi it = (vi)(0);
-  NF_INVERT_STATE
-  run = run & (hi - lo > 1) & (it < depth);
-  while (ANY(run)) {
-    NF_INVERT_CHOOSE
-    const vl v0 = GATHER(img, r0 + k), v1 = GATHER(img, r1 + k), v2 = GATHER(img, r2 + k), v3 = GATHER(img, r3 + k);
-    const vf jk = nf_j_x3(v0, v1, v2, v3, b0, b1, b2, w0, w2);
-#if NF_PAIRS
-    const vl u0 = GATHER(img, r0 + k1), u1 = GATHER(img, r1 + k1), u2 = GATHER(img, r2 + k1), u3 = GATHER(img, r3 + k1);
-    const vf jk1 = nf_j_x3(u0, u1, u2, u3, b0, b1, b2, w0, w2);
-#else
-    const vl u0 = v0, u1 = v1, u2 = v2, u3 = v3;
-    const vf jk1 = jk;
-#endif
-    NF_INVERT_MOVE
-    /* the SAT entries of the new bracket ends */
-    vlo[0] = SELL(vlo[0], SELL(v0, u0, b), a);
-    vlo[1] = SELL(vlo[1], SELL(v1, u1, b), a);
-    vlo[2] = SELL(vlo[2], SELL(v2, u2, b), a);
-    vlo[3] = SELL(vlo[3], SELL(v3, u3, b), a);
-    vhi[0] = SELL(SELL(vhi[0], v0, gt), u0, mid);
-    vhi[1] = SELL(SELL(vhi[1], v1, gt), u1, mid);
-    vhi[2] = SELL(SELL(vhi[2], v2, gt), u2, mid);
-    vhi[3] = SELL(SELL(vhi[3], v3, gt), u3, mid);
-  }
-  NF_INVERT_FINISH
-  *width_out = width;
-  return lo + kk;
-}
-
-/* paper / global, along x: the full-column cumulative J(k) = SAT[Ny][k] - b. */
-#define NF_EVAL_ROW(k) CVT_F(GATHER(img, rowN + (k)) - b)
-NF_INLINE vi nf_invert_row(__global const long* img, int rowN, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t, vi run,
-                           int depth, vf* frac, vi* iters){NF_INVERT_BODY(NF_EVAL_ROW)}
-
-/* along y in column col: the column cumulative J(k) = (SAT[k][col+1] - SAT[k][col]) - b. */
-NF_INLINE vf nf_eval_col(__global const long* img, int L1, vi col, vl b, vi k) {
-  const vi o = k * L1 + col;
-  return CVT_F((GATHER(img, o + 1) - GATHER(img, o)) - b);
-}
-#define NF_EVAL_COL(k) nf_eval_col(img, L1, col, b, (k))
-NF_INLINE vi nf_invert_col(__global const long* img, int L1, vi col, vl b, vi lo, vi hi, vf jlo, vf jhi, vf t, vi run,
-                           int depth, vf* frac, vi* iters) {
-  NF_INVERT_BODY(NF_EVAL_COL)
-}
-
-/* One axis: u in [0, 1) -> cell and fraction inside the cell, given the masses of the first /
-   interior / last pieces. Inside the partial first and last cells the density is constant, so
-   the position is linear in the mass; the interior goes to the search. Lanes outside `act` get
-   in-range garbage. `kind` picks the interior cumulative: 0 = x (3 bands), 1 = x (full column),
-   2 = y (column col). */
-typedef struct {
-  vi r0, r1, r2, r3; /* kind 0: row offsets of the bands */
-  vl b0, b1, b2;
-  vf w0, w2;
-  vi col;   /* kind 2 */
-  int rowN; /* kind 1 */
-} NfCum;
-
-NF_INLINE vi nf_sample_axis(__global const long* img, int L1, int kind, const NfCum* e, const NfSpan* s, vf mf, vf mm,
-                            vf ml, vf u, vi act, int depth, vf* frac, vi* iters, const NfBoxSums* B, vl* cl, vl* cr,
-                            vi* have) {
-  const vi one = s->e1 == s->e3;
-  const vf fm = mf + mm;
-  const vf total = fm + ml;
-  vf t = u * total;
-  t = SEL(total * NF_ONE_MINUS_ULP, t, t < total); /* keeps t < total: the piece found has mass */
-  const vi first = !one & (t < mf);
-  const vi last = !one & !first & (t >= fm) & (ml > 0.0f);
-  const vi inter = act & !one & !first & !last;
-  /* first: lo + (t / mf) (e1 - lo); last: e2 + ((t - fm) / ml) (hi - e2); one: lo + u (hi - lo) */
-  const vf q = SEL(fmin(SEL(t, t - fm, last) / SEL(mf, ml, last), 1.0f), u, one);
-  const vf start = SEL(s->lo, CVT_F(s->e2), last & !one);
-  const vf end = SEL(CVT_F(s->e1), s->hi, last | one);
-  vi cell = SEL(s->e0, s->e2, last);
-  const vf pos = start + q * (end - start);
-  vf fr = clamp(pos - CVT_F(cell), 0.0f, NF_ONE_MINUS_ULP);
-  vl vlo[4], vhi[4];
-  if (kind == 0) {
-    /* SAT entries of the columns cell, cell + 1 at the four band rows: the first / last / only cell
-       from the box corners, an interior cell from the search's final bracket */
-    for (int r = 0; r < 4; ++r) {
-      cl[r] = SELL(B->v[r][0], B->v[r][2], last);
-      cr[r] = SELL(B->v[r][1], B->v[r][3], last);
-      vlo[r] = B->v[r][1];
-      vhi[r] = B->v[r][2];
-    }
-    *have = (vi)(-1) != 0;
-  }
-  if (ANY(inter)) {
-    /* interior: J(e1) = 0 <= t' < J(e2) = mm */
-    const vf tt = fmin(fmax(t - mf, 0.0f), mm * NF_ONE_MINUS_ULP);
-    vf fi;
-    vi ci;
-    if (kind == 0) {
-      vi width;
-      ci = nf_invert_x3(img, e->r0, e->r1, e->r2, e->r3, e->b0, e->b1, e->b2, e->w0, e->w2, s->e1, s->e2, (vf)(0.0f),
-                        mm, tt, inter, depth, &fi, iters, vlo, vhi, &width);
-      for (int r = 0; r < 4; ++r) {
-        cl[r] = SELL(cl[r], vlo[r], inter);
-        cr[r] = SELL(cr[r], vhi[r], inter);
-      }
-      *have = !inter | (width == 1);
-    } else if (kind == 1)
-      ci = nf_invert_row(img, e->rowN, e->b0, s->e1, s->e2, (vf)(0.0f), mm, tt, inter, depth, &fi, iters);
-    else
-      ci = nf_invert_col(img, L1, e->col, e->b0, s->e1, s->e2, (vf)(0.0f), mm, tt, inter, depth, &fi, iters);
-    cell = SEL(cell, ci, inter);
-    fr = SEL(fr, fi, inter);
-  }
-  *frac = fr;
-  return cell;
-}
-
-/* ---------------------------------------------------------------- samples on B_m(p) ------- */
-
-/* Draws s in B_m(p) with pdf Y_m / A_m (ours, ours-equal, global) or the paper's variant, from (ux, uy):
-   ours, ours-equal (docs/sampling.md): F(x) = int_{x0}^{x} int_{y0}^{y1} Y / A_m, the exact restricted
-   marginal from the SAT (3 row bands), then the column's cumulative restricted to [y0, y1].
-   paper (Eq. 8): the precomputed full-column marginal restricted to [x0, x1], same conditional.
-   global (Eq. 6): the box is the whole image.
-   Returns the mask of samples that carry energy (0: a zero-mass column, reachable only with a
-   depth-limited search or `paper`). */
-NF_INLINE vi nf_draw(__global const long* img, int L1, int Ny, const NfSpan* sx, const NfSpan* sr, const NfBoxSums* B,
-                     vf ux, vf uy, vi act, int depth, vi* col, vf* fx, vi* row, vf* fy, vi* itx, vi* ity) {
-  NfCum e;
-#if NF_RESTRICTED
-  e.r0 = sr->e0 * L1;
-  e.r1 = sr->e1 * L1;
-  e.r2 = sr->e2 * L1;
-  e.r3 = sr->e3 * L1;
-  e.b0 = B->b0;
-  e.b1 = B->b1;
-  e.b2 = B->b2;
-  e.w0 = sr->w0;
-  e.w2 = sr->w2;
-  vl cl[4], cr[4];
-  vi have;
-  *col = nf_sample_axis(img, L1, 0, &e, sx, B->first, B->mid, B->last, ux, act, depth, fx, itx, B, cl, cr, &have);
-#else /* paper, global: full-column marginal J(k) = SAT[Ny][k] - SAT[Ny][e1] */
-  e.rowN = Ny * L1;
-  const vl n0 = GATHER(img, e.rowN + sx->e0), n1 = GATHER(img, e.rowN + sx->e1), n2 = GATHER(img, e.rowN + sx->e2),
-           n3 = GATHER(img, e.rowN + sx->e3);
-  e.b0 = n1;
-  *col = nf_sample_axis(img, L1, 1, &e, sx, sx->w0 * CVT_F(n1 - n0), CVT_F(n2 - n1), sx->w2 * CVT_F(n3 - n2), ux, act,
-                        depth, fx, itx, B, 0, 0, 0);
-#endif
-  /* conditional along y in column col, restricted to [y0, y1]: cc(k) = SAT[k][col+1] - SAT[k][col] */
-  const vi c = *col;
-  vl q0, q1, q2, q3;
-#if NF_RESTRICTED
-  q0 = cr[0] - cl[0];
-  q1 = cr[1] - cl[1];
-  q2 = cr[2] - cl[2];
-  q3 = cr[3] - cl[3];
-  const vi need = act & !have;
-  if (ANY(need))
-#endif
-  {
-    const vi o0 = sr->e0 * L1 + c, o1 = sr->e1 * L1 + c, o2 = sr->e2 * L1 + c, o3 = sr->e3 * L1 + c;
-    const vl g0 = GATHER(img, o0 + 1) - GATHER(img, o0), g1 = GATHER(img, o1 + 1) - GATHER(img, o1);
-    const vl g2 = GATHER(img, o2 + 1) - GATHER(img, o2), g3 = GATHER(img, o3 + 1) - GATHER(img, o3);
-#if NF_RESTRICTED
-    q0 = SELL(q0, g0, need);
-    q1 = SELL(q1, g1, need);
-    q2 = SELL(q2, g2, need);
-    q3 = SELL(q3, g3, need);
-#else
-    q0 = g0;
-    q1 = g1;
-    q2 = g2;
-    q3 = g3;
-#endif
-  }
-  const vf mf = sr->w0 * CVT_F(q1 - q0), mm = CVT_F(q2 - q1), ml = sr->w2 * CVT_F(q3 - q2);
-  const vi ok = mf + mm + ml > 0.0f;
-  NfCum ey;
-  ey.col = c;
-  ey.b0 = q1;
-  *row = nf_sample_axis(img, L1, 2, &ey, sr, mf, mm, ml, uy, act & ok, depth, fy, ity, B, 0, 0, 0);
-  return ok;
-}
+#include "common/sat_sampling.h"
 
 /* ---------------------------------------------------------------- Eq. 14 per sample ------- */
 

@@ -13,6 +13,7 @@
 #define NF_LANES 1
 #include "common/brdf.h"
 #include "common/kurt_asg.h"
+#include "common/material.h"
 #include "common/point_shadow.h"
 #include "common/random.h"
 #include "common/sg.h"
@@ -28,21 +29,22 @@ NF_INLINE float nf_lum(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722
    R_s = F0, R_d = (1 - F0)(1 - metallic) base; kurt: R_d = kd of the table, no specular VPL. */
 NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt, int kurt_count, float3* rd, float3* rs,
                                float* lambda_h) {
-  const float3 base = (float3)(s.base_r, s.base_g, s.base_b);
+  const NfMaterial m = nf_material_decode(s, kurt_count); /* common/material.h */
+  const float3 base = m.base;
   *rd = (float3)(0.0f);
   *rs = (float3)(0.0f);
   *lambda_h = 0.0f;
-  if (s.brdf == NF_BRDF_LAMBERT) {
+  if (m.brdf == NF_BRDF_LAMBERT) {
     *rd = base;
-  } else if (s.brdf == NF_BRDF_GGX) {
-    const float3 f0 = mix((float3)(0.04f), base, s.metallic);
+  } else if (m.brdf == NF_BRDF_GGX) {
+    const float3 f0 = nf_f0_3(base, m.metallic);
     *rs = f0;
-    *rd = ((float3)(1.0f) - f0) * (1.0f - s.metallic) * base;
-    const float a = fmax(s.roughness * s.roughness, 1e-3f);
+    *rd = ((float3)(1.0f) - f0) * (1.0f - m.metallic) * base;
+    const float a = m.alpha;
     *lambda_h = 2.0f / (a * a);
-  } else if (s.brdf == NF_BRDF_KURT) {
-    const int k = (int)s.metallic;
-    if (k >= 0 && k < kurt_count) *rd = (float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b);
+  } else if (m.brdf == NF_BRDF_KURT) {
+    const int k = m.kmat;
+    *rd = (float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b);
   }
   *rd = fmax(*rd, (float3)(0.0f));
   *rs = fmax(*rs, (float3)(0.0f));
@@ -330,8 +332,15 @@ typedef struct {
   __global const NfKurtMaterial* km; /* kurt: the table entry, 0 when none */
   NfAsg kasg[NF_KURT_MAX_LOBES];     /* kurt: lobe j's D as an ASG */
   float3 ax, ay, az;
-  float eta_x, eta_y, nv;
+  float eta_x, eta_y;
+  float nv; /* n.v >= NF_NV_MIN, as in the BRDF terms of every kernel (common/material.h) */
 } NfVsglPixel;
+
+/* The GGX lobe's ASG (mirror direction and eta_y = lambda_h / (8 (n.v)^2)) takes n.v >= 1e-3: the
+   fit is meant for views away from grazing, and the floor bounds eta_y (docs/indirect.md). The BRDF
+   terms use NF_NV_MIN = 1e-4 like every other kernel; before the shared terms they used 1e-3 here
+   too, so pixels with n.v < 1e-3 changed (issue 24). */
+#define NF_VSGL_ASG_NV_MIN 1e-3f
 
 NF_INLINE float3 nf_vsgl_lobe(const NfVsglPixel* px, float3 mu, float sigma2, float3 c, float3 xv, float lv) {
   if (!(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f)) return (float3)(0.0f);
@@ -362,30 +371,25 @@ NF_INLINE float3 nf_vsgl_lobe(const NfVsglPixel* px, float3 mu, float sigma2, fl
     if (px->km != 0 && cosn > 0.0f && h2 > 1e-12f) {
       const float3 h = hs * rsqrt(h2);
       const float vh = fmax(clamp(dot(px->v, h), 0.0f, 1.0f), 1e-6f);
-      const float q = 1.0f - vh, q5 = q * q * q * q * q;
+      const float q5 = nf_schlick_w(vh);
       const int count = clamp(px->km->count, 0, NF_KURT_MAX_LOBES);
       for (int j = 0; j < count; ++j) {
         const NfKurtLobe L = px->km->lobe[j];
-        const float r0 = clamp(L.r0, 0.0f, 1.0f), al = clamp(L.alpha, 0.0f, 1.0f);
-        const float F = r0 + (1.0f - r0) * q5;
         const float dn = 1.0f / (NF_PI * nf_kurt_m(L.mx) * nf_kurt_m(L.my));
-        const float cj = F * dn * cosn / (4.0f * vh * pow(cosn * px->nv, al));
+        const float cj = nf_kurt_lobe_f(L, q5) * dn * cosn / nf_kurt_lobe_den(L, vh, cosn, px->nv);
         const NfAsg g = px->kasg[j];
         const float integ = nf_sg_asg_integral_scaled(xin, lin_s, sigma2, g.x, g.y, g.z, g.eta_x, g.eta_y);
-        out += fmax((float3)(L.ks_r, L.ks_g, L.ks_b), 0.0f) * (cj * (0.5f / NF_PI) * integ) * ce;
+        out += nf_kurt_ks(L) * (cj * (0.5f / NF_PI) * integ) * ce;
       }
     }
   } else if (px->brdf == NF_BRDF_GGX && cosn > 0.0f) {
     const float3 h = normalize(xin + px->v);
     const float vh = clamp(dot(px->v, h), 0.0f, 1.0f);
-    const float s = 1.0f - vh, s5 = s * s * s * s * s;
-    const float3 f0 = mix((float3)(0.04f), px->base, px->metallic);
-    const float3 f = f0 + ((float3)(1.0f) - f0) * s5;
+    const float3 f = nf_schlick3(nf_f0_3(px->base, px->metallic), nf_schlick_w(vh));
     const float3 kd = ((float3)(1.0f) - f) * (1.0f - px->metallic) * px->base * (1.0f / NF_PI);
     out = kd * ce * ca * cosn;
     const float a2 = px->alpha * px->alpha;
-    const float vis_den = cosn * sqrt(px->nv * px->nv * (1.0f - a2) + a2) + px->nv * sqrt(cosn * cosn * (1.0f - a2) + a2);
-    const float vis = 0.5f / fmax(vis_den, 1e-12f);
+    const float vis = nf_smith_v(cosn, px->nv, a2);
     /* c_in int G ASG = ce / (2 pi) * (scaled integral) */
     const float integ = nf_sg_asg_integral_scaled(xin, lin_s, sigma2, px->ax, px->ay, px->az, px->eta_x, px->eta_y);
     out += f * (vis * cosn / (NF_PI * a2)) * ce * (0.5f / NF_PI) * integ;
@@ -398,27 +402,27 @@ NF_INLINE NfVsglPixel nf_vsgl_pixel(NfSurface s, __global const NfKurtMaterial* 
   px.p = (float3)(s.px, s.py, s.pz);
   px.n = normalize((float3)(s.nx, s.ny, s.nz));
   px.v = normalize((float3)(s.vx, s.vy, s.vz));
-  px.brdf = s.brdf;
-  px.base = (float3)(s.base_r, s.base_g, s.base_b);
-  px.metallic = s.metallic;
-  px.alpha = fmax(s.roughness * s.roughness, 1e-3f);
+  const NfMaterial m = nf_material_decode(s, kurt_count); /* common/material.h */
+  px.brdf = m.brdf;
+  px.base = m.base;
+  px.metallic = m.metallic;
+  px.alpha = m.alpha;
   px.kd = (float3)(0.0f);
   px.km = 0;
-  px.nv = fmax(dot(px.n, px.v), 1e-3f);
-  if (s.brdf == NF_BRDF_KURT) {
-    const int k = (int)s.metallic;
-    if (k >= 0 && k < kurt_count) {
-      px.km = kurt + k;
-      px.kd = fmax((float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b), 0.0f);
-      float3 t, b;
-      nf_kurt_frame(px.n, px.base, &t, &b); /* base_r/g/b = the tangent for kurt (shared/surface.h) */
-      const int count = clamp(kurt[k].count, 0, NF_KURT_MAX_LOBES);
-      for (int j = 0; j < count; ++j)
-        px.kasg[j] = nf_kurt_asg(px.n, t, b, px.v, nf_kurt_m(kurt[k].lobe[j].mx), nf_kurt_m(kurt[k].lobe[j].my));
-    }
+  px.nv = fmax(dot(px.n, px.v), NF_NV_MIN);
+  const float nv_asg = fmax(dot(px.n, px.v), NF_VSGL_ASG_NV_MIN);
+  if (m.brdf == NF_BRDF_KURT) {
+    const int k = m.kmat;
+    px.km = kurt + k;
+    px.kd = fmax((float3)(kurt[k].kd_r, kurt[k].kd_g, kurt[k].kd_b), 0.0f);
+    float3 t, b;
+    nf_kurt_frame(px.n, m.tangent, &t, &b);
+    const int count = clamp(kurt[k].count, 0, NF_KURT_MAX_LOBES);
+    for (int j = 0; j < count; ++j)
+      px.kasg[j] = nf_kurt_asg(px.n, t, b, px.v, nf_kurt_m(kurt[k].lobe[j].mx), nf_kurt_m(kurt[k].lobe[j].my));
   }
   /* ASG frame of the GGX lobe: z the mirror direction of v, y across the plane of incidence. */
-  px.az = 2.0f * px.nv * px.n - px.v;
+  px.az = 2.0f * nv_asg * px.n - px.v;
   px.az = normalize(px.az);
   float3 ay = cross(px.n, px.v);
   if (dot(ay, ay) < 1e-12f) {
@@ -430,7 +434,7 @@ NF_INLINE NfVsglPixel nf_vsgl_pixel(NfSurface s, __global const NfKurtMaterial* 
   px.ax = cross(px.ay, px.az);
   const float lh = 2.0f / (px.alpha * px.alpha);
   px.eta_x = lh / 8.0f;
-  px.eta_y = lh / (8.0f * px.nv * px.nv);
+  px.eta_y = lh / (8.0f * nv_asg * nv_asg);
   return px;
 }
 

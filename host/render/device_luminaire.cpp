@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
 
@@ -19,12 +20,8 @@ template <typename T>
     fail(fmt::format("luminaire upload: {} needs {} MiB, more than the device's largest buffer ({} MiB on {})", what,
                      n >> 20, rt.info().max_alloc_bytes >> 20, rt.info().name));
   bytes += n;
-  try {
-    return ::cl::Buffer(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n, const_cast<T*>(v.data()));
-  } catch (const ::cl::Error& e) {
-    cl::check(e.err(), fmt::format("luminaire upload: creating the {} buffer ({} bytes)", what, n));
-  }
-  return {};
+  return cl::make_buffer(rt, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n, v.data(),
+                         fmt::format("luminaire upload: creating the {} buffer ({} bytes)", what, n));
 }
 
 constexpr std::size_t kHugePage = std::size_t{2} << 20;

@@ -13,6 +13,7 @@
 #include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
+#include "core/invariant.h"
 #include "core/timer.h"
 #include "kernels/shared/surface_order.h"
 
@@ -156,10 +157,28 @@ int Sampler::lanes(const SamplingSettings& s) const {
   return rt_.info().type == "CPU" ? 16 : 1;
 }
 
+// The arguments this file binds to each kernel of lightfield.cl: NF_KERNEL_ARGS (set_common), then
+// the kernel's own, then the direction buffer under -DNF_MEAN_DIRECTION=1 (NF_DIR_KARG).
+static cl_uint bound_args(const std::string& name, bool mean_direction) {
+  if (name == "lf_add") return 3;
+  if (name == "lf_step1_image") return kSpecificArgs + 1;
+  if (name == "lf_step2_image") return kSpecificArgs + 3 + (mean_direction ? 1 : 0);
+  if (name == "lf_fused") return kSpecificArgs + 6 + (mean_direction ? 1 : 0);
+  if (name == "lf_debug_samples") return kSpecificArgs + 2;
+  fail("Sampler: no argument list for kernel " + name);
+}
+
 ::cl::Kernel& Sampler::kernel(const std::string& name, const std::string& options) {
   const std::string key = name + "|" + options;
   if (auto it = kernels_.find(key); it != kernels_.end()) return it->second;
-  return kernels_.emplace(key, rt_.kernel(kFile, name, options)).first->second;
+  ::cl::Kernel k = rt_.kernel(kFile, name, options);
+  // OpenCL accepts a misplaced argument whenever its size matches: at least the count must agree
+  cl_uint args = 0;
+  cl::call([&] { args = k.getInfo<CL_KERNEL_NUM_ARGS>(); }, "Sampler: querying " + name + "'s arguments");
+  const bool dir = options.find("-DNF_MEAN_DIRECTION=1") != std::string::npos;
+  invariant(args == bound_args(name, dir),
+            fmt::format("{}: the kernel takes {} arguments, sampler.cpp binds {}", name, args, bound_args(name, dir)));
+  return kernels_.emplace(key, std::move(k)).first->second;
 }
 
 std::uint32_t surface_of_slot(const SamplingSettings& s, int count, int slot) {
@@ -221,10 +240,8 @@ void Sampler::ensure(int count) {
 // otherwise pick a few huge groups and leave a core idle.
 ::cl::NDRange Sampler::local_range(::cl::Kernel& k) const {
   std::size_t wg = kLocal;
-  try {
-    wg = std::min<std::size_t>(wg, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(rt_.device()));
-  } catch (const ::cl::Error&) {
-  }
+  cl::call([&] { wg = std::min<std::size_t>(wg, k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(rt_.device())); },
+           "Sampler: querying the kernel's work-group size");
   // global sizes are multiples of kLocal; keep the local size a divisor of it
   while (wg > 1 && kLocal % wg != 0) --wg;
   return ::cl::NDRange(std::max<std::size_t>(wg, 1));

@@ -23,40 +23,9 @@ static_assert(offsetof(NfVsgl, cs_r) == 48 && offsetof(NfVsgl, level) == 80, "Nf
 
 namespace {
 
-// At least 16 bytes (no zero-sized buffers); `data` holds `bytes`, so a smaller copy is written
-// into the padded buffer instead of letting CL_MEM_COPY_HOST_PTR read past it.
-::cl::Buffer make_buffer(cl::Runtime& rt, cl_mem_flags flags, std::size_t bytes, const void* data,
-                         const std::string& what) {
-  constexpr std::size_t kMin = 16;
-  ::cl::Buffer b;
-  cl::call(
-      [&] {
-        if (data && bytes < kMin) {
-          b = ::cl::Buffer(rt.context(), flags & ~static_cast<cl_mem_flags>(CL_MEM_COPY_HOST_PTR), kMin);
-          if (bytes > 0) rt.queue().enqueueWriteBuffer(b, CL_TRUE, 0, bytes, data);
-        } else {
-          b = ::cl::Buffer(rt.context(), flags, std::max(bytes, kMin), const_cast<void*>(data));
-        }
-      },
-      what);
-  return b;
-}
-
-template <typename T>
-// A read-write device copy of v (kernels and copies write into these buffers later).
-::cl::Buffer upload_rw(cl::Runtime& rt, const std::vector<T>& v, const std::string& what) {
-  if (v.empty()) return make_buffer(rt, CL_MEM_READ_WRITE, 16, nullptr, what);
-  return make_buffer(rt, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data(), what);
-}
-
-template <typename T>
-std::vector<T> download(cl::Runtime& rt, const ::cl::Buffer& b, std::size_t count, std::size_t first,
-                        const std::string& what) {
-  std::vector<T> out(count);
-  if (count > 0)
-    cl::call([&] { rt.queue().enqueueReadBuffer(b, CL_TRUE, first * sizeof(T), count * sizeof(T), out.data()); }, what);
-  return out;
-}
+using cl::download;  // the shared buffer helpers (cl/buffers.h)
+using cl::make_buffer;
+using cl::upload_rw;
 
 cl_float4 f4(glm::dvec3 v) {
   return cl_float4{{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z), 0.0f}};

@@ -20,7 +20,7 @@ namespace nf::scene {
 
 // Render settings as written in the file (strings for choices); the render layer interprets them.
 struct RenderSettings {
-  std::string method = "ours";               // ours | paper | uniform | uniform-equal | global
+  std::string method = "ours";               // ours | paper | uniform | uniform-equal | ours-equal | global
   std::string sampler = "halton-scrambled";  // halton | halton-scrambled | random
   int spp = 200;                             // K, samples per pixel per frame, >= 1
   int kmax = 0;                              // K_max, cap of samples per image per pixel; 0 = no cap

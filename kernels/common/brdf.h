@@ -13,11 +13,12 @@
                 (4 (v.h) ((l.n)(v.n))^alpha_j), parameters in a material table (shared/kurt.h).
    Directions point away from the surface (w towards the light, v towards the viewer). */
 #include "common/lanes.h"
+#include "common/material.h"
 #include "shared/kurt.h"
 #include "shared/surface.h"
 
 /* The shading inputs at a point, per lane: unit normal n, unit direction to the viewer v, and
-   the material (NF_BRDF_*, alpha = roughness^2 clamped to >= 1e-3, metallic, base colour).
+   the material (NF_BRDF_*, alpha, metallic, base colour as common/material.h decodes them).
    NF_BRDF_KURT lanes read entry kmat of the table `kurt` and shade with the tangent t (any
    vector not parallel to n; it is projected onto the tangent plane). Without a table (kurt = 0)
    NF_BRDF_KURT lanes reflect nothing. */
@@ -44,7 +45,7 @@ NF_INLINE void nf_brdf_cos(const NfShade* sh, vf wx, vf wy, vf wz, vf* r, vf* g,
   vf fr = SEL(nl, sh->br * k, lam), fg = SEL(nl, sh->bg * k, lam), fb = SEL(nl, sh->bb * k, lam);
   const vi ggx = sh->brdf == NF_BRDF_GGX;
   if (ANY(ggx & up)) {
-    const vf nv = fmax(sh->nx * sh->vx + sh->ny * sh->vy + sh->nz * sh->vz, 1e-4f);
+    const vf nv = fmax(sh->nx * sh->vx + sh->ny * sh->vy + sh->nz * sh->vz, NF_NV_MIN);
     vf hx = wx + sh->vx, hy = wy + sh->vy, hz = wz + sh->vz;
     const vf h2 = hx * hx + hy * hy + hz * hz;
     const vf hk = SEL((vf)(0.0f), rsqrt(h2), h2 > 1e-30f);
@@ -57,14 +58,11 @@ NF_INLINE void nf_brdf_cos(const NfShade* sh, vf wx, vf wy, vf wz, vf* r, vf* g,
     const vf dd = nh * nh * (a2 - 1.0f) + 1.0f;
     const vf D = a2 / fmax(NF_PI * dd * dd, 1e-30f);
     const vf nlp = fmax(nl, 0.0f);
-    const vf vis_den = nlp * sqrt(nv * nv * (1.0f - a2) + a2) + nv * sqrt(nlp * nlp * (1.0f - a2) + a2);
-    const vf V = 0.5f / fmax(vis_den, 1e-12f);
-    const vf s = 1.0f - vh;
-    const vf s5 = s * s * s * s * s;
+    const vf V = nf_smith_v(nlp, nv, a2);
+    const vf s5 = nf_schlick_wv(vh);
     const vf dv = D * V, kd = (1.0f - sh->metallic) * (1.0f / NF_PI);
-    const vf F0r = mix((vf)(0.04f), sh->br, sh->metallic), F0g = mix((vf)(0.04f), sh->bg, sh->metallic),
-             F0b = mix((vf)(0.04f), sh->bb, sh->metallic);
-    const vf Fr = F0r + (1.0f - F0r) * s5, Fg = F0g + (1.0f - F0g) * s5, Fb = F0b + (1.0f - F0b) * s5;
+    const vf Fr = nf_schlick(nf_f0(sh->br, sh->metallic), s5), Fg = nf_schlick(nf_f0(sh->bg, sh->metallic), s5),
+             Fb = nf_schlick(nf_f0(sh->bb, sh->metallic), s5);
     fr = SEL(fr, (Fr * dv + (1.0f - Fr) * kd * sh->br) * nlp, ggx);
     fg = SEL(fg, (Fg * dv + (1.0f - Fg) * kd * sh->bg) * nlp, ggx);
     fb = SEL(fb, (Fb * dv + (1.0f - Fb) * kd * sh->bb) * nlp, ggx);
@@ -199,15 +197,13 @@ NF_INLINE float3 nf_kurt_f_cos(__global const NfKurtMaterial* m, float3 n, float
     const float3 h = hs * rsqrt(h2);
     const float hx = dot(h, t), hy = dot(h, b), hz = dot(h, n);
     const float vh = fmax(clamp(dot(v, h), 0.0f, 1.0f), 1e-6f);
-    const float nv = fmax(dot(n, v), 1e-4f), q = 1.0f - vh, q5 = q * q * q * q * q;
+    const float nv = fmax(dot(n, v), NF_NV_MIN), q5 = nf_schlick_w(vh);
     const int count = clamp(m->count, 0, NF_KURT_MAX_LOBES);
     for (int j = 0; j < count; ++j) {
       const NfKurtLobe L = m->lobe[j];
-      const float r0 = clamp(L.r0, 0.0f, 1.0f), al = clamp(L.alpha, 0.0f, 1.0f);
-      const float F = r0 + (1.0f - r0) * q5;
       const float D = nf_kurt_d(hx, hy, hz, nf_kurt_m(L.mx), nf_kurt_m(L.my));
-      const float s = F * D / (4.0f * vh * pow(nl * nv, al));
-      f += fmax((float3)(L.ks_r, L.ks_g, L.ks_b), 0.0f) * s;
+      const float s = nf_kurt_lobe_f(L, q5) * D / nf_kurt_lobe_den(L, vh, nl, nv);
+      f += nf_kurt_ks(L) * s;
     }
   }
   f *= nl;
@@ -218,7 +214,7 @@ NF_INLINE float3 nf_kurt_f_cos(__global const NfKurtMaterial* m, float3 n, float
    proportional to max(kd) and to max(ks_j) F_j(n.v) (the lobe's reflectance at its peak, where
    v.h = n.v); diffuse only when all vanish. Sum 1. */
 NF_INLINE void nf_kurt_weights(__global const NfKurtMaterial* m, float nv, float* w) {
-  const float q = 1.0f - clamp(nv, 0.0f, 1.0f), q5 = q * q * q * q * q;
+  const float q5 = nf_schlick_w(nv);
   const int count = clamp(m->count, 0, NF_KURT_MAX_LOBES);
   w[0] = fmax(fmax(m->kd_r, fmax(m->kd_g, m->kd_b)), 0.0f);
   float sum = w[0];
@@ -226,8 +222,7 @@ NF_INLINE void nf_kurt_weights(__global const NfKurtMaterial* m, float nv, float
     w[1 + j] = 0.0f;
     if (j >= count) continue;
     const NfKurtLobe L = m->lobe[j];
-    const float r0 = clamp(L.r0, 0.0f, 1.0f);
-    w[1 + j] = fmax(fmax(L.ks_r, fmax(L.ks_g, L.ks_b)), 0.0f) * (r0 + (1.0f - r0) * q5);
+    w[1 + j] = fmax(fmax(L.ks_r, fmax(L.ks_g, L.ks_b)), 0.0f) * nf_kurt_lobe_f(L, q5);
     sum += w[1 + j];
   }
   if (!(sum > 0.0f) || !isfinite(sum)) {
