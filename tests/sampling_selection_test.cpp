@@ -175,7 +175,9 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
     EXPECT_NEAR(sum, 1.0, 1e-12);
     for (std::size_t i = 0; i < placed.size(); ++i) {
       const double r = reference_of(l, placed[i], pts[pi]).y;
-      if (r > 0.0) EXPECT_GT(q[i], 0.0) << "point " << pi << " instance " << i;
+      if (r > 0.0) {
+        EXPECT_GT(q[i], 0.0) << "point " << pi << " instance " << i;
+      }
     }
     EXPECT_EQ(q[4], 0.0);
     EXPECT_EQ(q[5], 0.0);
@@ -224,7 +226,9 @@ TEST(LightSelection, NeverZeroWhereAnInstanceContributes) {
     const double f = selection_estimate(rec, glm::dvec3(s.px, s.py, s.pz), glm::dvec3(s.nx, s.ny, s.nz), true);
     lit += r > 0.0;
     if (r > 0.0 && !(f > 0.0)) ++zero_q;
-    if (!(f > 0.0)) EXPECT_EQ(r, 0.0) << "local " << local.x << " " << local.y << " " << local.z;
+    if (!(f > 0.0)) {
+      EXPECT_EQ(r, 0.0) << "local " << local.x << " " << local.y << " " << local.z;
+    }
     EXPECT_TRUE(std::isfinite(f));
   }
   EXPECT_EQ(zero_q, 0);
