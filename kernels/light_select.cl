@@ -16,7 +16,8 @@
    P(choose i) = f_i / sum_j f_j exactly in real arithmetic). sel = the instance (NF_LS_NONE: no
    instance can light it, or background), w = 1 / q_sel. */
 __kernel void ls_select(__global const NfSurface* surfaces, const int count, __global const NfSelectLight* lights,
-                        const int n, const uint seed, const uint frame, __global uint* sel, __global float* w) {
+                        __global const float* tables, const int n, const uint seed, const uint frame,
+                        __global uint* sel, __global float* w) {
   const int g = get_global_id(0);
   if (g >= count) return;
   const NfSurface s = surfaces[g];
@@ -27,7 +28,7 @@ __kernel void ls_select(__global const NfSurface* surfaces, const int count, __g
     const int use_cos = s.brdf != NF_BRDF_SCALAR;
     const uint key = nf_hash1(nf_hash1((uint)g ^ 0x68bc21ebU) ^ nf_hash1(frame * 0x9e3779b9U + seed));
     for (int i = 0; i < n; ++i) {
-      const float f = nf_select_estimate(lights + i, p, nn, use_cos);
+      const float f = nf_select_estimate(lights + i, tables, p, nn, use_cos);
       if (!(f > 0.0f)) continue;
       total += f;
       const float u = nf_unit1(nf_hash1(key ^ ((uint)i * 0x85ebca6bU + 0x1b873593U)));

@@ -223,7 +223,8 @@ TEST(LightSelection, NeverZeroWhereAnInstanceContributes) {
     const glm::dvec3 n = glm::dmat3(pl.T) * nl;
     const NfSurface s = surface(p, n);
     const double r = reference_of(l, pl, s).y;
-    const double f = selection_estimate(rec, glm::dvec3(s.px, s.py, s.pz), glm::dvec3(s.nx, s.ny, s.nz), true);
+    const double f = selection_estimate(rec, dl.selection_table().data(), glm::dvec3(s.px, s.py, s.pz),
+                                        glm::dvec3(s.nx, s.ny, s.nz), true);
     lit += r > 0.0;
     if (r > 0.0 && !(f > 0.0)) ++zero_q;
     if (!(f > 0.0)) {

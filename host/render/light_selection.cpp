@@ -7,9 +7,9 @@
 
 namespace nf::render {
 
-static_assert(sizeof(NfSelectLight) == 144, "NfSelectLight layout (kernels/shared/light_select.h)");
+static_assert(sizeof(NfSelectLight) == 160, "NfSelectLight layout (kernels/shared/light_select.h)");
 
-NfSelectLight select_light(const LightInstance& li) {
+NfSelectLight select_light(const LightInstance& li, int table) {
   if (!li.luminaire) fail("select_light: a light instance has no luminaire");
   const NfLuminaire& L = li.luminaire->params();
   const NfInstance& I = li.instance;
@@ -35,6 +35,9 @@ NfSelectLight select_light(const LightInstance& li) {
   const double size2 = static_cast<double>(L.image_size_x) * L.image_size_x +
                        static_cast<double>(L.image_size_y) * L.image_size_y + static_cast<double>(L.delta) * L.delta;
   s.near2 = static_cast<float>(std::max(size2 / 16.0, 1e-12));
+  s.table = table;
+  s.ta = li.luminaire->selection_ta();
+  s.tb = li.luminaire->selection_tb();
   return s;
 }
 
@@ -52,10 +55,22 @@ double corner_cos(const glm::dvec3& n, const glm::dvec3& p, const glm::dvec3& c)
   return l > 0.0 ? (n.x * d.x + n.y * d.y + n.z * d.z) / l : 1.0;
 }
 
+double table_mean(const float* sat, double ta, double tb, double a0, double a1, double b0, double b1) {
+  constexpr int T = NF_SELECT_TABLE;
+  const double sa = T / (2.0 * ta), sb = T / (2.0 * tb);
+  auto cell = [](double v) { return std::clamp(static_cast<int>(std::floor(std::clamp(v, -1.0, T + 1.0))), 0, T - 1); };
+  const int i0 = cell((a0 + ta) * sa), i1 = cell((a1 + ta) * sa), j0 = cell((b0 + tb) * sb), j1 = cell((b1 + tb) * sb);
+  constexpr int w = T + 1;
+  const double s = static_cast<double>(sat[(j1 + 1) * w + i1 + 1]) - sat[j0 * w + i1 + 1] - sat[(j1 + 1) * w + i0] +
+                   sat[j0 * w + i0];
+  return std::max(s, 0.0) / ((i1 - i0 + 1) * (j1 - j0 + 1));
+}
+
 }  // namespace
 
 // Mirror of nf_select_estimate (kernels/common/light_select.h), the same tests and margins in double.
-double selection_estimate(const NfSelectLight& s, const glm::dvec3& p, const glm::dvec3& n, bool use_cos) {
+double selection_estimate(const NfSelectLight& s, const float* table, const glm::dvec3& p, const glm::dvec3& n,
+                          bool use_cos) {
   const auto* M = s.to_local;
   const double h = static_cast<double>(M[8]) * p.x + static_cast<double>(M[9]) * p.y + static_cast<double>(M[10]) * p.z + static_cast<double>(s.u_offset);
   if (!(h > 0.0) || !(s.power > 0.0f)) return 0.0;
@@ -89,7 +104,13 @@ double selection_estimate(const NfSelectLight& s, const glm::dvec3& p, const glm
   const double dx = std::max({static_cast<double>(s.sx0) - l.x, l.x - static_cast<double>(s.sx1), 0.0});
   const double dy = std::max({static_cast<double>(s.sy0) - l.y, l.y - static_cast<double>(s.sy1), 0.0});
   const double d2 = std::max(dx * dx + dy * dy + l.z * l.z, static_cast<double>(s.near2));
-  const double f = static_cast<double>(s.power) * c / d2;
+  const bool above = l.z > 0.0;
+  const double hz = above ? l.z : h;
+  const double ax0 = above ? s.sx0 : s.ux0, ax1 = above ? s.sx1 : s.ux1;
+  const double ay0 = above ? s.sy0 : s.uy0, ay1 = above ? s.sy1 : s.uy1;
+  const double I =
+      table_mean(table, s.ta, s.tb, (l.x - ax1) / hz, (l.x - ax0) / hz, (l.y - ay1) / hz, (l.y - ay0) / hz);
+  const double f = static_cast<double>(s.power) * I * c / d2;
   return std::isfinite(f) ? std::min(f, 1e30) : 1e30;
 }
 
@@ -99,7 +120,8 @@ std::vector<double> selection_probabilities(std::span<const LightInstance> light
   const glm::dvec3 p(surface.px, surface.py, surface.pz), n(surface.nx, surface.ny, surface.nz);
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    q[i] = selection_estimate(select_light(lights[i]), p, n, surface.brdf != NF_BRDF_SCALAR);
+    q[i] = selection_estimate(select_light(lights[i]), lights[i].luminaire->selection_table().data(), p, n,
+                              surface.brdf != NF_BRDF_SCALAR);
     total += q[i];
   }
   if (total > 0.0)

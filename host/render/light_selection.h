@@ -14,12 +14,15 @@
 
 namespace nf::render {
 
-// The kernel's record of one instance (its luminaire must be set).
-NfSelectLight select_light(const LightInstance& li);
+// The kernel's record of one instance (its luminaire must be set); `table` = the offset of its
+// luminaire's direction table in the tables buffer the kernel gets.
+NfSelectLight select_light(const LightInstance& li, int table = 0);
 
 // f_i(p) of kernels/common/light_select.h in double: p and n in the surfaces' frame; use_cos false
-// for scalar probes. 0 exactly where the instance provably sends no light to p.
-double selection_estimate(const NfSelectLight& s, const glm::dvec3& p, const glm::dvec3& n, bool use_cos);
+// for scalar probes; `table` = the luminaire's direction table (DeviceLuminaire::selection_table()).
+// 0 exactly where the instance provably sends no light to p.
+double selection_estimate(const NfSelectLight& s, const float* table, const glm::dvec3& p, const glm::dvec3& n,
+                          bool use_cos);
 
 // q_i(p) for every instance (sums to 1), or all zeros where no instance can light the surface
 // (background surfaces included).

@@ -153,7 +153,7 @@ class Sampler {
   std::vector<PixelCache> cache_;  // one per light instance
   ::cl::Buffer no_cache_;
   struct Selection {
-    ::cl::Buffer lights, sel, w, idx, surf, rgb, a, k, dir, vis;  // grown on demand
+    ::cl::Buffer lights, tables, sel, w, idx, surf, rgb, a, k, dir, vis;  // grown on demand
     bool valid = false;  // the last run used selection
   };
   Selection sel_;

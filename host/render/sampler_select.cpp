@@ -71,28 +71,49 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
   const std::size_t n = lights.size();
   std::vector<NfSelectLight> rec;
   rec.reserve(n);
-  for (const LightInstance& li : lights) rec.push_back(select_light(li));
+  std::vector<float> tables;  // each luminaire's direction table once
+  std::vector<std::pair<const DeviceLuminaire*, int>> offsets;
+  for (const LightInstance& li : lights) {
+    if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
+    auto it = std::find_if(offsets.begin(), offsets.end(), [&](const auto& o) { return o.first == li.luminaire; });
+    int off = 0;
+    if (it == offsets.end()) {
+      off = static_cast<int>(tables.size());
+      offsets.emplace_back(li.luminaire, off);
+      const auto& t = li.luminaire->selection_table();
+      tables.insert(tables.end(), t.begin(), t.end());
+    } else {
+      off = it->second;
+    }
+    rec.push_back(select_light(li, off));
+  }
   auto grow = [&](::cl::Buffer& b, std::size_t bytes) {
     bytes = std::max<std::size_t>(bytes, 16);
     if (b.get() != nullptr && b.getInfo<CL_MEM_SIZE>() >= bytes) return;
     cl::call([&] { b = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, bytes); }, "Sampler: selection buffers");
   };
   grow(sel_.lights, n * sizeof(NfSelectLight));
+  grow(sel_.tables, tables.size() * sizeof(float));
   grow(sel_.sel, static_cast<std::size_t>(count) * sizeof(nf_uint));
   grow(sel_.w, static_cast<std::size_t>(count) * sizeof(float));
   Events ev;
-  cl::call([&] { q.enqueueWriteBuffer(sel_.lights, CL_TRUE, 0, n * sizeof(NfSelectLight), rec.data()); },
-           "Sampler: uploading the selection lights");
+  cl::call(
+      [&] {
+        q.enqueueWriteBuffer(sel_.lights, CL_TRUE, 0, n * sizeof(NfSelectLight), rec.data());
+        q.enqueueWriteBuffer(sel_.tables, CL_TRUE, 0, tables.size() * sizeof(float), tables.data());
+      },
+      "Sampler: uploading the selection lights");
   // 1. choose an instance per surface
   ::cl::Kernel& ks = kern("ls_select");
   ks.setArg(0, surfaces);
   ks.setArg(1, count);
   ks.setArg(2, sel_.lights);
-  ks.setArg(3, static_cast<int>(n));
-  ks.setArg(4, static_cast<cl_uint>(s.seed));
-  ks.setArg(5, static_cast<cl_uint>(s.frame));
-  ks.setArg(6, sel_.sel);
-  ks.setArg(7, sel_.w);
+  ks.setArg(3, sel_.tables);
+  ks.setArg(4, static_cast<int>(n));
+  ks.setArg(5, static_cast<cl_uint>(s.seed));
+  ks.setArg(6, static_cast<cl_uint>(s.frame));
+  ks.setArg(7, sel_.sel);
+  ks.setArg(8, sel_.w);
   ev.clears.push_back(rt_.launch(ks, range1(count), ::cl::NDRange(kGroup)));
   std::vector<nf_uint> chosen(static_cast<std::size_t>(count));
   cl::call([&] { q.enqueueReadBuffer(sel_.sel, CL_TRUE, 0, chosen.size() * sizeof(nf_uint), chosen.data()); },

@@ -11,7 +11,9 @@
      - every direction towards the light makes n . w <= 0: light arrives from the S rectangle's
        points (z > 0) or the U rectangle's (z <= 0); n . (c - p) is linear in c, so its maximum over a
        rectangle is at a corner.
-   Elsewhere f_i(p) = power_i cos_i / max(d_i^2, near2_i): power = intensity x total image flux,
+   Elsewhere f_i(p) = power_i I_i cos_i / max(d_i^2, near2_i): power = intensity x total image flux,
+   I_i = the mean of the luminaire's direction table (shared/light_select.h) over the slopes (p - s) / z
+   of the light reaching p (s over the S rectangle; between the planes (p - u) / h over U),
    d = distance from p to the S rectangle, cos = the largest corner cosine (at least 0.05). It only
    steers the variance: the estimator weights by 1 / q_i and stays unbiased wherever q_i > 0 where
    instance i contributes. Host mirror in double: host/render/light_selection.cpp. */
@@ -31,7 +33,19 @@ NF_INLINE float nf_ls_corner_cos(float nx, float ny, float nz, float px, float p
   return d > 0.0f ? (nx * dx + ny * dy + nz * dz) / d : 1.0f;
 }
 
-NF_INLINE float nf_select_estimate(__global const NfSelectLight* S, float3 p, float3 n, int use_cos) {
+/* Mean of a direction table (a SAT) over the slopes [a0, a1] x [b0, b1]. */
+NF_INLINE float nf_ls_table(__global const float* sat, float ta, float tb, float a0, float a1, float b0, float b1) {
+  const int T = NF_SELECT_TABLE;
+  const float sa = (float)T / (2.0f * ta), sb = (float)T / (2.0f * tb);
+  const int i0 = clamp((int)floor((a0 + ta) * sa), 0, T - 1), i1 = clamp((int)floor((a1 + ta) * sa), 0, T - 1);
+  const int j0 = clamp((int)floor((b0 + tb) * sb), 0, T - 1), j1 = clamp((int)floor((b1 + tb) * sb), 0, T - 1);
+  const int w = T + 1;
+  const float s = sat[(j1 + 1) * w + i1 + 1] - sat[j0 * w + i1 + 1] - sat[(j1 + 1) * w + i0] + sat[j0 * w + i0];
+  return fmax(s, 0.0f) / (float)((i1 - i0 + 1) * (j1 - j0 + 1));
+}
+
+NF_INLINE float nf_select_estimate(__global const NfSelectLight* S, __global const float* tables, float3 p, float3 n,
+                                   int use_cos) {
   __global const float* M = S->to_local;
   const float h = M[8] * p.x + M[9] * p.y + M[10] * p.z + S->u_offset;
   if (!(h > 0.0f) || !(S->power > 0.0f)) return 0.0f;
@@ -69,7 +83,14 @@ NF_INLINE float nf_select_estimate(__global const NfSelectLight* S, float3 p, fl
   const float dx = fmax(fmax(S->sx0 - lx, lx - S->sx1), 0.0f);
   const float dy = fmax(fmax(S->sy0 - ly, ly - S->sy1), 0.0f);
   const float d2 = fmax(dx * dx + dy * dy + lz * lz, S->near2);
-  const float f = S->power * c / d2;
+  /* slopes of the light reaching p: from the S rectangle (z > 0) or the U rectangle (between the planes) */
+  const int above = lz > 0.0f;
+  const float hz = above ? lz : h;
+  const float ax0 = above ? S->sx0 : S->ux0, ax1 = above ? S->sx1 : S->ux1;
+  const float ay0 = above ? S->sy0 : S->uy0, ay1 = above ? S->sy1 : S->uy1;
+  const float I = nf_ls_table(tables + S->table, S->ta, S->tb, (lx - ax1) / hz, (lx - ax0) / hz, (ly - ay1) / hz,
+                              (ly - ay0) / hz);
+  const float f = S->power * I * c / d2;
   return isfinite(f) ? fmin(f, 1e30f) : 1e30f;
 }
 

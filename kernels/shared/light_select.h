@@ -14,6 +14,15 @@ typedef struct {
   nf_float near2;        /* floor of the squared distance in the estimate (m^2), > 0 */
   nf_float sx0, sy0, sx1, sy1; /* S rectangle (z = 0) */
   nf_float ux0, uy0, ux1, uy1; /* U rectangle (z = -delta): the union of the basis supports */
-} NfSelectLight; /* 144 bytes */
+  nf_int table;   /* offset of the luminaire's direction table (NF_SELECT_TABLE + 1)^2 floats, a SAT */
+  nf_float ta, tb; /* the table covers directions (a, b) = (dx / dz, dy / dz) in [-ta, ta] x [-tb, tb] */
+  nf_int pad;
+} NfSelectLight; /* 160 bytes */
+
+/* Direction table of a luminaire (host/render/device_luminaire.cpp): its light per steradian on a
+   NF_SELECT_TABLE^2 grid of directions (a, b) (slopes of the ray u -> s -> p), normalised to
+   sum_cells I Omega = 1 and floored at 1e-3 of its maximum, stored as a summed-area table
+   (NF_SELECT_TABLE + 1)^2, row b, column a. */
+#define NF_SELECT_TABLE 24
 
 #endif
