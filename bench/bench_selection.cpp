@@ -11,8 +11,8 @@
 // two modes is (rel_mse_1 * t_frame)_a / (rel_mse_1 * t_frame)_b.
 #include <cstdio>
 #include <fstream>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -79,9 +79,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     nf::cl::Runtime rt;
-    std::printf("machine: %s, %u cores, OpenCL %s (%s); load %s; other jobs share the machine\n",
-                cpu_model().c_str(), std::thread::hardware_concurrency(), rt.info().name.c_str(),
-                rt.info().platform_version.c_str(), loadavg().c_str());
+    std::printf("machine: %s, %u cores, OpenCL %s (%s); load %s; other jobs share the machine\n", cpu_model().c_str(),
+                std::thread::hardware_concurrency(), rt.info().name.c_str(), rt.info().platform_version.c_str(),
+                loadavg().c_str());
     std::vector<Row> rows;
     for (const auto& path : scenes) {
       scene::Scene sc = scene::load_scene(path);

@@ -24,8 +24,8 @@ using namespace nf::render;
 using namespace nf::sampling_test;
 
 lum::Luminaire tiny() {
-  auto l = make_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 3, 2, 12, 10, 0.1, 0.02, 0.24,
-                          true);
+  auto l =
+      make_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 3, 2, 12, 10, 0.1, 0.02, 0.24, true);
   fill_random(l, 7);
   return l;
 }
@@ -99,18 +99,18 @@ Estimates estimate_many(Sampler& sampler, std::span<const LightInstance> lights,
 // 3 dominates (close to the points, intensity 30), 4 faces away (rotated 180 degrees: every point
 // is below its plane U), 5 is far to the side (its reach misses the points), 6 is dark (intensity 0).
 std::vector<Placed> street() {
-  return {{place({0.0, 0.0, 0.0}), 1.0},      {place({0.3, 0.0, 0.0}), 0.7},   {place({0.3, 0.0, 0.0}), 0.7},
-          {place({0.1, 0.05, 0.12}), 30.0},   {place({0.0, 0.0, 0.0}, 180.0), 5.0}, {place({40.0, 0.0, 0.0}), 5.0},
+  return {{place({0.0, 0.0, 0.0}), 1.0},    {place({0.3, 0.0, 0.0}), 0.7},        {place({0.3, 0.0, 0.0}), 0.7},
+          {place({0.1, 0.05, 0.12}), 30.0}, {place({0.0, 0.0, 0.0}, 180.0), 5.0}, {place({40.0, 0.0, 0.0}), 5.0},
           {place({0.05, 0.0, 0.0}), 0.0}};
 }
 
 std::vector<NfSurface> street_points() {
   std::vector<NfSurface> pts;
-  pts.push_back(surface({0.1, 0.0, 0.4}, {0, 0, -1}));         // under several, the dominant one near
-  pts.push_back(surface({0.15, 0.02, 0.25}, {0.2, 0, -1}));    // tilted
-  pts.push_back(surface({0.35, -0.05, 0.5}, {0, 0, -1}));      // mostly 1 and 2
-  pts.push_back(surface({-0.2, 0.1, 0.8}, {0.3, -0.2, -1}));   // far-ish from all
-  pts.push_back(surface({0.1, 0.0, 0.4}, {0, 0, 1}));          // facing away from all: exactly 0
+  pts.push_back(surface({0.1, 0.0, 0.4}, {0, 0, -1}));                  // under several, the dominant one near
+  pts.push_back(surface({0.15, 0.02, 0.25}, {0.2, 0, -1}));             // tilted
+  pts.push_back(surface({0.35, -0.05, 0.5}, {0, 0, -1}));               // mostly 1 and 2
+  pts.push_back(surface({-0.2, 0.1, 0.8}, {0.3, -0.2, -1}));            // far-ish from all
+  pts.push_back(surface({0.1, 0.0, 0.4}, {0, 0, 1}));                   // facing away from all: exactly 0
   pts.push_back(surface({0.1, 0.05, 0.3}, {0, 0, 1}, NF_BRDF_SCALAR));  // scalar irradiance
   return pts;
 }

@@ -94,8 +94,7 @@ void run_render(const RenderCmd& o) {
   apply_overrides(o, scene);
   render::frame_settings(scene.render);  // validate before any heavy work
   if (scene.luminaires.empty() && scene.farfield_lights.empty() && !scene.environment)
-    std::fprintf(stderr,
-                 "note: %s has no luminaires, far-field lights or environment: the image is black\n",
+    std::fprintf(stderr, "note: %s has no luminaires, far-field lights or environment: the image is black\n",
                  o.scene.c_str());
   cl::Runtime runtime(global_options().cl_device);
   const RenderEstimate estimate = estimate_render(scene);

@@ -71,8 +71,12 @@ DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : 
     int c0 = 0, c1 = p.res_x, r0 = 0, r1 = p.res_y;
     while (c0 < p.res_x && last[c0 + 1] == last[c0]) ++c0;
     while (c1 > c0 && last[c1] == last[c1 - 1]) --c1;
-    while (r0 < p.res_y && sat[static_cast<std::size_t>(r0 + 1) * w + p.res_x] == sat[static_cast<std::size_t>(r0) * w + p.res_x]) ++r0;
-    while (r1 > r0 && sat[static_cast<std::size_t>(r1) * w + p.res_x] == sat[static_cast<std::size_t>(r1 - 1) * w + p.res_x]) --r1;
+    while (r0 < p.res_y &&
+           sat[static_cast<std::size_t>(r0 + 1) * w + p.res_x] == sat[static_cast<std::size_t>(r0) * w + p.res_x])
+      ++r0;
+    while (r1 > r0 &&
+           sat[static_cast<std::size_t>(r1) * w + p.res_x] == sat[static_cast<std::size_t>(r1 - 1) * w + p.res_x])
+      --r1;
     in.col0 = c0, in.col1 = c1, in.row0 = r0, in.row1 = r1;
   }
   flux_.resize(M);
@@ -138,8 +142,9 @@ void DeviceLuminaire::build_selection_table(const lum::Precomputed& pc) {
       const int r1 = std::min(r0 + by, p.res_y);
       for (int c0 = 0; c0 < p.res_x; c0 += bx) {
         const int c1 = std::min(c0 + bx, p.res_x);
-        const std::int64_t units = sat[static_cast<std::size_t>(r1) * w + c1] - sat[static_cast<std::size_t>(r0) * w + c1] -
-                                   sat[static_cast<std::size_t>(r1) * w + c0] + sat[static_cast<std::size_t>(r0) * w + c0];
+        const std::int64_t units =
+            sat[static_cast<std::size_t>(r1) * w + c1] - sat[static_cast<std::size_t>(r0) * w + c1] -
+            sat[static_cast<std::size_t>(r1) * w + c0] + sat[static_cast<std::size_t>(r0) * w + c0];
         if (units <= 0) continue;
         const double sx = sx0 + 0.5 * (c0 + c1) * px, sy = sy1 - 0.5 * (r0 + r1) * py;
         const double a = (sx - ucx) / d, b = (sy - ucy) / d;
@@ -189,10 +194,9 @@ void DeviceLuminaire::build_selection_table(const lum::Precomputed& pc) {
   std::vector<double> acc(select_table_.size(), 0.0);
   for (int b = 0; b < T; ++b)
     for (int a = 0; a < T; ++a)
-      acc[static_cast<std::size_t>(b + 1) * (T + 1) + a + 1] = S[static_cast<std::size_t>(b) * T + a] +
-                                                                acc[static_cast<std::size_t>(b) * (T + 1) + a + 1] +
-                                                                acc[static_cast<std::size_t>(b + 1) * (T + 1) + a] -
-                                                                acc[static_cast<std::size_t>(b) * (T + 1) + a];
+      acc[static_cast<std::size_t>(b + 1) * (T + 1) + a + 1] =
+          S[static_cast<std::size_t>(b) * T + a] + acc[static_cast<std::size_t>(b) * (T + 1) + a + 1] +
+          acc[static_cast<std::size_t>(b + 1) * (T + 1) + a] - acc[static_cast<std::size_t>(b) * (T + 1) + a];
   for (std::size_t k = 0; k < acc.size(); ++k) select_table_[k] = static_cast<float>(acc[k]);
 }
 

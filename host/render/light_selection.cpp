@@ -72,10 +72,14 @@ double table_mean(const float* sat, double ta, double tb, double a0, double a1, 
 double selection_estimate(const NfSelectLight& s, const float* table, const glm::dvec3& p, const glm::dvec3& n,
                           bool use_cos) {
   const auto* M = s.to_local;
-  const double h = static_cast<double>(M[8]) * p.x + static_cast<double>(M[9]) * p.y + static_cast<double>(M[10]) * p.z + static_cast<double>(s.u_offset);
+  const double h = static_cast<double>(M[8]) * p.x + static_cast<double>(M[9]) * p.y +
+                   static_cast<double>(M[10]) * p.z + static_cast<double>(s.u_offset);
   if (!(h > 0.0) || !(s.power > 0.0f)) return 0.0;
-  const glm::dvec3 l(static_cast<double>(M[0]) * p.x + static_cast<double>(M[1]) * p.y + static_cast<double>(M[2]) * p.z + static_cast<double>(M[3]),
-                     static_cast<double>(M[4]) * p.x + static_cast<double>(M[5]) * p.y + static_cast<double>(M[6]) * p.z + static_cast<double>(M[7]), h - static_cast<double>(s.delta));
+  const glm::dvec3 l(static_cast<double>(M[0]) * p.x + static_cast<double>(M[1]) * p.y +
+                         static_cast<double>(M[2]) * p.z + static_cast<double>(M[3]),
+                     static_cast<double>(M[4]) * p.x + static_cast<double>(M[5]) * p.y +
+                         static_cast<double>(M[6]) * p.z + static_cast<double>(M[7]),
+                     h - static_cast<double>(s.delta));
   const double lambda = h / static_cast<double>(s.delta);
   double x0, x1, y0, y1;
   reach(lambda, s.sx0, s.sx1, s.ux0, s.ux1, x0, x1);

@@ -311,8 +311,8 @@ int Sampler::bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, 
 }
 
 void Sampler::launch_instance(const LightInstance& li, std::size_t li_index, const ::cl::Buffer& surfaces, int count,
-                              const Outputs& out, const SamplingSettings& s, std::uint64_t view_version,
-                              bool use_cache, FrameStats& st, Events& ev) {
+                              const Outputs& out, const SamplingSettings& s, std::uint64_t view_version, bool use_cache,
+                              FrameStats& st, Events& ev) {
   if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
   auto& q = rt_.queue();
   const int L = lanes(s);

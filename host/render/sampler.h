@@ -154,7 +154,7 @@ class Sampler {
   ::cl::Buffer no_cache_;
   struct Selection {
     ::cl::Buffer lights, tables, sel, w, idx, surf, rgb, a, k, dir, vis;  // grown on demand
-    bool valid = false;  // the last run used selection
+    bool valid = false;                                                   // the last run used selection
   };
   Selection sel_;
   // Sets the pixel-cache arguments of lf_fused for instance i; returns the mode (kernels/lightfield.cl).

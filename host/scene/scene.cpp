@@ -465,8 +465,8 @@ class Parser {
     if (!(std::fabs(det) > 1e-12))
       error(tptr, fmt::format("{} '{}': the transform is singular (determinant {:g})", kind, name, det));
     if (!is_rigid(to_world, 1e-9))
-      error(tptr, fmt::format("{} '{}': {} transforms must be rigid (rotation and translation only)", kind, name,
-                              kind));
+      error(tptr,
+            fmt::format("{} '{}': {} transforms must be rigid (rotation and translation only)", kind, name, kind));
   }
 
   LuminaireRef luminaire(const json& v, const std::string& ptr, std::size_t index) const {
