@@ -88,6 +88,7 @@ TEST_P(PixelCache, IdenticalFramesAndExactInvalidation) {
   SamplingSettings s;
   s.spp = 12;
   s.lanes = c.lanes;
+  s.light_selection = LightSelection::all;  // the cache keeps every instance's A_m(p) (no selection)
   SamplingSettings off = s;
   off.pixel_cache_mib = 0;
   Sampler cached(rt), plain(rt);

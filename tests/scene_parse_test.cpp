@@ -237,6 +237,14 @@ TEST_F(SceneParse, BadFilesNameTheJsonPath) {
        "/luminaires/0/transform/scale: luminaire transforms must be rigid"},
       {"mirrored luminaire", scene(R"("luminaires": [{"preset": "car2", "transform": {"scale": [1, 1, -1]}}])"),
        "/luminaires/0/transform/scale: luminaire transforms must be rigid"},
+      {"singular luminaire",
+       scene(R"("luminaires": [{"name": "car1 left", "preset": "car2", "transform": {"scale": [1, 0, 1]}}])"),
+       "/luminaires/0/transform/scale: luminaire transforms must be rigid (rotation and translation only; scale 1) "
+       "(luminaire 'car1 left')"},
+      // a non-finite number cannot reach a transform: the JSON reader refuses it with its position
+      {"non-finite luminaire",
+       scene(R"("luminaires": [{"name": "car1 right", "preset": "car2", "transform": {"translate": [1e400, 0, 0]}}])"),
+       "number out of range at line 1"},
       {"bad method", scene(R"("render": {"method": "fast"})"),
        "/render/method: unknown value 'fast' (allowed: ours, paper, uniform, uniform-equal, ours-equal, global)"},
       {"bad sampler", scene(R"("render": {"sampler": "sobol"})"), "/render/sampler: unknown value 'sobol'"},

@@ -94,6 +94,9 @@ void run_render(const RenderCmd& o) {
   check_output_files(o.scene, outputs);
   apply_overrides(o, scene);
   render::frame_settings(scene.render);  // validate before any heavy work
+  if (scene.luminaires.empty() && scene.farfield_lights.empty() && !scene.environment)
+    std::fprintf(stderr, "note: %s has no luminaires, far-field lights or environment: the image is black\n",
+                 o.scene.c_str());
   cl::Runtime runtime(global_options().cl_device);
   const RenderEstimate estimate = estimate_render(scene);
   if (o.dry_run) {

@@ -221,6 +221,8 @@ void Panel::rendering() {
     a.set("search_depth", std::to_string(std::clamp(depth, -1, 1024)));
   }
   combo("structure", "structure", render::to_string(p.structure), render::structure_names());
+  combo("light selection", "light_selection", render::to_string(p.light_selection),
+        render::light_selection_names());
   combo("visibility", "visibility", render::to_string(f.visibility), {"none", "shadowmaps"});
   int sms = f.shadow_map_size;
   if (ImGui::InputInt("shadow map size", &sms, 16, 128))

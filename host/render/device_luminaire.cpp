@@ -3,12 +3,15 @@
 #include <sys/mman.h>
 
 #include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
 #include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
+#include "kernels/shared/light_select.h"
 
 namespace nf::render {
 namespace {
@@ -65,12 +68,17 @@ DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : 
     int c0 = 0, c1 = p.res_x, r0 = 0, r1 = p.res_y;
     while (c0 < p.res_x && last[c0 + 1] == last[c0]) ++c0;
     while (c1 > c0 && last[c1] == last[c1 - 1]) --c1;
-    while (r0 < p.res_y && sat[static_cast<std::size_t>(r0 + 1) * w + p.res_x] == sat[static_cast<std::size_t>(r0) * w + p.res_x]) ++r0;
-    while (r1 > r0 && sat[static_cast<std::size_t>(r1) * w + p.res_x] == sat[static_cast<std::size_t>(r1 - 1) * w + p.res_x]) --r1;
+    while (r0 < p.res_y &&
+           sat[static_cast<std::size_t>(r0 + 1) * w + p.res_x] == sat[static_cast<std::size_t>(r0) * w + p.res_x])
+      ++r0;
+    while (r1 > r0 &&
+           sat[static_cast<std::size_t>(r1) * w + p.res_x] == sat[static_cast<std::size_t>(r1 - 1) * w + p.res_x])
+      --r1;
     in.col0 = c0, in.col1 = c1, in.row0 = r0, in.row1 = r1;
   }
   flux_.resize(M);
   for (std::size_t m = 0; m < M; ++m) flux_[m] = info_[m].flux;
+  build_selection_table(pc);
   info_buf_ = upload(rt, info_, "image info", bytes_);
 
   if (rt.info().type == "CPU") {
@@ -99,6 +107,94 @@ DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : 
     const std::vector<float> dummy(4, 1.0f);
     chroma_ = upload(rt, dummy, "chroma placeholder", bytes_);
   }
+}
+
+// The direction table of light selection (kernels/shared/light_select.h): light leaving image m's
+// pixel s through the centre u_m of Phi_m's support travels along the slope (s - u_m) / delta; the
+// table histograms sum_m Y_m over blocks of about 16 x 16 pixels by that slope (bilinear splat; the
+// goesele2003 model's 1 / cos^4 factor included), divides by each cell's solid angle, normalises to
+// sum I Omega = 1, smooths 3 x 3 and floors at 1e-3 of the maximum (an estimate, never a zero: the
+// zeros of q_i come from geometry alone). A far-field intensity pattern, cheap to look up.
+void DeviceLuminaire::build_selection_table(const lum::Precomputed& pc) {
+  const NfLuminaire& p = params_;
+  constexpr int T = NF_SELECT_TABLE;
+  const int n = p.support, W = p.count_x;
+  const double d = p.delta;
+  const double sx0 = p.image_origin_x, sx1 = sx0 + p.image_size_x, sy0 = p.image_origin_y, sy1 = sy0 + p.image_size_y;
+  const double ux0 = p.basis_origin_x, ux1 = ux0 + (p.count_x + n - 1) * static_cast<double>(p.cell_x);
+  const double uy0 = p.basis_origin_y, uy1 = uy0 + (p.count_y + n - 1) * static_cast<double>(p.cell_y);
+  const double ta = std::max(std::abs(sx1 - ux0), std::abs(sx0 - ux1)) / d * 1.001 + 1e-6;
+  const double tb = std::max(std::abs(sy1 - uy0), std::abs(sy0 - uy1)) / d * 1.001 + 1e-6;
+  select_ta_ = static_cast<float>(ta);
+  select_tb_ = static_cast<float>(tb);
+  std::vector<double> D(static_cast<std::size_t>(T) * T, 0.0);
+  const int w = p.res_x + 1, bx = std::max(1, p.res_x / 16), by = std::max(1, p.res_y / 16);
+  const double px = static_cast<double>(p.image_size_x) / p.res_x, py = static_cast<double>(p.image_size_y) / p.res_y;
+  for (int m = 0; m < p.num_images; ++m) {
+    if (!(info_[m].flux > 0.0f)) continue;
+    const std::int64_t* sat = pc.sat.data() + static_cast<std::size_t>(m) * static_cast<std::size_t>(p.sat_stride);
+    const double q = static_cast<double>(pc.quantum[m]) * p.pixel_area;
+    const double ucx = ux0 + ((m % W) + 0.5 * n) * p.cell_x, ucy = uy0 + ((m / W) + 0.5 * n) * p.cell_y;
+    for (int r0 = 0; r0 < p.res_y; r0 += by) {
+      const int r1 = std::min(r0 + by, p.res_y);
+      for (int c0 = 0; c0 < p.res_x; c0 += bx) {
+        const int c1 = std::min(c0 + bx, p.res_x);
+        const std::int64_t units =
+            sat[static_cast<std::size_t>(r1) * w + c1] - sat[static_cast<std::size_t>(r0) * w + c1] -
+            sat[static_cast<std::size_t>(r1) * w + c0] + sat[static_cast<std::size_t>(r0) * w + c0];
+        if (units <= 0) continue;
+        const double sx = sx0 + 0.5 * (c0 + c1) * px, sy = sy1 - 0.5 * (r0 + r1) * py;
+        const double a = (sx - ucx) / d, b = (sy - ucy) / d;
+        double y = static_cast<double>(units) * q;
+        if (p.reconstruction == NF_RECON_GOESELE2003) y *= (1.0 + a * a + b * b) * (1.0 + a * a + b * b);
+        const double fa = std::clamp((a + ta) / (2.0 * ta) * T - 0.5, 0.0, T - 1.0);
+        const double fb = std::clamp((b + tb) / (2.0 * tb) * T - 0.5, 0.0, T - 1.0);
+        const int ia = std::min(static_cast<int>(fa), T - 2), ib = std::min(static_cast<int>(fb), T - 2);
+        const double ra = fa - ia, rb = fb - ib;
+        D[static_cast<std::size_t>(ib) * T + ia] += y * (1 - ra) * (1 - rb);
+        D[static_cast<std::size_t>(ib) * T + ia + 1] += y * ra * (1 - rb);
+        D[static_cast<std::size_t>(ib + 1) * T + ia] += y * (1 - ra) * rb;
+        D[static_cast<std::size_t>(ib + 1) * T + ia + 1] += y * ra * rb;
+      }
+    }
+  }
+  double total = 0.0;
+  for (const double v : D) total += v;
+  std::vector<double> I(D.size(), 1.0);
+  const double cell = (2.0 * ta / T) * (2.0 * tb / T);
+  if (total > 0.0) {
+    for (int b = 0; b < T; ++b)
+      for (int a = 0; a < T; ++a) {
+        const double ac = -ta + (a + 0.5) * 2.0 * ta / T, bc = -tb + (b + 0.5) * 2.0 * tb / T;
+        const double omega = cell / std::pow(1.0 + ac * ac + bc * bc, 1.5);
+        I[static_cast<std::size_t>(b) * T + a] = D[static_cast<std::size_t>(b) * T + a] / total / omega;
+      }
+  }
+  std::vector<double> S(I.size(), 0.0);  // 3 x 3 mean
+  double peak = 0.0;
+  for (int b = 0; b < T; ++b)
+    for (int a = 0; a < T; ++a) {
+      double s = 0.0;
+      int k = 0;
+      for (int db = -1; db <= 1; ++db)
+        for (int da = -1; da <= 1; ++da) {
+          const int x = a + da, y = b + db;
+          if (x < 0 || y < 0 || x >= T || y >= T) continue;
+          s += I[static_cast<std::size_t>(y) * T + x];
+          ++k;
+        }
+      S[static_cast<std::size_t>(b) * T + a] = s / k;
+      peak = std::max(peak, s / k);
+    }
+  for (auto& v : S) v = std::max(v, 1e-3 * peak);
+  select_table_.assign(static_cast<std::size_t>(T + 1) * (T + 1), 0.0f);
+  std::vector<double> acc(select_table_.size(), 0.0);
+  for (int b = 0; b < T; ++b)
+    for (int a = 0; a < T; ++a)
+      acc[static_cast<std::size_t>(b + 1) * (T + 1) + a + 1] =
+          S[static_cast<std::size_t>(b) * T + a] + acc[static_cast<std::size_t>(b) * (T + 1) + a + 1] +
+          acc[static_cast<std::size_t>(b + 1) * (T + 1) + a] - acc[static_cast<std::size_t>(b) * (T + 1) + a];
+  for (std::size_t k = 0; k < acc.size(); ++k) select_table_[k] = static_cast<float>(acc[k]);
 }
 
 }  // namespace nf::render

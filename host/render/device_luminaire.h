@@ -32,6 +32,13 @@ class DeviceLuminaire {
 
   std::size_t bytes() const { return bytes_; }  // device memory held
 
+  // Light selection (kernels/shared/light_select.h, docs/sampling.md "Light selection"): the
+  // luminaire's direction table as a summed-area table of (NF_SELECT_TABLE + 1)^2 floats over
+  // slopes (a, b) in [-ta, ta] x [-tb, tb].
+  const std::vector<float>& selection_table() const { return select_table_; }
+  float selection_ta() const { return select_ta_; }
+  float selection_tb() const { return select_tb_; }
+
  private:
   struct HostFree {
     void operator()(void* p) const;
@@ -41,6 +48,9 @@ class DeviceLuminaire {
   std::vector<float> flux_;
   std::vector<NfImageInfo> info_;
   double flux_total_ = 0.0;
+  std::vector<float> select_table_;
+  float select_ta_ = 1.0f, select_tb_ = 1.0f;
+  void build_selection_table(const lum::Precomputed& pc);
   ::cl::Buffer sat_, quantum_, info_buf_, chroma_;
   std::size_t bytes_ = 0;
 };

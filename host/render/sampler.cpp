@@ -327,37 +327,106 @@ int Sampler::bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, 
   return mode;
 }
 
+void Sampler::launch_instance(const LightInstance& li, std::size_t li_index, const ::cl::Buffer& surfaces, int count,
+                              const Outputs& out, const SamplingSettings& s, std::uint64_t view_version, bool use_cache,
+                              FrameStats& st, Events& ev) {
+  if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
+  auto& q = rt_.queue();
+  const int L = lanes(s);
+  const ::cl::NDRange global = global_range(count, L);
+  const ::cl::NDRange global1 = global_range(count, 1);
+  const DeviceLuminaire& lum = *li.luminaire;
+  const bool vis = li.visibility != nullptr && li.vis_words > 0;
+  const std::string opts =
+      build_options(s, lum.has_chroma(), vis, L) + (mean_direction_ ? " -DNF_MEAN_DIRECTION=1" : "");
+  NfSampleParams p = params(s, lum, count, vis ? li.vis_words : 0);
+  if (s.structure == Structure::fused) {
+    ::cl::Kernel& k = kernel("lf_fused", opts);
+    p.group_mul = group_multiplier(global[0] / local_range(k)[0]);
+    set_common(k, p, li, surfaces);
+    k.setArg(kSpecificArgs, *out.a);
+    k.setArg(kSpecificArgs + 1, *out.rgb);
+    k.setArg(kSpecificArgs + 2, *out.k);
+    const int mode =
+        bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count, lum.num_images(), use_cache);
+    st.cache_reads += mode == kCacheRead ? 1 : 0;
+    st.cache_writes += mode == kCacheWrite ? 1 : 0;
+    if (mean_direction_) k.setArg(kSpecificArgs + 6, *out.dir);
+    ev.step2.push_back(rt_.launch(k, global, local_range(k)));
+    return;
+  }
+  // per-image passes: Step 1 sums A(p) of this instance alone (a_inst_) when outputs already hold others
+  const bool several = out.accumulate;
+  const ::cl::Buffer& A = several ? a_inst_ : *out.a;
+  if (several) {
+    cl::call(
+        [&] {
+          ev.clears.emplace_back();
+          q.enqueueFillBuffer(a_inst_, 0.0f, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr,
+                              &ev.clears.back());
+        },
+        "Sampler: clearing A");
+  }
+  ::cl::Kernel& k1 = kernel("lf_step1_image", opts);
+  ::cl::Kernel& k2 = kernel("lf_step2_image", opts);
+  p.group_mul = group_multiplier(global[0] / local_range(k1)[0]);
+  set_common(k1, p, li, surfaces);
+  k1.setArg(kSpecificArgs, A);
+  for (int m = 0; m < lum.num_images(); ++m) {
+    p.image = m;
+    k1.setArg(0, sizeof(NfSampleParams), &p);
+    ev.step1.push_back(rt_.launch(k1, global, local_range(k1)));
+  }
+  p.group_mul = group_multiplier(global[0] / local_range(k2)[0]);
+  set_common(k2, p, li, surfaces);
+  k2.setArg(kSpecificArgs, A);
+  k2.setArg(kSpecificArgs + 1, *out.rgb);
+  k2.setArg(kSpecificArgs + 2, *out.k);
+  if (mean_direction_) k2.setArg(kSpecificArgs + 3, *out.dir);
+  for (int m = 0; m < lum.num_images(); ++m) {
+    p.image = m;
+    k2.setArg(0, sizeof(NfSampleParams), &p);
+    ev.step2.push_back(rt_.launch(k2, global, local_range(k2)));
+  }
+  if (several) {
+    ::cl::Kernel& ka = kernel("lf_add", opts);
+    ka.setArg(0, a_inst_);
+    ka.setArg(1, *out.a);
+    ka.setArg(2, count);
+    ev.clears.push_back(rt_.launch(ka, global1, local_range(ka)));
+  }
+}
+
 FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
                         const SamplingSettings& s, std::uint64_t view_version) {
   s.validate();
   if (count < 0) fail(fmt::format("Sampler::run: negative surface count {}", count));
+  if (s.light_selection == LightSelection::flat && lights.size() > 1) return run_selected(surfaces, count, lights, s);
+  sel_.valid = false;
   Timer timer;
   ensure(count);
   FrameStats st;
   if (count == 0) return st;
   auto& q = rt_.queue();
-  std::vector<::cl::Event> clears, step1, step2;
+  Events ev;
   cl::call(
       [&] {
         const float zf = 0.0f;
         const nf_uint zu = 0;
-        clears.emplace_back();
-        q.enqueueFillBuffer(rgb_, zf, 0, static_cast<std::size_t>(count) * 4 * sizeof(float), nullptr, &clears.back());
-        clears.emplace_back();
-        q.enqueueFillBuffer(a_, zf, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr, &clears.back());
-        clears.emplace_back();
-        q.enqueueFillBuffer(k_, zu, 0, static_cast<std::size_t>(count) * sizeof(nf_uint), nullptr, &clears.back());
+        ev.clears.emplace_back();
+        q.enqueueFillBuffer(rgb_, zf, 0, static_cast<std::size_t>(count) * 4 * sizeof(float), nullptr,
+                            &ev.clears.back());
+        ev.clears.emplace_back();
+        q.enqueueFillBuffer(a_, zf, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr, &ev.clears.back());
+        ev.clears.emplace_back();
+        q.enqueueFillBuffer(k_, zu, 0, static_cast<std::size_t>(count) * sizeof(nf_uint), nullptr, &ev.clears.back());
         if (mean_direction_) {
-          clears.emplace_back();
+          ev.clears.emplace_back();
           q.enqueueFillBuffer(dir_, zf, 0, static_cast<std::size_t>(count) * 4 * sizeof(float), nullptr,
-                              &clears.back());
+                              &ev.clears.back());
         }
       },
       "Sampler: clearing outputs");
-  const int L = lanes(s);
-  const ::cl::NDRange global = global_range(count, L);
-  const ::cl::NDRange global1 = global_range(count, 1);
-  const bool several = lights.size() > 1;
   // The pixel cache holds every instance or none: its budget covers them all.
   std::size_t cache_need = 0;
   for (const LightInstance& li : lights)
@@ -367,75 +436,16 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
   const bool use_cache = view_version != 0 && s.structure == Structure::fused &&
                          cache_need <= static_cast<std::size_t>(s.pixel_cache_mib) << 20;
   if (!use_cache) cache_.clear();
-  for (std::size_t li_index = 0; li_index < lights.size(); ++li_index) {
-    const LightInstance& li = lights[li_index];
-    if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
-    const DeviceLuminaire& lum = *li.luminaire;
-    const bool vis = li.visibility != nullptr && li.vis_words > 0;
-    const std::string opts =
-        build_options(s, lum.has_chroma(), vis, L) + (mean_direction_ ? " -DNF_MEAN_DIRECTION=1" : "");
-    NfSampleParams p = params(s, lum, count, vis ? li.vis_words : 0);
-    if (s.structure == Structure::fused) {
-      ::cl::Kernel& k = kernel("lf_fused", opts);
-      p.group_mul = group_multiplier(global[0] / local_range(k)[0]);
-      set_common(k, p, li, surfaces);
-      k.setArg(kSpecificArgs, a_);
-      k.setArg(kSpecificArgs + 1, rgb_);
-      k.setArg(kSpecificArgs + 2, k_);
-      const int mode =
-          bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count, lum.num_images(), use_cache);
-      st.cache_reads += mode == kCacheRead ? 1 : 0;
-      st.cache_writes += mode == kCacheWrite ? 1 : 0;
-      if (mean_direction_) k.setArg(kSpecificArgs + 6, dir_);
-      step2.push_back(rt_.launch(k, global, local_range(k)));
-      continue;
-    }
-    ::cl::Buffer& A = several ? a_inst_ : a_;
-    if (several) {
-      cl::call(
-          [&] {
-            clears.emplace_back();
-            q.enqueueFillBuffer(a_inst_, 0.0f, 0, static_cast<std::size_t>(count) * sizeof(float), nullptr,
-                                &clears.back());
-          },
-          "Sampler: clearing A");
-    }
-    ::cl::Kernel& k1 = kernel("lf_step1_image", opts);
-    ::cl::Kernel& k2 = kernel("lf_step2_image", opts);
-    p.group_mul = group_multiplier(global[0] / local_range(k1)[0]);
-    set_common(k1, p, li, surfaces);
-    k1.setArg(kSpecificArgs, A);
-    for (int m = 0; m < lum.num_images(); ++m) {
-      p.image = m;
-      k1.setArg(0, sizeof(NfSampleParams), &p);
-      step1.push_back(rt_.launch(k1, global, local_range(k1)));
-    }
-    p.group_mul = group_multiplier(global[0] / local_range(k2)[0]);
-    set_common(k2, p, li, surfaces);
-    k2.setArg(kSpecificArgs, A);
-    k2.setArg(kSpecificArgs + 1, rgb_);
-    k2.setArg(kSpecificArgs + 2, k_);
-    if (mean_direction_) k2.setArg(kSpecificArgs + 3, dir_);
-    for (int m = 0; m < lum.num_images(); ++m) {
-      p.image = m;
-      k2.setArg(0, sizeof(NfSampleParams), &p);
-      step2.push_back(rt_.launch(k2, global, local_range(k2)));
-    }
-    if (several) {
-      ::cl::Kernel& ka = kernel("lf_add", opts);
-      ka.setArg(0, a_inst_);
-      ka.setArg(1, a_);
-      ka.setArg(2, count);
-      clears.push_back(rt_.launch(ka, global1, local_range(ka)));
-    }
-  }
+  const Outputs out{&rgb_, &a_, &k_, mean_direction_ ? &dir_ : nullptr, lights.size() > 1};
+  for (std::size_t li_index = 0; li_index < lights.size(); ++li_index)
+    launch_instance(lights[li_index], li_index, surfaces, count, out, s, view_version, use_cache, st, ev);
   cl::call([&] { q.finish(); }, "Sampler: waiting for the device");
   for (auto& c : cache_)
     if (!c.pending.empty()) c.key = std::exchange(c.pending, std::string());
-  for (const auto& e : step1) st.step1_ms += cl::Runtime::event_ms(e);
-  for (const auto& e : step2) st.step2_ms += cl::Runtime::event_ms(e);
-  for (const auto& e : clears) st.other_ms += cl::Runtime::event_ms(e);
-  st.launches = static_cast<int>(step1.size() + step2.size() + clears.size());
+  for (const auto& e : ev.step1) st.step1_ms += cl::Runtime::event_ms(e);
+  for (const auto& e : ev.step2) st.step2_ms += cl::Runtime::event_ms(e);
+  for (const auto& e : ev.clears) st.other_ms += cl::Runtime::event_ms(e);
+  st.launches = static_cast<int>(ev.step1.size() + ev.step2.size() + ev.clears.size());
   st.wall_ms = timer.ms();
   return st;
 }

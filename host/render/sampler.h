@@ -101,6 +101,12 @@ class Sampler {
 
   cl::Runtime& runtime() { return rt_; }
 
+  // Light selection (SamplingSettings::light_selection = flat, several instances; docs/sampling.md
+  // "Light selection"): the instance each surface of the last run chose (its index in `lights`;
+  // 0xffffffff: none) and the weight 1 / q of that choice. Empty after runs without selection.
+  std::vector<std::uint32_t> read_selection();
+  std::vector<float> read_selection_weight();
+
   // The Kurt material table the kernels read for NF_BRDF_KURT surfaces (render/kurt_table.h);
   // empty by default (such surfaces then reflect nothing).
   void set_kurt_table(const std::vector<NfKurtMaterial>& table);
@@ -111,6 +117,24 @@ class Sampler {
   void ensure(int count);
   void set_common(::cl::Kernel& k, const NfSampleParams& p, const LightInstance& li, const ::cl::Buffer& surfaces);
   ::cl::NDRange global_range(int count, int lanes) const;
+  // Where one instance's launches write: radiance, A, K, mean direction (may be null when off).
+  struct Outputs {
+    const ::cl::Buffer* rgb;
+    const ::cl::Buffer* a;
+    const ::cl::Buffer* k;
+    const ::cl::Buffer* dir;
+    bool accumulate;  // other instances add to the same outputs (per-image Step 1 needs its own A)
+  };
+  struct Events {
+    std::vector<::cl::Event> clears, step1, step2;
+  };
+  // Enqueues Steps 1-2 of instance `li_index` for `count` surfaces into `out` (adding to it).
+  void launch_instance(const LightInstance& li, std::size_t li_index, const ::cl::Buffer& surfaces, int count,
+                       const Outputs& out, const SamplingSettings& s, std::uint64_t view_version, bool use_cache,
+                       FrameStats& st, Events& ev);
+  // run() with light selection (host/render/sampler_select.cpp).
+  FrameStats run_selected(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
+                          const SamplingSettings& s);
   ::cl::NDRange local_range(::cl::Kernel& k) const;
 
   cl::Runtime& rt_;
@@ -128,6 +152,11 @@ class Sampler {
   };
   std::vector<PixelCache> cache_;  // one per light instance
   ::cl::Buffer no_cache_;
+  struct Selection {
+    ::cl::Buffer lights, tables, sel, w, idx, surf, rgb, a, k, dir, vis;  // grown on demand
+    bool valid = false;                                                   // the last run used selection
+  };
+  Selection sel_;
   // Sets the pixel-cache arguments of lf_fused for instance i; returns the mode (kernels/lightfield.cl).
   int bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, int count, int images, bool enabled);
 };

@@ -28,6 +28,7 @@ constexpr Table<Balance, 3> kBalances{
     {{Balance::paper, "paper"}, {Balance::min1, "min1"}, {Balance::roulette, "roulette"}}};
 constexpr Table<SearchKind, 2> kSearches{{{SearchKind::secant, "secant"}, {SearchKind::binary, "binary"}}};
 constexpr Table<Structure, 2> kStructures{{{Structure::per_image, "per-image"}, {Structure::fused, "fused"}}};
+constexpr Table<LightSelection, 2> kSelections{{{LightSelection::all, "all"}, {LightSelection::flat, "flat"}}};
 
 template <typename E, std::size_t N>
 std::string name_of(const Table<E, N>& t, E v) {
@@ -58,18 +59,23 @@ std::string to_string(SamplerKind v) { return name_of(kSamplers, v); }
 std::string to_string(Balance v) { return name_of(kBalances, v); }
 std::string to_string(SearchKind v) { return name_of(kSearches, v); }
 std::string to_string(Structure v) { return name_of(kStructures, v); }
+std::string to_string(LightSelection v) { return name_of(kSelections, v); }
 
 Method parse_method(const std::string& s, const std::string& what) { return parse_of(kMethods, s, what); }
 SamplerKind parse_sampler(const std::string& s, const std::string& what) { return parse_of(kSamplers, s, what); }
 Balance parse_balance(const std::string& s, const std::string& what) { return parse_of(kBalances, s, what); }
 SearchKind parse_search(const std::string& s, const std::string& what) { return parse_of(kSearches, s, what); }
 Structure parse_structure(const std::string& s, const std::string& what) { return parse_of(kStructures, s, what); }
+LightSelection parse_light_selection(const std::string& s, const std::string& what) {
+  return parse_of(kSelections, s, what);
+}
 
 std::vector<std::string> method_names() { return names_of(kMethods); }
 std::vector<std::string> sampler_names() { return names_of(kSamplers); }
 std::vector<std::string> balance_names() { return names_of(kBalances); }
 std::vector<std::string> search_names() { return names_of(kSearches); }
 std::vector<std::string> structure_names() { return names_of(kStructures); }
+std::vector<std::string> light_selection_names() { return names_of(kSelections); }
 
 void SamplingSettings::validate() const {
   if (spp < 1) fail(fmt::format("sampling: spp (K) must be >= 1, got {}", spp));
@@ -86,10 +92,12 @@ void SamplingSettings::validate() const {
 }
 
 std::string SamplingSettings::describe() const {
-  return fmt::format("method={} sampler={} balance={} search={} depth={} structure={} K={} K_max={} seed={} frame={}",
+  return fmt::format("method={} sampler={} balance={} search={} depth={} structure={} K={} K_max={} seed={} frame={} "
+                     "light_selection={}",
                      to_string(method), to_string(sampler), to_string(balance), to_string(search),
                      search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure),
-                     spp, k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame);
+                     spp, k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame,
+                     to_string(light_selection));
 }
 
 }  // namespace nf::render

@@ -16,12 +16,16 @@ enum class Balance { paper, min1, roulette };
 enum class SearchKind { secant, binary };
 // Per-image passes as in the paper (Step 1 per image, Step 2 per image) or one fused pass.
 enum class Structure { per_image, fused };
+// Many instances (docs/sampling.md "Light selection"): every instance at every pixel (`all`), or one
+// instance per pixel and frame drawn with probability q_i(p) from a flat per-pixel CDF (`flat`).
+enum class LightSelection { all, flat };
 
 std::string to_string(Method v);
 std::string to_string(SamplerKind v);
 std::string to_string(Balance v);
 std::string to_string(SearchKind v);
 std::string to_string(Structure v);
+std::string to_string(LightSelection v);
 
 // Parse the names printed by to_string ("halton-scrambled", "per-image"; '_' is accepted for
 // '-'). Unknown names throw nf::Error listing the valid ones, prefixed by `what` (e.g. "--method").
@@ -30,12 +34,14 @@ SamplerKind parse_sampler(const std::string& s, const std::string& what = "sampl
 Balance parse_balance(const std::string& s, const std::string& what = "balance");
 SearchKind parse_search(const std::string& s, const std::string& what = "search");
 Structure parse_structure(const std::string& s, const std::string& what = "structure");
+LightSelection parse_light_selection(const std::string& s, const std::string& what = "light_selection");
 
 std::vector<std::string> method_names();
 std::vector<std::string> sampler_names();
 std::vector<std::string> balance_names();
 std::vector<std::string> search_names();
 std::vector<std::string> structure_names();
+std::vector<std::string> light_selection_names();
 
 struct SamplingSettings {
   Method method = Method::ours;
@@ -59,6 +65,8 @@ struct SamplingSettings {
   // Device memory (MiB) for the per-pixel cache of A_m(p) across progressive frames of the same
   // view (docs/sampling.md "Pixel cache"); 0 = recompute every frame. Above it: recomputation.
   int pixel_cache_mib = 1024;
+  // With several instances: K is the pixel's budget over all of them (flat) or per instance (all).
+  LightSelection light_selection = LightSelection::flat;
 
   void validate() const;         // throws nf::Error naming the bad field
   std::string describe() const;  // one line: method=... sampler=... K=...

@@ -455,6 +455,29 @@ class Parser {
     locals_.push_back(e);
   }
 
+  // The rigid transform of a light instance (luminaire or far-field light), refused with the file,
+  // the field and the instance's name when it is not finite, singular or not rigid.
+  void instance_transform(const json& v, const std::string& ptr, const char* kind, const std::string& name,
+                          glm::dmat4& to_world) const {
+    if (!v.contains("transform")) return;
+    const std::string tptr = at(ptr, "transform");
+    try {
+      to_world = transform(v["transform"], tptr, true);
+    } catch (const nf::Error& e) {
+      fail(fmt::format("{} ({} '{}')", e.what(), kind, name));
+    }
+    bool finite = true;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) finite = finite && std::isfinite(to_world[c][r]);
+    if (!finite) error(tptr, fmt::format("{} '{}': the transform is not finite", kind, name));
+    const double det = glm::determinant(glm::dmat3(to_world));
+    if (!(std::fabs(det) > 1e-12))
+      error(tptr, fmt::format("{} '{}': the transform is singular (determinant {:g})", kind, name, det));
+    if (!is_rigid(to_world, 1e-9))
+      error(tptr,
+            fmt::format("{} '{}': {} transforms must be rigid (rotation and translation only)", kind, name, kind));
+  }
+
   LuminaireRef luminaire(const json& v, const std::string& ptr, std::size_t index) const {
     object(v, ptr, {"name", "manifest", "preset", "transform", "intensity"});
     LuminaireRef l;
@@ -471,8 +494,7 @@ class Parser {
           }))
         error(at(ptr, "preset"), fmt::format("'{}' is not a preset name", excerpt(l.preset)));
     }
-    if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
-    if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "luminaire transforms must be rigid");
+    instance_transform(v, ptr, "luminaire", l.name, l.to_world);
     l.units = luminaire_units(l, ptr);
     if (v.contains("intensity")) l.intensity = intensity(v["intensity"], at(ptr, "intensity"));
     return l;
@@ -490,8 +512,7 @@ class Parser {
     } catch (const Error& e) {
       error(at(ptr, "file"), e.what());
     }
-    if (v.contains("transform")) l.to_world = transform(v["transform"], at(ptr, "transform"), true);
-    if (!is_rigid(l.to_world, 1e-9)) error(at(ptr, "transform"), "far-field light transforms must be rigid");
+    instance_transform(v, ptr, "far-field light", l.name, l.to_world);
     if (v.contains("intensity")) l.intensity = intensity(v["intensity"], at(ptr, "intensity"));
     l.colour = farfield_colour(v, ptr);
     return l;

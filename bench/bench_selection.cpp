@@ -1,0 +1,147 @@
+// Light-selection bench (docs/sampling.md "Light selection", issue 26): frame time and error of
+// `light_selection` all vs flat on street scenes with N luminaire instances (scenes written by
+// bench/selection/street_gen.py; bench/selection/run.sh runs the sweep).
+//
+// Per scene: a reference = the mean of --ref-frames frames with `flat` (both modes are unbiased; its
+// own noise is reported), then per mode --frames progressive frames after one warm-up frame (kernel
+// builds, Step 0). Reported: the Steps 1-2 host wall clock per frame (Sampler::run, what selection
+// changes), the whole frame's wall clock, and the single-frame rel. MSE against the reference,
+// sum (x - r)^2 / sum r^2 over surface pixels and RGB, averaged over the frames. For unbiased
+// estimators the error after time T is rel_mse_1 * t_frame / T, so the equal-time error ratio of
+// two modes is (rel_mse_1 * t_frame)_a / (rel_mse_1 * t_frame)_b.
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include "cl/runtime.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "render/frame.h"
+#include "render/frame_settings.h"
+#include "scene/scene.h"
+
+namespace {
+
+using namespace nf;
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+std::string loadavg() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+double rel_mse(const Image& x, const Image& r, const std::vector<render::PixelKind>& kinds) {
+  double se = 0.0, r2 = 0.0;
+  for (std::size_t p = 0; p < kinds.size(); ++p) {
+    if (kinds[p] != render::PixelKind::surface) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double a = x.pixels[p * x.channels + c], b = r.pixels[p * r.channels + c];
+      se += (a - b) * (a - b);
+      r2 += b * b;
+    }
+  }
+  return r2 > 0.0 ? se / r2 : 0.0;
+}
+
+struct Row {
+  std::string scene, mode;
+  int instances = 0;
+  double sampler_ms = 0, frame_ms = 0, rel_mse = 0, ref_noise = 0;
+  double samples_per_pixel = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"light selection bench: all vs flat on street scenes"};
+  std::vector<std::string> scenes;
+  int frames = 6, ref_frames = 64, spp = 16;
+  std::string csv;
+  app.add_option("scenes", scenes, "scene files (bench/selection/street_gen.py)")->required();
+  app.add_option("--frames", frames, "timed frames per mode (after one warm-up frame)");
+  app.add_option("--ref-frames", ref_frames, "frames of the flat reference");
+  app.add_option("--spp", spp, "K per pixel and frame");
+  app.add_option("--csv", csv, "write the rows as CSV");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    nf::cl::Runtime rt;
+    std::printf("machine: %s, %u cores, OpenCL %s (%s); load %s; other jobs share the machine\n", cpu_model().c_str(),
+                std::thread::hardware_concurrency(), rt.info().name.c_str(), rt.info().platform_version.c_str(),
+                loadavg().c_str());
+    std::vector<Row> rows;
+    for (const auto& path : scenes) {
+      scene::Scene sc = scene::load_scene(path);
+      sc.render.spp = spp;
+      const int n = static_cast<int>(sc.luminaires.size());
+      render::RendererOptions ro;
+      ro.runtime = &rt;
+      render::Renderer r(std::move(sc), ro);
+      auto settings_for = [&](const char* mode) {
+        render::FrameSettings f = r.settings();
+        f.sampling.light_selection = render::parse_light_selection(mode);
+        return f;
+      };
+      r.set_settings(settings_for("flat"));
+      for (int k = 0; k < ref_frames; ++k) r.render_frame();
+      const Image ref = r.accumulated();
+      const auto kinds = r.pixel_kinds();
+      double flat_single = 0.0;
+      for (const char* mode : {"all", "flat"}) {
+        auto f = settings_for(mode);
+        f.sampling.seed = 1000;  // independent of the reference's frames
+        r.set_settings(f);
+        r.render_frame();  // warm-up: builds, Step 0
+        Row row;
+        row.scene = path;
+        row.mode = mode;
+        row.instances = n;
+        std::uint64_t samples = 0;
+        std::size_t surf = 0;
+        for (auto k : kinds) surf += k == render::PixelKind::surface;
+        for (int k = 0; k < frames; ++k) {
+          Timer t;
+          const render::StepTimes& st = r.render_frame();
+          row.frame_ms += t.ms();
+          row.sampler_ms += st.sampler_wall_ms;
+          samples += st.samples;
+          row.rel_mse += rel_mse(r.last_frame(), ref, kinds);
+        }
+        row.frame_ms /= frames;
+        row.sampler_ms /= frames;
+        row.rel_mse /= frames;
+        row.samples_per_pixel = surf ? double(samples) / double(frames) / double(surf) : 0.0;
+        if (row.mode == "flat") flat_single = row.rel_mse;
+        row.ref_noise = flat_single / ref_frames;  // the reference's own rel. MSE (flat, ref_frames frames)
+        rows.push_back(row);
+        std::printf("%-40s N=%4d %-4s  steps 1-2 %8.1f ms  frame %8.1f ms  rel.MSE(1 frame) %.4g  K/pixel %.1f\n",
+                    path.c_str(), n, mode, row.sampler_ms, row.frame_ms, row.rel_mse, row.samples_per_pixel);
+        std::fflush(stdout);
+      }
+    }
+    if (!csv.empty()) {
+      std::ofstream out(csv);
+      out << "scene,instances,mode,sampler_ms,frame_ms,rel_mse_1frame,reference_noise_rel_mse,samples_per_pixel\n";
+      for (const auto& w : rows)
+        out << fmt::format("{},{},{},{:.2f},{:.2f},{:.6g},{:.3g},{:.2f}\n", w.scene, w.instances, w.mode, w.sampler_ms,
+                           w.frame_ms, w.rel_mse, w.ref_noise, w.samples_per_pixel);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_selection: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

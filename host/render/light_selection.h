@@ -1,0 +1,31 @@
+#pragma once
+// Light selection (docs/sampling.md "Light selection", DESIGN §15): per luminaire instance, the data
+// the selection kernel (kernels/light_select.cl) bounds its contribution with, and the double
+// precision mirror of the kernel's estimate f_i(p) and probabilities q_i(p) = f_i / sum_j f_j, for
+// tests and for other estimators that need q_i(p) as a density factor (MIS).
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "kernels/shared/light_select.h"
+#include "kernels/shared/surface.h"
+#include "render/sampler.h"
+
+namespace nf::render {
+
+// The kernel's record of one instance (its luminaire must be set); `table` = the offset of its
+// luminaire's direction table in the tables buffer the kernel gets.
+NfSelectLight select_light(const LightInstance& li, int table = 0);
+
+// f_i(p) of kernels/common/light_select.h in double: p and n in the surfaces' frame; use_cos false
+// for scalar probes; `table` = the luminaire's direction table (DeviceLuminaire::selection_table()).
+// 0 exactly where the instance provably sends no light to p.
+double selection_estimate(const NfSelectLight& s, const float* table, const glm::dvec3& p, const glm::dvec3& n,
+                          bool use_cos);
+
+// q_i(p) for every instance (sums to 1), or all zeros where no instance can light the surface
+// (background surfaces included).
+std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface);
+
+}  // namespace nf::render

@@ -1,0 +1,248 @@
+// Sampler::run with light selection (docs/sampling.md "Light selection", DESIGN §15): one instance
+// per pixel and frame, chosen with probability q_i(p) by kernels/light_select.cl (flat CDF, one
+// pass over the instances per pixel), the pixels sorted by their instance (counting sort on the
+// host), each instance shaded by the unchanged light-field kernels on its own compact list of
+// surfaces (sub-buffers of one gathered buffer), and the results scattered back weighted 1 / q_i.
+#include <fmt/format.h>
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "cl/buffers.h"
+#include "cl/cl_error.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "render/light_selection.h"
+#include "render/sampler.h"
+
+namespace nf::render {
+namespace {
+
+constexpr const char* kSelectFile = "light_select.cl";
+constexpr nf_uint kNone = 0xffffffffU;
+constexpr int kGroup = 64;
+
+::cl::NDRange range1(std::size_t n) {
+  return ::cl::NDRange((std::max<std::size_t>(n, 1) + kGroup - 1) / kGroup * kGroup);
+}
+
+::cl::Buffer sub(::cl::Buffer& b, std::size_t offset, std::size_t size) {
+  cl_buffer_region r{offset, size};
+  ::cl::Buffer out;
+  cl::call([&] { out = b.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &r); },
+           "Sampler: light selection sub-buffer");
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> Sampler::read_selection() {
+  std::vector<std::uint32_t> out;
+  if (!sel_.valid || count_ <= 0) return out;
+  out.resize(count_);
+  cl::call([&] { rt_.queue().enqueueReadBuffer(sel_.sel, CL_TRUE, 0, out.size() * sizeof(nf_uint), out.data()); },
+           "Sampler: reading the light selection");
+  return out;
+}
+
+std::vector<float> Sampler::read_selection_weight() {
+  std::vector<float> out;
+  if (!sel_.valid || count_ <= 0) return out;
+  out.resize(count_);
+  cl::call([&] { rt_.queue().enqueueReadBuffer(sel_.w, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
+           "Sampler: reading the light selection weights");
+  return out;
+}
+
+FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
+                                 const SamplingSettings& s) {
+  Timer timer;
+  ensure(count);
+  cache_.clear();  // the compact lists change every frame: no pixel cache
+  FrameStats st;
+  sel_.valid = false;
+  if (count == 0) return st;
+  auto& q = rt_.queue();
+  auto kern = [&](const char* name) -> ::cl::Kernel& {
+    const std::string key = std::string("light_select|") + name;
+    if (auto it = kernels_.find(key); it != kernels_.end()) return it->second;
+    return kernels_.emplace(key, rt_.kernel(kSelectFile, name)).first->second;
+  };
+  const std::size_t n = lights.size();
+  std::vector<NfSelectLight> rec;
+  rec.reserve(n);
+  std::vector<float> tables;  // each luminaire's direction table once
+  std::vector<std::pair<const DeviceLuminaire*, int>> offsets;
+  for (const LightInstance& li : lights) {
+    if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
+    auto it = std::find_if(offsets.begin(), offsets.end(), [&](const auto& o) { return o.first == li.luminaire; });
+    int off = 0;
+    if (it == offsets.end()) {
+      off = static_cast<int>(tables.size());
+      offsets.emplace_back(li.luminaire, off);
+      const auto& t = li.luminaire->selection_table();
+      tables.insert(tables.end(), t.begin(), t.end());
+    } else {
+      off = it->second;
+    }
+    rec.push_back(select_light(li, off));
+  }
+  auto grow = [&](::cl::Buffer& b, std::size_t bytes) {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (b.get() != nullptr && b.getInfo<CL_MEM_SIZE>() >= bytes) return;
+    cl::call([&] { b = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, bytes); }, "Sampler: selection buffers");
+  };
+  grow(sel_.lights, n * sizeof(NfSelectLight));
+  grow(sel_.tables, tables.size() * sizeof(float));
+  grow(sel_.sel, static_cast<std::size_t>(count) * sizeof(nf_uint));
+  grow(sel_.w, static_cast<std::size_t>(count) * sizeof(float));
+  Events ev;
+  cl::call(
+      [&] {
+        q.enqueueWriteBuffer(sel_.lights, CL_TRUE, 0, n * sizeof(NfSelectLight), rec.data());
+        q.enqueueWriteBuffer(sel_.tables, CL_TRUE, 0, tables.size() * sizeof(float), tables.data());
+      },
+      "Sampler: uploading the selection lights");
+  // 1. choose an instance per surface
+  ::cl::Kernel& ks = kern("ls_select");
+  ks.setArg(0, surfaces);
+  ks.setArg(1, count);
+  ks.setArg(2, sel_.lights);
+  ks.setArg(3, sel_.tables);
+  ks.setArg(4, static_cast<int>(n));
+  ks.setArg(5, static_cast<cl_uint>(s.seed));
+  ks.setArg(6, static_cast<cl_uint>(s.frame));
+  ks.setArg(7, sel_.sel);
+  ks.setArg(8, sel_.w);
+  ev.clears.push_back(rt_.launch(ks, range1(count), ::cl::NDRange(kGroup)));
+  std::vector<nf_uint> chosen(static_cast<std::size_t>(count));
+  cl::call([&] { q.enqueueReadBuffer(sel_.sel, CL_TRUE, 0, chosen.size() * sizeof(nf_uint), chosen.data()); },
+           "Sampler: reading the selection");
+  sel_.valid = true;
+  // 2. counting sort by instance; each instance's list starts at a sub-buffer alignment
+  std::size_t align_bytes = 128;
+  try {
+    align_bytes = std::max<std::size_t>(rt_.device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4);
+  } catch (const ::cl::Error&) {
+  }
+  const std::size_t align = std::max<std::size_t>(align_bytes / sizeof(float), 1);  // elements
+  std::vector<std::size_t> cnt(n, 0), base(n, 0);
+  for (const nf_uint c : chosen)
+    if (c < n) ++cnt[c];
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    base[i] = total;
+    total += (cnt[i] + align - 1) / align * align;
+  }
+  total = std::max<std::size_t>(total, 1);
+  std::vector<nf_uint> idx(total, kNone);
+  {
+    std::vector<std::size_t> at = base;
+    for (std::size_t g = 0; g < chosen.size(); ++g)
+      if (chosen[g] < n) idx[at[chosen[g]]++] = static_cast<nf_uint>(g);
+  }
+  int max_words = 0;
+  for (const LightInstance& li : lights)
+    if (li.visibility && li.vis_words > 0) max_words = std::max(max_words, li.vis_words);
+  grow(sel_.idx, total * sizeof(nf_uint));
+  grow(sel_.surf, total * sizeof(NfSurface));
+  grow(sel_.rgb, total * 4 * sizeof(float));
+  grow(sel_.a, total * sizeof(float));
+  grow(sel_.k, total * sizeof(nf_uint));
+  if (mean_direction_) grow(sel_.dir, total * 4 * sizeof(float));
+  if (max_words > 0) grow(sel_.vis, total * static_cast<std::size_t>(max_words) * sizeof(nf_uint));
+  cl::call(
+      [&] {
+        q.enqueueWriteBuffer(sel_.idx, CL_TRUE, 0, total * sizeof(nf_uint), idx.data());
+        const float zf = 0.0f;
+        const nf_uint zu = 0;
+        for (auto [b, bytes] : {std::pair{&rgb_, std::size_t(count) * 16}, std::pair{&sel_.rgb, total * 16}}) {
+          ev.clears.emplace_back();
+          q.enqueueFillBuffer(*b, zf, 0, bytes, nullptr, &ev.clears.back());
+        }
+        for (auto [b, bytes] : {std::pair{&a_, std::size_t(count) * 4}, std::pair{&sel_.a, total * 4}}) {
+          ev.clears.emplace_back();
+          q.enqueueFillBuffer(*b, zf, 0, bytes, nullptr, &ev.clears.back());
+        }
+        for (auto [b, bytes] : {std::pair{&k_, std::size_t(count) * 4}, std::pair{&sel_.k, total * 4}}) {
+          ev.clears.emplace_back();
+          q.enqueueFillBuffer(*b, zu, 0, bytes, nullptr, &ev.clears.back());
+        }
+        if (mean_direction_) {
+          for (auto [b, bytes] : {std::pair{&dir_, std::size_t(count) * 16}, std::pair{&sel_.dir, total * 16}}) {
+            ev.clears.emplace_back();
+            q.enqueueFillBuffer(*b, zf, 0, bytes, nullptr, &ev.clears.back());
+          }
+        }
+      },
+      "Sampler: clearing the selection outputs");
+  // 3. gather the surfaces, shade each instance on its list
+  ::cl::Kernel& kg = kern("ls_gather");
+  kg.setArg(0, surfaces);
+  kg.setArg(1, sel_.idx);
+  kg.setArg(2, static_cast<int>(total));
+  kg.setArg(3, sel_.surf);
+  ev.clears.push_back(rt_.launch(kg, range1(total), ::cl::NDRange(kGroup)));
+  for (std::size_t i = 0; i < n; ++i) {
+    const LightInstance& li = lights[i];
+    if (cnt[i] == 0 || !li.visibility || li.vis_words <= 0) continue;
+    ::cl::Kernel& kv = kern("ls_gather_vis");
+    kv.setArg(0, *li.visibility);
+    kv.setArg(1, sel_.idx);
+    kv.setArg(2, static_cast<int>(base[i]));
+    kv.setArg(3, static_cast<int>(cnt[i]));
+    kv.setArg(4, li.vis_words);
+    kv.setArg(5, sel_.vis);
+    ev.clears.push_back(rt_.launch(kv, range1(cnt[i]), ::cl::NDRange(kGroup)));
+  }
+  // sub-buffers (views into the gathered lists) live until the queue is done
+  std::vector<std::array<::cl::Buffer, 6>> views(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (cnt[i] == 0) continue;
+    const std::size_t b0 = base[i], c = cnt[i];
+    auto& v = views[i];
+    LightInstance li = lights[i];
+    if (li.visibility && li.vis_words > 0) {
+      const std::size_t wb = static_cast<std::size_t>(li.vis_words) * sizeof(nf_uint);
+      v[5] = sub(sel_.vis, b0 * wb, c * wb);
+      li.visibility = &v[5];
+    }
+    v[0] = sub(sel_.surf, b0 * sizeof(NfSurface), c * sizeof(NfSurface));
+    v[1] = sub(sel_.rgb, b0 * 16, c * 16);
+    v[2] = sub(sel_.a, b0 * 4, c * 4);
+    v[3] = sub(sel_.k, b0 * 4, c * 4);
+    if (mean_direction_) v[4] = sub(sel_.dir, b0 * 16, c * 16);
+    const Outputs out{&v[1], &v[2], &v[3], mean_direction_ ? &v[4] : nullptr, false};
+    launch_instance(li, i, v[0], static_cast<int>(c), out, s, 0, false, st, ev);
+  }
+  // 4. scatter back with the weights 1 / q
+  ::cl::Kernel& kc = kern("ls_scatter");
+  kc.setArg(0, sel_.idx);
+  kc.setArg(1, static_cast<int>(total));
+  kc.setArg(2, sel_.w);
+  kc.setArg(3, sel_.rgb);
+  kc.setArg(4, sel_.a);
+  kc.setArg(5, sel_.k);
+  kc.setArg(6, rgb_);
+  kc.setArg(7, a_);
+  kc.setArg(8, k_);
+  ev.clears.push_back(rt_.launch(kc, range1(total), ::cl::NDRange(kGroup)));
+  if (mean_direction_) {
+    ::cl::Kernel& kd = kern("ls_scatter_dir");
+    kd.setArg(0, sel_.idx);
+    kd.setArg(1, static_cast<int>(total));
+    kd.setArg(2, sel_.w);
+    kd.setArg(3, sel_.dir);
+    kd.setArg(4, dir_);
+    ev.clears.push_back(rt_.launch(kd, range1(total), ::cl::NDRange(kGroup)));
+  }
+  cl::call([&] { q.finish(); }, "Sampler: waiting for the device");
+  for (const auto& e : ev.step1) st.step1_ms += cl::Runtime::event_ms(e);
+  for (const auto& e : ev.step2) st.step2_ms += cl::Runtime::event_ms(e);
+  for (const auto& e : ev.clears) st.other_ms += cl::Runtime::event_ms(e);
+  st.launches = static_cast<int>(ev.step1.size() + ev.step2.size() + ev.clears.size());
+  st.wall_ms = timer.ms();
+  return st;
+}
+
+}  // namespace nf::render

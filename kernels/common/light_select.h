@@ -1,0 +1,97 @@
+#ifndef NEARFIELD_COMMON_LIGHT_SELECT_H
+#define NEARFIELD_COMMON_LIGHT_SELECT_H
+/* Light selection estimate (docs/sampling.md "Light selection", DESIGN §15). For a surface point p
+   (normal n; use_cos = 0 for scalar probes) and instance i, a cheap estimate f_i(p) >= 0 of its
+   contribution; the selection probability is q_i(p) = f_i(p) / sum_j f_j(p). f_i(p) = 0 only where
+   instance i provably sends no light to p:
+     - p at or below plane U (height h <= 0 above it; paper §3: only z > -delta is lit);
+     - p outside the reach of the lines from the U rectangle through the S rectangle: with
+       lambda = h / delta such lines pass p = (1 - lambda) u + lambda s, so per axis p lies in
+       [min, max] of that affine combination over the two intervals (a margin covers rounding);
+     - every direction towards the light makes n . w <= 0: light arrives from the S rectangle's
+       points (z > 0) or the U rectangle's (z <= 0); n . (c - p) is linear in c, so its maximum over a
+       rectangle is at a corner.
+   Elsewhere f_i(p) = power_i I_i cos_i / max(d_i^2, near2_i): power = intensity x total image flux,
+   I_i = the mean of the luminaire's direction table (shared/light_select.h) over the slopes (p - s) / z
+   of the light reaching p (s over the S rectangle; between the planes (p - u) / h over U),
+   d = distance from p to the S rectangle, cos = the largest corner cosine (at least 0.05). It only
+   steers the variance: the estimator weights by 1 / q_i and stays unbiased wherever q_i > 0 where
+   instance i contributes. Host mirror in double: host/render/light_selection.cpp. */
+#include "shared/light_select.h"
+
+/* [lo, hi] of (1 - lambda) u + lambda s over u in [u0, u1], s in [s0, s1] (lambda > 0). */
+NF_INLINE void nf_ls_reach(float lambda, float s0, float s1, float u0, float u1, float* lo, float* hi) {
+  const float a = 1.0f - lambda;
+  *lo = lambda * s0 + (a >= 0.0f ? a * u0 : a * u1);
+  *hi = lambda * s1 + (a >= 0.0f ? a * u1 : a * u0);
+}
+
+NF_INLINE float nf_ls_corner_cos(float nx, float ny, float nz, float px, float py, float pz, float cx, float cy,
+                                 float cz) {
+  const float dx = cx - px, dy = cy - py, dz = cz - pz;
+  const float d = sqrt(dx * dx + dy * dy + dz * dz);
+  return d > 0.0f ? (nx * dx + ny * dy + nz * dz) / d : 1.0f;
+}
+
+/* Mean of a direction table (a SAT) over the slopes [a0, a1] x [b0, b1]. */
+NF_INLINE float nf_ls_table(__global const float* sat, float ta, float tb, float a0, float a1, float b0, float b1) {
+  const int T = NF_SELECT_TABLE;
+  const float sa = (float)T / (2.0f * ta), sb = (float)T / (2.0f * tb);
+  const int i0 = clamp((int)floor((a0 + ta) * sa), 0, T - 1), i1 = clamp((int)floor((a1 + ta) * sa), 0, T - 1);
+  const int j0 = clamp((int)floor((b0 + tb) * sb), 0, T - 1), j1 = clamp((int)floor((b1 + tb) * sb), 0, T - 1);
+  const int w = T + 1;
+  const float s = sat[(j1 + 1) * w + i1 + 1] - sat[j0 * w + i1 + 1] - sat[(j1 + 1) * w + i0] + sat[j0 * w + i0];
+  return fmax(s, 0.0f) / (float)((i1 - i0 + 1) * (j1 - j0 + 1));
+}
+
+NF_INLINE float nf_select_estimate(__global const NfSelectLight* S, __global const float* tables, float3 p, float3 n,
+                                   int use_cos) {
+  __global const float* M = S->to_local;
+  const float h = M[8] * p.x + M[9] * p.y + M[10] * p.z + S->u_offset;
+  if (!(h > 0.0f) || !(S->power > 0.0f)) return 0.0f;
+  const float lx = M[0] * p.x + M[1] * p.y + M[2] * p.z + M[3];
+  const float ly = M[4] * p.x + M[5] * p.y + M[6] * p.z + M[7];
+  const float lz = h - S->delta;
+  const float lambda = h / S->delta;
+  float x0, x1, y0, y1;
+  nf_ls_reach(lambda, S->sx0, S->sx1, S->ux0, S->ux1, &x0, &x1);
+  nf_ls_reach(lambda, S->sy0, S->sy1, S->uy0, S->uy1, &y0, &y1);
+  /* margin: float rounding of the transform and of the reach (relative 1e-3 of the extents) */
+  const float mx = 1e-3f * (x1 - x0 + fabs(x0) + fabs(x1)) + 1e-5f;
+  const float my = 1e-3f * (y1 - y0 + fabs(y0) + fabs(y1)) + 1e-5f;
+  if (!(lx >= x0 - mx && lx <= x1 + mx && ly >= y0 - my && ly <= y1 + my)) return 0.0f;
+  float c = 1.0f;
+  if (use_cos) {
+    __global const float* N = S->normal;
+    float nx = N[0] * n.x + N[1] * n.y + N[2] * n.z;
+    float ny = N[4] * n.x + N[5] * n.y + N[6] * n.z;
+    float nz = N[8] * n.x + N[9] * n.y + N[10] * n.z;
+    const float nl = sqrt(nx * nx + ny * ny + nz * nz);
+    if (!(nl > 0.0f)) return 0.0f; /* zero normal: the kernels reflect nothing */
+    nx /= nl, ny /= nl, nz /= nl;
+    const int top = lz > 0.0f;
+    const float cz = top ? 0.0f : -S->delta;
+    const float ax = top ? S->sx0 : S->ux0, bx = top ? S->sx1 : S->ux1;
+    const float ay = top ? S->sy0 : S->uy0, by = top ? S->sy1 : S->uy1;
+    c = nf_ls_corner_cos(nx, ny, nz, lx, ly, lz, ax, ay, cz);
+    c = fmax(c, nf_ls_corner_cos(nx, ny, nz, lx, ly, lz, bx, ay, cz));
+    c = fmax(c, nf_ls_corner_cos(nx, ny, nz, lx, ly, lz, ax, by, cz));
+    c = fmax(c, nf_ls_corner_cos(nx, ny, nz, lx, ly, lz, bx, by, cz));
+    if (!(c > -1e-3f)) return 0.0f; /* tolerance: rounding of n and p */
+    c = clamp(c, 0.05f, 1.0f);
+  }
+  const float dx = fmax(fmax(S->sx0 - lx, lx - S->sx1), 0.0f);
+  const float dy = fmax(fmax(S->sy0 - ly, ly - S->sy1), 0.0f);
+  const float d2 = fmax(dx * dx + dy * dy + lz * lz, S->near2);
+  /* slopes of the light reaching p: from the S rectangle (z > 0) or the U rectangle (between the planes) */
+  const int above = lz > 0.0f;
+  const float hz = above ? lz : h;
+  const float ax0 = above ? S->sx0 : S->ux0, ax1 = above ? S->sx1 : S->ux1;
+  const float ay0 = above ? S->sy0 : S->uy0, ay1 = above ? S->sy1 : S->uy1;
+  const float I = nf_ls_table(tables + S->table, S->ta, S->tb, (lx - ax1) / hz, (lx - ax0) / hz, (ly - ay1) / hz,
+                              (ly - ay0) / hz);
+  const float f = S->power * I * c / d2;
+  return isfinite(f) ? fmin(f, 1e30f) : 1e30f;
+}
+
+#endif
