@@ -220,6 +220,7 @@ void Panel::rendering() {
     a.set("search_depth", std::to_string(std::clamp(depth, -1, 1024)));
   }
   combo("structure", "structure", render::to_string(p.structure), render::structure_names());
+  combo("mis", "mis", render::to_string(p.mis), render::mis_names());
   combo("visibility", "visibility", render::to_string(f.visibility), {"none", "shadowmaps"});
   int sms = f.shadow_map_size;
   if (ImGui::InputInt("shadow map size", &sms, 16, 128))

@@ -27,6 +27,7 @@ constexpr Table<Balance, 3> kBalances{
     {{Balance::paper, "paper"}, {Balance::min1, "min1"}, {Balance::roulette, "roulette"}}};
 constexpr Table<SearchKind, 2> kSearches{{{SearchKind::secant, "secant"}, {SearchKind::binary, "binary"}}};
 constexpr Table<Structure, 2> kStructures{{{Structure::per_image, "per-image"}, {Structure::fused, "fused"}}};
+constexpr Table<Mis, 3> kMis{{{Mis::none, "none"}, {Mis::balance, "balance"}, {Mis::power, "power"}}};
 
 template <typename E, std::size_t N>
 std::string name_of(const Table<E, N>& t, E v) {
@@ -57,18 +58,21 @@ std::string to_string(SamplerKind v) { return name_of(kSamplers, v); }
 std::string to_string(Balance v) { return name_of(kBalances, v); }
 std::string to_string(SearchKind v) { return name_of(kSearches, v); }
 std::string to_string(Structure v) { return name_of(kStructures, v); }
+std::string to_string(Mis v) { return name_of(kMis, v); }
 
 Method parse_method(const std::string& s, const std::string& what) { return parse_of(kMethods, s, what); }
 SamplerKind parse_sampler(const std::string& s, const std::string& what) { return parse_of(kSamplers, s, what); }
 Balance parse_balance(const std::string& s, const std::string& what) { return parse_of(kBalances, s, what); }
 SearchKind parse_search(const std::string& s, const std::string& what) { return parse_of(kSearches, s, what); }
 Structure parse_structure(const std::string& s, const std::string& what) { return parse_of(kStructures, s, what); }
+Mis parse_mis(const std::string& s, const std::string& what) { return parse_of(kMis, s, what); }
 
 std::vector<std::string> method_names() { return names_of(kMethods); }
 std::vector<std::string> sampler_names() { return names_of(kSamplers); }
 std::vector<std::string> balance_names() { return names_of(kBalances); }
 std::vector<std::string> search_names() { return names_of(kSearches); }
 std::vector<std::string> structure_names() { return names_of(kStructures); }
+std::vector<std::string> mis_names() { return names_of(kMis); }
 
 void SamplingSettings::validate() const {
   if (spp < 1) fail(fmt::format("sampling: spp (K) must be >= 1, got {}", spp));
@@ -80,15 +84,22 @@ void SamplingSettings::validate() const {
     fail(fmt::format("sampling: roulette_block must be 1..1024, got {}", roulette_block));
   if (surface_shuffle < 0 || surface_shuffle > 20)
     fail(fmt::format("sampling: surface_shuffle must be 0..20, got {}", surface_shuffle));
+  if (mis != Mis::none && method == Method::paper)
+    fail(fmt::format("sampling: mis {} needs the light strategy's density, which method paper does not have "
+                     "(use ours, ours-equal, uniform, uniform-equal or global; docs/mis.md)",
+                     to_string(mis)));
   if (pixel_cache_mib < 0 || pixel_cache_mib > 1048576)
     fail(fmt::format("sampling: pixel_cache must be 0..1048576 MiB, got {}", pixel_cache_mib));
 }
 
 std::string SamplingSettings::describe() const {
-  return fmt::format("method={} sampler={} balance={} search={} depth={} structure={} K={} K_max={} seed={} frame={}",
-                     to_string(method), to_string(sampler), to_string(balance), to_string(search),
-                     search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure),
-                     spp, k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame);
+  std::string d =
+      fmt::format("method={} sampler={} balance={} search={} depth={} structure={} K={} K_max={} seed={} frame={}",
+                  to_string(method), to_string(sampler), to_string(balance), to_string(search),
+                  search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure),
+                  spp, k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame);
+  if (mis != Mis::none) d += " mis=" + to_string(mis);
+  return d;
 }
 
 }  // namespace nf::render
