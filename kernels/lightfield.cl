@@ -1123,7 +1123,14 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   vf inv_p;
   const vi K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
-  if (!ANY(K > 0)) return;
+#if NF_MIS == NF_MIS_NONE
+  const vi out = K > 0;
+#else
+  /* BRDF samples carry image m's share also where it drew no light sample (K_m = 0) */
+  const vi mis = nf_mis_lanes(&c) & (A > 0.0f) & (Am > 0.0f);
+  const vi out = (K > 0) | mis;
+#endif
+  if (!ANY(out)) return;
   vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
 #if NF_MEAN_DIRECTION
   vf dx = (vf)(0.0f), dy = (vf)(0.0f), dz = (vf)(0.0f);
@@ -1132,7 +1139,6 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   nf_image(&c, &L, &P, m, K, inv_p, Am, cm, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
 #if NF_MIS != NF_MIS_NONE
   /* the BRDF samples' share of image m (the same directions in every image's pass) */
-  const vi mis = nf_mis_lanes(&c) & (A > 0.0f);
   for (int k0 = 0; ANY(mis) && k0 < P.spp; k0 += NF_MIS_CHUNK) {
     NfMisDirs d;
     nf_mis_draw(&c, &P, mis, k0, &d);
@@ -1143,13 +1149,14 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   nf_dir_store(&I, c.pix, P.count, dx, dy, dz, dir);
 #endif
   float rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
-  int kk[NF_LANES];
+  int kk[NF_LANES], oo[NF_LANES];
   VSTORE(r, rr);
   VSTORE(g, gg);
   VSTORE(bl, bb);
   VSTORE(K, kk);
+  VSTORE(out, oo);
   for (int l = 0; l < NF_LANES; ++l)
-    if (kk[l] > 0) {
+    if (oo[l] != 0) {
       rgb[pix[l]] += (float4)(rr[l], gg[l], bb[l], 0.0f);
       kcount[pix[l]] += (uint)kk[l];
     }
