@@ -3,6 +3,7 @@
    so that tests can check the device code against host double-precision formulas and chi-square
    tests. Scalar (NF_LANES = 1). */
 #include "common/brdf.h"
+#include "common/brdf_sample.h"
 #include "common/lanes.h"
 #include "common/material.h"
 #include "common/random.h"
@@ -119,4 +120,22 @@ __kernel void brdf_debug_terms(__global const float4* in, const int count, __glo
   out[2 * i] = (float4)(w, nf_schlick(a.y, w), nf_smith_v(a.z, a.w, b.x), nf_kurt_lobe_f(L, w));
   out[2 * i + 1] = (float4)(nf_kurt_lobe_den(L, b.w, a.z, a.w),
                             nf_schlick3(nf_f0_3((float3)(a.y), clamp(b.z, 0.0f, 1.0f)), w).x, 0.0f, 0.0f);
+}
+
+/* Whole-material sample i of `count` (common/brdf_sample.h, docs/mis.md): (l, p_B(l)) as nf_mat_sample
+   returns them for material `brdf` (ggx: alpha, metallic, base; kurt: entry kmat of `table` with
+   tangent t); pdf = 0 marks an invalid draw. Uniforms: Philox streams keyed by seed and seed + 1. */
+__kernel void brdf_debug_mat_sample(const int brdf, const float alpha, const float metallic, const float4 base,
+                                    const float4 n4, const float4 v4, const float4 t4, const int kmat,
+                                    __global const NfKurtMaterial* table, const uint seed, const int count,
+                                    __global float4* out) {
+  const int i = get_global_id(0);
+  if (i >= count) return;
+  uint a = (uint)i, b = 0x2545f491U, c = (uint)i, d = 0x9e3779b9U;
+  nf_philox(&a, &b, seed);
+  nf_philox(&c, &d, seed + 1U);
+  const NfShade s = nf_debug_shade(n4, v4, brdf, alpha, metallic, base, t4, kmat, table);
+  float wx, wy, wz;
+  const float p = nf_mat_sample(&s, nf_unit(c), nf_unit(a), nf_unit(b), &wx, &wy, &wz);
+  out[i] = (float4)(wx, wy, wz, p);
 }

@@ -531,6 +531,8 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu slot, int m, int M, vf Am, v
 #endif
 }
 
+#include "common/lf_mis.h"
+
 /* One sample of image m = (i, j) at p from the 2D point (ux, uy) (Eq. 11 with Eq. 5 in the box,
    Eq. 9 in the band): the lanes in `sband` take the U-parametrised sample of the band, the lanes in
    `sbox` the S-parametrised sample in B_m(p) (ours, ours-equal, paper, global: the CDFs of nf_draw;
@@ -597,7 +599,7 @@ NF_INLINE vf nf_sample(const NfCtx* c, const NfLuminaire* L, __global const long
    (uniform: area(B_m) Y_m(s_k) in place of A_m; band: the U-parametrised sum of Eq. 9),
    divided by the roulette probability, times v_m and the instance intensity. */
 NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, int m, vi K, vf inv_p, vf Am,
-                        const NfBox* b, float intensity, __global const long* sat, __global const float* quantum,
+                        vf cm, const NfBox* b, float intensity, __global const long* sat, __global const float* quantum,
                         __global const float4* chroma, __global const uint* vis, __global const float* t3, vf* ar,
                         vf* ag, vf* ab NF_DIR_PARAMS) {
   const int i = m % L->count_x, j = m / L->count_x;
@@ -617,6 +619,9 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   nf_rotation(P, c->pix, m, &rx, &ry);
 #endif
   const vi sband = has & c->band, sbox = has & !c->band;
+#if NF_MIS == NF_MIS_NONE
+  (void)cm;
+#endif
 #if NF_UNIFORM_BOX
   const vf Aest = (b->sx.hi - b->sx.lo) * (b->sr.hi - b->sr.lo) * L->pixel_area; /* 1 / pdf, m^2 */
 #else
@@ -634,9 +639,13 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
     nf_xi(P, c->pix, m, k, K, rx, ry, t3, &ux, &uy);
     vf wx, wy, wz, fx, fy;
     vi col, row;
-    const vf g = nf_sample(c, L, img, q, b, i, j, ux, uy, act & sband, act & sbox, P->search_depth, &wx, &wy, &wz, &col,
-                           &row, &fx, &fy, &itx, &ity);
+    vf g = nf_sample(c, L, img, q, b, i, j, ux, uy, act & sband, act & sbox, P->search_depth, &wx, &wy, &wz, &col, &row,
+                     &fx, &fy, &itx, &ity);
     const vi use = act & (g > 0.0f);
+#if NF_MIS != NF_MIS_NONE
+    /* cm = E[K_m]: the MIS weight of this light sample against the BRDF strategy (common/lf_mis.h) */
+    if (ANY(use)) g *= nf_mis_light_weight(c, L, P, b, img, q, Am, cm, col, row, wx, wy, wz, use);
+#endif
     if (ANY(use)) {
       vf rr, rg, rb, cr, cg, cb;
       nf_rho(c, wx, wy, wz, &rr, &rg, &rb);
@@ -748,23 +757,40 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   vf inv_p;
   const vi K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
-  if (!ANY(K > 0)) return;
+#if NF_MIS == NF_MIS_NONE
+  const vi out = K > 0;
+#else
+  /* BRDF samples carry image m's share also where it drew no light sample (K_m = 0) */
+  const vi mis = nf_mis_lanes(&c) & (A > 0.0f) & (Am > 0.0f);
+  const vi out = (K > 0) | mis;
+#endif
+  if (!ANY(out)) return;
   vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
 #if NF_MEAN_DIRECTION
   vf dx = (vf)(0.0f), dy = (vf)(0.0f), dz = (vf)(0.0f);
 #endif
-  nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
+  const vf cm = nf_mis_count(&P, L.num_images, Am, A);
+  nf_image(&c, &L, &P, m, K, inv_p, Am, cm, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
+#if NF_MIS != NF_MIS_NONE
+  /* the BRDF samples' share of image m (the same directions in every image's pass) */
+  for (int k0 = 0; ANY(mis) && k0 < P.spp; k0 += NF_MIS_CHUNK) {
+    NfMisDirs d;
+    nf_mis_draw(&c, &P, mis, k0, &d);
+    nf_mis_image(&c, &L, &P, m, Am, cm, &d, I.intensity, sat, quantum, chroma, vis, &r, &g, &bl);
+  }
+#endif
 #if NF_MEAN_DIRECTION
   nf_dir_store(&I, c.pix, P.count, dx, dy, dz, dir);
 #endif
   float rr[NF_LANES], gg[NF_LANES], bb[NF_LANES];
-  int kk[NF_LANES];
+  int kk[NF_LANES], oo[NF_LANES];
   VSTORE(r, rr);
   VSTORE(g, gg);
   VSTORE(bl, bb);
   VSTORE(K, kk);
+  VSTORE(out, oo);
   for (int l = 0; l < NF_LANES; ++l)
-    if (kk[l] > 0) {
+    if (oo[l] != 0) {
       rgb[pix[l]] += (float4)(rr[l], gg[l], bb[l], 0.0f);
       kcount[pix[l]] += (uint)kk[l];
     }
@@ -826,9 +852,31 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
       K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
-    nf_image(&c, &L, &P, m, K, inv_p, Am, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
+    nf_image(&c, &L, &P, m, K, inv_p, Am, nf_mis_count(&P, M, Am, A), &b, I.intensity, sat, quantum, chroma, vis,
+             halton3, &r, &g, &bl NF_DIR_PASS);
     total += K;
   }
+#if NF_MIS != NF_MIS_NONE
+  /* BRDF samples (common/lf_mis.h): N_B = K directions per glossy lane, drawn a chunk at a time and
+     shared by every image; A_m(p) from loop 1 (private or pixel cache) or recomputed */
+  const vi mis = nf_mis_lanes(&c) & (A > 0.0f);
+  for (int k0 = 0; ANY(mis) && k0 < P.spp; k0 += NF_MIS_CHUNK) {
+    NfMisDirs d;
+    nf_mis_draw(&c, &P, mis, k0, &d);
+    for (int m = 0; m < M; ++m) {
+      vf Am;
+      if (priv || shared) {
+        Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
+      } else {
+        NfBox b;
+        Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      }
+      if (!ANY(Am > 0.0f)) continue;
+      nf_mis_image(&c, &L, &P, m, Am, nf_mis_count(&P, M, Am, A), &d, I.intensity, sat, quantum, chroma, vis, &r, &g,
+                   &bl);
+    }
+  }
+#endif
 #if NF_MEAN_DIRECTION
   nf_dir_store(&I, c.pix, P.count, dx, dy, dz, dir);
 #endif
@@ -856,6 +904,45 @@ __kernel void lf_add(__global const float* src, __global float* dst, const int c
 }
 
 #if NF_LANES == 1
+/* Debug (tests, docs/mis.md): the light strategy's mixture density p_L(w) = sum_m c_m p_m(w) / sum_m c_m
+   (1/sr) at surface 0 for the n unit directions dirs[] (surfaces' frame, towards the light);
+   out[k] = (p_L, sum_m c_m, 0, 0). 0 where the light has no energy at p. */
+__kernel void lf_debug_pdf(NF_KERNEL_ARGS, __global const float4* dirs, const int n, __global float4* out) {
+  const int k = get_global_id(0);
+  if (k >= n) return;
+  out[k] = (float4)(0.0f);
+  NfSampleParams P1 = P;
+  P1.count = 1;
+  NfCtx c;
+  if (!nf_setup(&c, &L, &I, &P1, surfaces, 0U, kurt, kurt_count)) return;
+  const int M = L.num_images;
+  float A = 0.0f;
+  for (int m = 0; m < M; ++m) {
+    NfBox b;
+    A += nf_prepare(&c, &L, m, sat, quantum, info, &b);
+  }
+  if (!(A > 0.0f)) return;
+  const float* T = I.to_local;
+  float wx = T[0] * dirs[k].x + T[1] * dirs[k].y + T[2] * dirs[k].z;
+  float wy = T[4] * dirs[k].x + T[5] * dirs[k].y + T[6] * dirs[k].z;
+  float wz = T[8] * dirs[k].x + T[9] * dirs[k].y + T[10] * dirs[k].z;
+  nf_normalize3(&wx, &wy, &wz);
+  float C = 0.0f, sum = 0.0f;
+  for (int m = 0; m < M; ++m) {
+    NfBox b;
+    const float Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+    const float cm = nf_mis_count(&P, M, Am, A);
+    if (!(cm > 0.0f)) continue;
+    C += cm;
+    float Lr;
+    int col, row;
+    sum += cm * nf_mis_image_eval(&c, &L, &b, sat + (size_t)m * (size_t)L.sat_stride, quantum[m], m, Am, wx, wy, wz, 1,
+                                  &Lr, &col, &row);
+  }
+  const float p = C > 0.0f ? sum / C : 0.0f;
+  out[k] = (float4)(isfinite(p) ? p : 0.0f, C, 0.0f, 0.0f);
+}
+
 /* Debug: sample k = get_global_id(0) of image P.image for surface 0, as the kernels above draw it
    (sample index k of the sequence, K_m ignored). weight = the sample's Eq. 14 term with K_m = 1,
    first colour channel of rho, no chroma, no visibility. */

@@ -110,11 +110,36 @@ inline glm::dvec3 rho(const NfSurface& s, glm::dvec3 w) {
 // ---------------------------------------------------------------- quadrature ----------------
 
 struct Quad {
+  Quad(const lum::Luminaire& lum, const NfSurface& s, glm::dvec3 point, double tolerance = 1e-9)
+      : l(lum), surf(s), p(point), tol(tolerance) {}
   const lum::Luminaire& l;
   NfSurface surf;
   glm::dvec3 p;
   double tol = 1e-9;
   int max_depth = 7;
+  // Optional: the BRDF term in place of rho(surf, w) (e.g. Kurt), and directions around which the
+  // integrand peaks (a glossy lobe's mirror direction): extra break lines where their lines meet the
+  // plane of integration, at offsets growing geometrically from them.
+  std::function<glm::dvec3(glm::dvec3)> brdf;
+  std::vector<glm::dvec3> peaks;
+
+  glm::dvec3 rho_at(glm::dvec3 w) const { return brdf ? brdf(w) : rho(surf, w); }
+  // Break candidates around the peaks on the plane z = zp (S: 0, U: -delta).
+  void peak_breaks(double zp, std::vector<double>& cx, std::vector<double>& cy) const {
+    for (const glm::dvec3& w : peaks) {
+      if (!(w.z < 0.0)) continue;
+      const double t = (p.z - zp) / -w.z;
+      const double x = p.x + w.x * t, y = p.y + w.y * t;
+      cx.push_back(x);
+      cy.push_back(y);
+      for (double e = 1e-6 * std::abs(t); e < 0.1; e *= 3.0) {
+        cx.push_back(x - e);
+        cx.push_back(x + e);
+        cy.push_back(y - e);
+        cy.push_back(y + e);
+      }
+    }
+  }
 
   // Adaptive 2D Gauss-Legendre of a vector integrand over [x0,x1] x [y0,y1].
   template <typename F>
@@ -182,6 +207,7 @@ struct Quad {
     std::vector<double> cx = kx, cy = ky;
     for (int a = 0; a <= g.resolution[0]; ++a) cx.push_back(g.origin.x + a * g.size.x / g.resolution[0]);
     for (int r = 0; r <= g.resolution[1]; ++r) cy.push_back(g.origin.y + g.size.y - r * g.size.y / g.resolution[1]);
+    peak_breaks(0.0, cx, cy);
     const auto xs = breaks(bx0, bx1, cx), ys = breaks(by0, by1, cy);
     (void)n;
     glm::dvec3 total(0.0);
@@ -201,7 +227,7 @@ struct Quad {
           const double geo = l.reconstruction == lum::Reconstruction::goesele2003
                                  ? phi * delta * delta * r / (az * az * az)
                                  : phi * az / (r * r * r);
-          return geo * rho(surf, d * ((z > 0 ? 1.0 : -1.0) / r));
+          return geo * rho_at(d * ((z > 0 ? 1.0 : -1.0) / r));
         };
         total += C * integrate(fn, xs[a], xs[a + 1], ys[c], ys[c + 1]);
       }
@@ -227,6 +253,7 @@ struct Quad {
       for (int r = 0; r <= g.resolution[1]; ++r)
         cy.push_back(p.y + (g.origin.y + g.size.y - r * g.size.y / g.resolution[1] - p.y) / f);
     }
+    peak_breaks(-delta, cx, cy);
     const auto xs = breaks(ux0, ux1, cx), ys = breaks(uy0, uy1, cy);
     glm::dvec3 total(0.0);
     for (std::size_t a = 0; a + 1 < xs.size(); ++a)
@@ -242,7 +269,7 @@ struct Quad {
           const double phi = lum::basis_value(b, i, j, glm::dvec2(ux, uy));
           const double geo = l.reconstruction == lum::Reconstruction::goesele2003 ? delta * delta * r / (dz * dz * dz)
                                                                                   : dz / (r * r * r);
-          return phi * geo * rho(surf, d / r);
+          return phi * geo * rho_at(d / r);
         };
         total += C * integrate(fn, xs[a], xs[a + 1], ys[c], ys[c + 1]);
       }

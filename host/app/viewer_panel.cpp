@@ -223,6 +223,7 @@ void Panel::rendering() {
   combo("structure", "structure", render::to_string(p.structure), render::structure_names());
   combo("light selection", "light_selection", render::to_string(p.light_selection),
         render::light_selection_names());
+  combo("mis", "mis", render::to_string(p.mis), render::mis_names());
   combo("visibility", "visibility", render::to_string(f.visibility), {"none", "shadowmaps"});
   int sms = f.shadow_map_size;
   if (ImGui::InputInt("shadow map size", &sms, 16, 128))

@@ -34,6 +34,7 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   f.sampling.balance = parse_balance(r.balance, "render.balance");
   f.sampling.search = parse_search(r.search, "render.search");
   f.sampling.structure = parse_structure(r.structure, "render.structure");
+  f.sampling.mis = parse_mis(r.mis, "render.mis");
   f.sampling.spp = r.spp;
   f.sampling.k_max = r.kmax;
   f.sampling.search_depth = r.search_depth;
@@ -61,6 +62,7 @@ scene::RenderSettings render_settings(const FrameSettings& f) {
   r.search = to_string(p.search);
   r.balance = to_string(p.balance);
   r.structure = to_string(p.structure);
+  r.mis = to_string(p.mis);
   r.visibility = to_string(f.visibility);
   r.shadow_map_size = f.shadow_map_size;
   r.seed = p.seed;

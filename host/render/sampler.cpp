@@ -146,10 +146,13 @@ void Sampler::set_kurt_table(const std::vector<NfKurtMaterial>& table) {
 }
 
 std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool visibility, int lanes) {
-  return fmt::format(
+  std::string o = fmt::format(
       "-DNF_METHOD={} -DNF_SEQ={} -DNF_BALANCE={} -DNF_SEARCH={} -DNF_HAS_CHROMA={} -DNF_HAS_VIS={} -DNF_LANES={}",
       method_code(s.method), sampler_code(s.sampler), balance_code(s.balance),
       s.search == SearchKind::secant ? NF_SEARCH_SECANT : NF_SEARCH_BINARY, chroma ? 1 : 0, visibility ? 1 : 0, lanes);
+  // mis = none adds nothing: the kernels are built exactly as before (bit-identical images)
+  if (s.mis != Mis::none) o += fmt::format(" -DNF_MIS={}", s.mis == Mis::balance ? NF_MIS_BALANCE : NF_MIS_POWER);
+  return o;
 }
 
 int Sampler::lanes(const SamplingSettings& s) const {
@@ -518,6 +521,42 @@ std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, co
   cl::call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(NfSampleDebug), v.data()); },
            "debug_samples: reading");
   return v;
+}
+
+std::vector<glm::vec2> Sampler::debug_pdf(const DeviceLuminaire& lum, const NfSurface& surface,
+                                          const std::vector<glm::vec3>& dirs, const SamplingSettings& s,
+                                          const NfInstance& instance) {
+  s.validate();
+  const int n = static_cast<int>(dirs.size());
+  if (n < 1) return {};
+  const std::string opts = build_options(s, lum.has_chroma(), false, 1);
+  NfSampleParams p = params(s, lum, 1, 0);
+  ::cl::Buffer surf = upload_surfaces(rt_, {surface});
+  std::vector<glm::vec4> in(dirs.size());
+  for (std::size_t i = 0; i < dirs.size(); ++i) in[i] = glm::vec4(dirs[i], 0.0f);
+  ::cl::Buffer din, out;
+  cl::call(
+      [&] {
+        din = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(glm::vec4),
+                           in.data());
+        out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, in.size() * sizeof(glm::vec4));
+      },
+      "debug_pdf: buffers");
+  LightInstance li;
+  li.luminaire = &lum;
+  li.instance = instance;
+  ::cl::Kernel& k = kernel("lf_debug_pdf", opts);
+  set_common(k, p, li, surf);
+  k.setArg(kSpecificArgs, din);
+  k.setArg(kSpecificArgs + 1, n);
+  k.setArg(kSpecificArgs + 2, out);
+  rt_.launch(k, global_range(n, 1), local_range(k));
+  std::vector<glm::vec4> v(in.size());
+  cl::call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(glm::vec4), v.data()); },
+           "debug_pdf: reading");
+  std::vector<glm::vec2> r(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) r[i] = glm::vec2(v[i].x, v[i].y);
+  return r;
 }
 
 }  // namespace nf::render

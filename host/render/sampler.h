@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "cl/runtime.h"
@@ -93,6 +95,13 @@ class Sampler {
   std::vector<NfSampleDebug> debug_samples(const DeviceLuminaire& lum, const NfSurface& surface, int m, int n,
                                            const SamplingSettings& settings,
                                            const NfInstance& instance = identity_instance());
+
+  // Debug (tests, docs/mis.md): the light strategy's mixture density p_L(w) = sum_m c_m p_m(w) / sum_m c_m
+  // (1/sr) at one surface for unit directions w (surfaces' frame, towards the light), as the MIS
+  // kernels evaluate it (kernels/common/lf_mis.h); {p_L, sum_m c_m} per direction.
+  std::vector<glm::vec2> debug_pdf(const DeviceLuminaire& lum, const NfSurface& surface,
+                                   const std::vector<glm::vec3>& dirs, const SamplingSettings& settings,
+                                   const NfInstance& instance = identity_instance());
 
   // The -D options the kernels are built with for these settings.
   static std::string build_options(const SamplingSettings& s, bool chroma, bool visibility, int lanes);

@@ -29,6 +29,7 @@ constexpr Table<Balance, 3> kBalances{
 constexpr Table<SearchKind, 2> kSearches{{{SearchKind::secant, "secant"}, {SearchKind::binary, "binary"}}};
 constexpr Table<Structure, 2> kStructures{{{Structure::per_image, "per-image"}, {Structure::fused, "fused"}}};
 constexpr Table<LightSelection, 2> kSelections{{{LightSelection::all, "all"}, {LightSelection::flat, "flat"}}};
+constexpr Table<Mis, 3> kMis{{{Mis::none, "none"}, {Mis::balance, "balance"}, {Mis::power, "power"}}};
 
 template <typename E, std::size_t N>
 std::string name_of(const Table<E, N>& t, E v) {
@@ -60,6 +61,7 @@ std::string to_string(Balance v) { return name_of(kBalances, v); }
 std::string to_string(SearchKind v) { return name_of(kSearches, v); }
 std::string to_string(Structure v) { return name_of(kStructures, v); }
 std::string to_string(LightSelection v) { return name_of(kSelections, v); }
+std::string to_string(Mis v) { return name_of(kMis, v); }
 
 Method parse_method(const std::string& s, const std::string& what) { return parse_of(kMethods, s, what); }
 SamplerKind parse_sampler(const std::string& s, const std::string& what) { return parse_of(kSamplers, s, what); }
@@ -69,6 +71,7 @@ Structure parse_structure(const std::string& s, const std::string& what) { retur
 LightSelection parse_light_selection(const std::string& s, const std::string& what) {
   return parse_of(kSelections, s, what);
 }
+Mis parse_mis(const std::string& s, const std::string& what) { return parse_of(kMis, s, what); }
 
 std::vector<std::string> method_names() { return names_of(kMethods); }
 std::vector<std::string> sampler_names() { return names_of(kSamplers); }
@@ -76,6 +79,7 @@ std::vector<std::string> balance_names() { return names_of(kBalances); }
 std::vector<std::string> search_names() { return names_of(kSearches); }
 std::vector<std::string> structure_names() { return names_of(kStructures); }
 std::vector<std::string> light_selection_names() { return names_of(kSelections); }
+std::vector<std::string> mis_names() { return names_of(kMis); }
 
 void SamplingSettings::validate() const {
   if (spp < 1) fail(fmt::format("sampling: spp (K) must be >= 1, got {}", spp));
@@ -87,17 +91,23 @@ void SamplingSettings::validate() const {
     fail(fmt::format("sampling: roulette_block must be 1..1024, got {}", roulette_block));
   if (surface_shuffle < 0 || surface_shuffle > 20)
     fail(fmt::format("sampling: surface_shuffle must be 0..20, got {}", surface_shuffle));
+  if (mis != Mis::none && method == Method::paper)
+    fail(fmt::format("sampling: mis {} needs the light strategy's density, which method paper does not have "
+                     "(use ours, ours-equal, uniform, uniform-equal or global; docs/mis.md)",
+                     to_string(mis)));
   if (pixel_cache_mib < 0 || pixel_cache_mib > 1048576)
     fail(fmt::format("sampling: pixel_cache must be 0..1048576 MiB, got {}", pixel_cache_mib));
 }
 
 std::string SamplingSettings::describe() const {
-  return fmt::format("method={} sampler={} balance={} search={} depth={} structure={} K={} K_max={} seed={} frame={} "
-                     "light_selection={}",
-                     to_string(method), to_string(sampler), to_string(balance), to_string(search),
-                     search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure),
-                     spp, k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame,
-                     to_string(light_selection));
+  std::string d = fmt::format(
+      "method={} sampler={} balance={} search={} depth={} structure={} K={} K_max={} seed={} frame={} "
+      "light_selection={}",
+      to_string(method), to_string(sampler), to_string(balance), to_string(search),
+      search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure), spp,
+      k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame, to_string(light_selection));
+  if (mis != Mis::none) d += " mis=" + to_string(mis);
+  return d;
 }
 
 }  // namespace nf::render

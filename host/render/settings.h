@@ -19,6 +19,8 @@ enum class Structure { per_image, fused };
 // Many instances (docs/sampling.md "Light selection"): every instance at every pixel (`all`), or one
 // instance per pixel and frame drawn with probability q_i(p) from a flat per-pixel CDF (`flat`).
 enum class LightSelection { all, flat };
+// MIS of the light-field samples with BRDF samples (docs/mis.md): off, balance or power heuristic.
+enum class Mis { none, balance, power };
 
 std::string to_string(Method v);
 std::string to_string(SamplerKind v);
@@ -26,6 +28,7 @@ std::string to_string(Balance v);
 std::string to_string(SearchKind v);
 std::string to_string(Structure v);
 std::string to_string(LightSelection v);
+std::string to_string(Mis v);
 
 // Parse the names printed by to_string ("halton-scrambled", "per-image"; '_' is accepted for
 // '-'). Unknown names throw nf::Error listing the valid ones, prefixed by `what` (e.g. "--method").
@@ -35,6 +38,7 @@ Balance parse_balance(const std::string& s, const std::string& what = "balance")
 SearchKind parse_search(const std::string& s, const std::string& what = "search");
 Structure parse_structure(const std::string& s, const std::string& what = "structure");
 LightSelection parse_light_selection(const std::string& s, const std::string& what = "light_selection");
+Mis parse_mis(const std::string& s, const std::string& what = "mis");
 
 std::vector<std::string> method_names();
 std::vector<std::string> sampler_names();
@@ -42,6 +46,7 @@ std::vector<std::string> balance_names();
 std::vector<std::string> search_names();
 std::vector<std::string> structure_names();
 std::vector<std::string> light_selection_names();
+std::vector<std::string> mis_names();
 
 struct SamplingSettings {
   Method method = Method::ours;
@@ -49,6 +54,9 @@ struct SamplingSettings {
   Balance balance = Balance::roulette;                  // unbiased default (docs/sampling.md); see docs/sampling.md
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
+  // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,
+  // combined by that heuristic (docs/mis.md). Not with method paper (its density is not Y_m / A_m).
+  Mis mis = Mis::none;
   int spp = 200;                           // K of Eq. 12, >= 1
   int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
   int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)

@@ -137,6 +137,11 @@ std::vector<Setting> declare() {
           "structure", "structure", {"per-image", "fused"}, "luminaires", R,
           "per-image Step 1/2 passes (paper) or one fused pass", [](auto& r) -> auto& { return r.structure; }),
       choice(
+          "mis", "mis", {"none", "balance", "power"}, "luminaires", R,
+          "multiple importance sampling of the light-field samples with BRDF samples on glossy surfaces "
+          "(ggx, kurt: K more directions per pixel): none, balance or power heuristic (docs/mis.md)",
+          [](auto& r) -> auto& { return r.mis; }),
+      choice(
           "visibility", "visibility", {"none", "shadowmaps"}, "frame", S0,
           "luminaire visibility: none or shadow maps at the reference light positions",
           [](auto& r) -> auto& { return r.visibility; }),

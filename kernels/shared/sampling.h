@@ -27,6 +27,11 @@
 #define NF_SEARCH_SECANT 0 /* regula falsi, Illinois modification, stops on one linear piece */
 #define NF_SEARCH_BINARY 1 /* bisection on the pixel edges */
 
+/* MIS of the light-field strategy with BRDF sampling (docs/mis.md), -DNF_MIS=... */
+#define NF_MIS_NONE 0    /* light samples only (the estimator of Eq. 14 as it is) */
+#define NF_MIS_BALANCE 1 /* balance heuristic (Veach 1995) */
+#define NF_MIS_POWER 2   /* power heuristic, beta = 2 */
+
 /* Halton base 3 is evaluated from a table of the radical inverses of 0 .. 3^10 - 1. */
 #define NF_HALTON3_TABLE 59049
 
