@@ -106,7 +106,7 @@ __kernel void env_pyramid_down(__global float4* pyr, __global const int4* lv, in
           const int side = f.z, cx = clamp(tx, 0, side - 1), cy = clamp(ty, 0, side - 1);
           const float3 wd = nf_paraboloid_dir(
               (float2)(((float)cx + 0.5f) / (float)side, ((float)cy + 0.5f) / (float)side), hf);
-          om = nf_paraboloid_jacobian(fabs(wd.y));
+          om = nf_paraboloid_jacobian(hf ? -wd.y : wd.y); /* sigma w_y: < 0 in the rim */
           t = nf_par_texel(pyr, lv, src, hf, tx, ty);
         } else {
           om = env_row_omega(ty, f.z);
@@ -640,10 +640,15 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
          as a solid angle 4^l J(v) / (W H) for the lookup's own parametrisation; the density in
          the denominator is filtered with the same kernel (Eq. 5): pbar = p_uv(uv, l) / J(v) */
       const float2 uv = nf_latlong_uv(nf_env_to_map(l, rot));
-      const float lev = env_integral_level(pyr, lv, levels, uv, k_bias * inv_n);
+      /* the horizon cap of env_filtered applied to the kernel itself, so that numerator and
+         denominator stay filtered alike (in lat-long levels; below 0 both read the point values) */
+      const float side0 = fmax(NF_PI / (float)l0.z, 2.0f * NF_PI * sin(NF_PI * uv.y) / (float)l0.y);
+      const float cap = log2(fmax(asin(clamp(dot(n, l), 0.0f, 1.0f)), 1e-30f) / (4.0f * side0));
+      const float lev = fmin(env_integral_level(pyr, lv, levels, uv, k_bias * inv_n), cap);
       const float jl = nf_latlong_jacobian(uv.y);
       const float3 L = env_filtered(&m, l, exp2(2.0f * lev) * jl / ((float)l0.y * (float)l0.z), dot(n, l));
-      pdf = nf_pyr_trilinear(pyr, lv, levels, uv, lev).w / fmax(jl, 1e-20f);
+      const float pbar = nf_pyr_trilinear(pyr, lv, levels, uv, fmax(lev, 0.0f)).w;
+      pdf = (lev < 0.0f ? mix(puv[texel], pbar, clamp(lev + 1.0f, 0.0f, 1.0f)) : pbar) / fmax(jl, 1e-20f);
       if (!(pdf > 0.0f) || !isfinite(pdf)) continue;
 #endif
 #else
