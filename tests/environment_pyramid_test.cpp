@@ -170,7 +170,9 @@ TEST(EnvironmentPyramid, LevelsKeepTheIntegral) {
             ASSERT_NEAR(got[c], want[c], 2e-5 * want[c]) << size.x << "x" << size.y << " level " << k << " ch " << c;
         }
       }
-      if (filter != "box") EXPECT_LT(worst, 0.5 * worst_old) << filter;
+      if (filter != "box") {
+        EXPECT_LT(worst, 0.5 * worst_old) << filter;
+      }
       std::printf("%dx%d %s: largest relative difference of a level's integral %.2e\n", size.x, size.y,
                   filter.c_str(), worst);
     }
