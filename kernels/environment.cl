@@ -192,29 +192,27 @@ typedef struct {
    (a footprint reaching the horizon) diverges, c = 1/4 overweights by 7 %. So the level is capped
    where the footprint reaches a quarter of the way to the horizon,
      level <= log2(e / (4 s_0)),   s_0 = the level-0 texel's longer side (rad),
-   and below level 0 the lookup goes from bilinear to the texel holding l (the map itself, as mc
+   evaluated with sin e = nl in place of e (more conservative, no asin), and below level 0 the lookup goes from bilinear to the texel holding l (the map itself, as mc
    and the reference read it) over one level. nl = 1 disables the cap (regular sampling). */
 static float3 env_filtered(const EnvMap* m, float3 l, float omega, float nl) {
   const float3 w = nf_env_to_map(l, m->rot);
-  const float e = asin(clamp(nl, 0.0f, 1.0f));
 #if NF_ENV_PARAM == 1
   int hf;
   const float2 uv = nf_paraboloid_uv(w, &hf);
   const float side = (float)m->flv[0].z;
   const float texel = nf_paraboloid_jacobian(fabs(w.y)) / (side * side);
+  const float side0 = sqrt(texel); /* a paraboloid texel is square to within 2x */
 #else
   const float2 uv = nf_latlong_uv(w);
   const int4 l0 = m->flv[0];
-  const float texel = fmax(nf_latlong_jacobian(uv.y), 1e-20f) / ((float)l0.y * (float)l0.z);
+  const float jac = nf_latlong_jacobian(uv.y);
+  const float texel = fmax(jac, 1e-20f) / ((float)l0.y * (float)l0.z);
+  /* a lat-long texel is pi / H tall and 2 pi sin(t) / W = J / (pi W) wide: its longer side */
+  const float side0 = fmax(NF_PI / (float)l0.z, jac / (NF_PI * (float)l0.y));
 #endif
-#if NF_ENV_PARAM == 1
-  const float side0 = sqrt(texel); /* a paraboloid texel is square to within 2x */
-#else
-  /* a lat-long texel is pi / H tall and 2 pi sin(t) / W wide: its longer side */
-  const float side0 = fmax(NF_PI / (float)l0.z, 2.0f * NF_PI * sin(NF_PI * uv.y) / (float)l0.y);
-#endif
-  const float horizon = log2(fmax(e, 1e-30f) / (4.0f * side0));
-  const float level = fmin(0.5f * log2(fmax(omega / texel, 1.0f)), horizon);
+  /* e >= sin e = nl: the cap with nl in place of e is (slightly) more conservative, one log2 */
+  const float e4 = clamp(nl, 0.0f, 1.0f) / (4.0f * side0);
+  const float level = 0.5f * log2(fmax(fmin(fmax(omega / texel, 1.0f), e4 * e4), 1e-30f));
 #if NF_ENV_PARAM == 1
   float3 r = nf_par_trilinear(m->fpyr, m->flv, m->flevels, hf, uv, level).xyz;
   if (level < 0.0f) {
@@ -643,7 +641,7 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       /* the horizon cap of env_filtered applied to the kernel itself, so that numerator and
          denominator stay filtered alike (in lat-long levels; below 0 both read the point values) */
       const float side0 = fmax(NF_PI / (float)l0.z, 2.0f * NF_PI * sin(NF_PI * uv.y) / (float)l0.y);
-      const float cap = log2(fmax(asin(clamp(dot(n, l), 0.0f, 1.0f)), 1e-30f) / (4.0f * side0));
+      const float cap = log2(fmax(clamp(dot(n, l), 0.0f, 1.0f), 1e-30f) / (4.0f * side0));
       const float lev = fmin(env_integral_level(pyr, lv, levels, uv, k_bias * inv_n), cap);
       const float jl = nf_latlong_jacobian(uv.y);
       const float3 L = env_filtered(&m, l, exp2(2.0f * lev) * jl / ((float)l0.y * (float)l0.z), dot(n, l));
