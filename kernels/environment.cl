@@ -192,8 +192,9 @@ typedef struct {
    (a footprint reaching the horizon) diverges, c = 1/4 overweights by 7 %. So the level is capped
    where the footprint reaches a quarter of the way to the horizon,
      level <= log2(e / (4 s_0)),   s_0 = the level-0 texel's longer side (rad),
-   evaluated with sin e = nl in place of e (more conservative, no asin), and below level 0 the lookup goes from bilinear to the texel holding l (the map itself, as mc
-   and the reference read it) over one level. nl = 1 disables the cap (regular sampling). */
+   evaluated with sin e = nl in place of e (more conservative, no asin), and below level 0 the
+   lookup goes from bilinear to the texel holding l (the map itself, as mc and the reference read
+   it) over one level. nl = 1 disables the cap (regular sampling). */
 static float3 env_filtered(const EnvMap* m, float3 l, float omega, float nl) {
   const float3 w = nf_env_to_map(l, m->rot);
 #if NF_ENV_PARAM == 1

@@ -104,8 +104,7 @@ TEST(EnvironmentHorizon, LambertPlaneDiffuse) {
   rs.env_diffuse = "sh";
   const Stats sh = stats(nf::envtest::shade(env, s, rs));
   const double want_sh = rho * sh_irradiance_up() / kPi;
-  std::printf("sh %.6f, its order-2 value %.6f (%+.3f %% from exact)\n", sh.mean, want_sh,
-              100 * (want_sh / want - 1));
+  std::printf("sh %.6f, its order-2 value %.6f (%+.3f %% from exact)\n", sh.mean, want_sh, 100 * (want_sh / want - 1));
   EXPECT_LT(std::abs(mc.mean - want), 4.5 * mc.se);
   EXPECT_NEAR(sh.mean, want_sh, 1e-4 * want_sh);
 }
@@ -168,13 +167,13 @@ TEST(EnvironmentHorizon, GlossyPlane) {
   const auto map = band_map();
   nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
   const dvec3 n(0, 1, 0), base(0.5);
-  for (const GlossyCase& c : {GlossyCase{0.15, 1.0, {0, 0.3, 1}}, GlossyCase{0.3, 1.0, {0, 0.3, 1}},
-                              GlossyCase{0.7, 1.0, {0, 0.3, 1}}, GlossyCase{0.3, 0.0, {0, 0.2, 1}},
-                              GlossyCase{0.7, 0.0, {0.3, 0.6, 0.7}}}) {
+  for (const GlossyCase& c :
+       {GlossyCase{0.15, 1.0, {0, 0.3, 1}}, GlossyCase{0.3, 1.0, {0, 0.3, 1}}, GlossyCase{0.7, 1.0, {0, 0.3, 1}},
+        GlossyCase{0.3, 0.0, {0, 0.2, 1}}, GlossyCase{0.7, 0.0, {0.3, 0.6, 0.7}}}) {
     const dvec3 v = glm::normalize(c.v);
     const double want = nf::envtest::quadrature(map, 16, [&](dvec3 l) {
-      return nf::envtest::brdf_cos(true, n, v, l, c.roughness, c.metallic, base);
-    }).y;
+                          return nf::envtest::brdf_cos(true, n, v, l, c.roughness, c.metallic, base);
+                        }).y;
     const std::vector<NfSurface> s(1024, nf::envtest::surface(n, v, NF_BRDF_GGX, c.roughness, c.metallic, base));
     for (const std::string g : {"mc", "fis", "fis-rotated", "env-is", "env-fis", "regular"}) {
       nf::scene::RenderSettings rs;
@@ -217,14 +216,15 @@ dvec3 smooth_sky(dvec3 d) {
   return dvec3(d.y >= 0 ? 0.2 + 0.8 * (1 - d.y) * (1 - d.y) : 0.1 + 0.9 * std::pow(1 + d.y, 4.0));
 }
 
-FrameResult floor_frame(const std::string& material, const std::string& diffuse, const std::string& glossy,
-                        int samples, int frames, bool smooth) {
+FrameResult floor_frame(const std::string& material, const std::string& diffuse, const std::string& glossy, int samples,
+                        int frames, bool smooth) {
   const auto dir = nf::testing::temp_dir("env_horizon");
   const auto map = smooth ? nf::envtest::make_map(kW, kH, 0.0, smooth_sky) : band_map();
   nf::Image img(kW, kH, 3);
   for (int r = 0; r < kH; ++r)
     for (int a = 0; a < kW; ++a)
-      for (int c = 0; c < 3; ++c) img.at(a, r, c) = static_cast<float>(map.texels()[static_cast<std::size_t>(r) * kW + a][c]);
+      for (int c = 0; c < 3; ++c)
+        img.at(a, r, c) = static_cast<float>(map.texels()[static_cast<std::size_t>(r) * kW + a][c]);
   nf::write_exr(dir / "band.exr", img);
   const auto scene = nf::scene::parse_scene(fmt::format(R"({{
     "camera": {{ "position": [0, 0.6, 3], "target": [0, 0, -2], "fov_y": 50, "resolution": [48, 27] }},
@@ -261,8 +261,8 @@ FrameResult floor_frame(const std::string& material, const std::string& diffuse,
 // The frame (G-buffer, accumulation) against the reference renderer on a 40 x 40 m floor:
 //  - the band map: Lambert (mc diffuse) and GGX 0.3 dielectric with mc diffuse and the BRDF-
 //    sampled glossy methods (fis, fis-rotated, mc; the map-sampled ones are covered per pixel in
-//    GlossyPlane, their frame noise here is several percent), within 3 % + 4.5 standard errors of the reference's mean (the frame's
-//    own noise, 4 frames x N = 32 over ~600 pixels, is well below 1 %). Before: fis +5.6 %;
+//    GlossyPlane, their frame noise here is several percent), within 3 % + 4.5 standard errors of the reference's mean
+//    (the frame's own noise, 4 frames x N = 32 over ~600 pixels, is well below 1 %). Before: fis +5.6 %;
 //  - a smooth sky (no band; order-2 SH is close there): GGX 0.3 dielectric with the defaults
 //    (sh diffuse, fis), 3 %. Before: -24 % (the diffuse term's F taken at n.v, which is ~1 at the
 //    floor's grazing views; now the pre-integrated diffuse Fresnel).
@@ -308,22 +308,24 @@ FrameResult scene_frame(const std::string& json, int frames) {
 
 TEST(EnvironmentHorizon, DISABLED_Probe) {
   const std::string floor = R"({ "name": "floor", "type": "plane", "size": [8, 8], "material": "floor" })";
-  const std::string ball = R"({ "name": "ball", "type": "sphere", "radius": 0.5, "material": "ball", "transform": { "translate": [0, 0.5, 0] } })";
+  const std::string ball =
+      R"({ "name": "ball", "type": "sphere", "radius": 0.5, "material": "ball", "transform": { "translate": [0, 0.5, 0] } })";
   for (const char* h : {"venice_sunset_1k", "studio_small_03_1k", "st_fagans_interior_1k", "dikhololo_night_1k"})
-  for (const auto& [objs, name] : {std::pair{floor, "floor"}, std::pair{floor + "," + ball, "both"}})
-    for (const char* diffuse : {"sh", "mc"}) {
-      const std::string hdri = std::string(NEARFIELD_SHARED_DATA "/hdri/") + h + ".hdr";
-      const std::string json = fmt::format(R"({{
+    for (const auto& [objs, name] : {std::pair{floor, "floor"}, std::pair{floor + "," + ball, "both"}})
+      for (const char* diffuse : {"sh", "mc"}) {
+        const std::string hdri = std::string(NEARFIELD_SHARED_DATA "/hdri/") + h + ".hdr";
+        const std::string json = fmt::format(R"({{
   "camera": {{ "position": [0, 1.4, 3.2], "target": [0, 0.3, 0], "fov_y": 45, "resolution": [80, 45] }},
   "materials": {{ "floor": {{ "type": "lambert", "base_color": [0.6, 0.6, 0.6] }},
                   "ball": {{ "type": "lambert", "base_color": [0.8, 0.8, 0.8] }} }},
   "objects": [ {} ],
   "environment": {{ "file": "{}", "rotation": 0, "intensity": 1 }},
-  "render": {{ "env_diffuse": "{}", "env_samples": 64 }} }})", objs, hdri, diffuse);
-      const FrameResult f = scene_frame(json, 4);
-      std::printf("%-22s %-6s diffuse %-3s rt %.5f ref %.5f +- %.5f (%+.2f %%)\n", h, name, diffuse, f.rt, f.ref, f.ref_se,
-                  100 * (f.rt / f.ref - 1));
-    }
+  "render": {{ "env_diffuse": "{}", "env_samples": 64 }} }})",
+                                             objs, hdri, diffuse);
+        const FrameResult f = scene_frame(json, 4);
+        std::printf("%-22s %-6s diffuse %-3s rt %.5f ref %.5f +- %.5f (%+.2f %%)\n", h, name, diffuse, f.rt, f.ref,
+                    f.ref_se, 100 * (f.rt / f.ref - 1));
+      }
 }
 
 TEST(EnvironmentHorizon, DISABLED_ProbeGlossyFloor) {
@@ -336,7 +338,8 @@ TEST(EnvironmentHorizon, DISABLED_ProbeGlossyFloor) {
   "materials": {{ "m": {{ "type": "ggx", "base_color": [0.5, 0.5, 0.5], "metallic": 0, "roughness": {} }} }},
   "objects": [ {{ "name": "floor", "type": "plane", "size": [40, 40], "material": "m" }} ],
   "environment": {{ "file": "{}", "rotation": 0, "intensity": 1 }},
-  "render": {{ "env_diffuse": "{}", "env_glossy": "{}", "env_samples": 64 }} }})", rough, hdri, diffuse, glossy);
+  "render": {{ "env_diffuse": "{}", "env_glossy": "{}", "env_samples": 64 }} }})",
+                                             rough, hdri, diffuse, glossy);
         const FrameResult f = scene_frame(json, 2);
         std::printf("%-22s r %.2f %-3s %-4s rt %.5f ref %.5f +- %.5f (%+.2f %%)\n", h, rough, diffuse, glossy, f.rt,
                     f.ref, f.ref_se, 100 * (f.rt / f.ref - 1));
@@ -351,7 +354,8 @@ TEST(EnvironmentHorizon, DISABLED_ProbeSphere) {
   "camera": {{ "position": [0, 0, 3.2], "target": [0, 0, 0], "fov_y": 40, "resolution": [80, 45] }},
   "materials": {{ "m": {{ "type": "ggx", "base_color": [0.9, 0.9, 0.9], "metallic": 1, "roughness": {} }} }},
   "objects": [ {{ "name": "sphere", "type": "sphere", "radius": 1, "segments": 96, "rings": 48, "material": "m" }} ],
-  "environment": {{ "file": "{}", "rotation": 0, "intensity": 1 }} }})", rough, hdri);
+  "environment": {{ "file": "{}", "rotation": 0, "intensity": 1 }} }})",
+                                           rough, hdri);
       const FrameResult f = scene_frame(json, 1);
       std::printf("%-22s r %.2f defaults rt %.5f ref %.5f +- %.5f (%+.2f %%)\n", h, rough, f.rt, f.ref, f.ref_se,
                   100 * (f.rt / f.ref - 1));

@@ -115,7 +115,8 @@ void check_paraboloid(const std::string& filter) {
           for (int a = 0; a < n; ++a) {
             const int tx = std::clamp(2 * lx + o + a, 0, sb - 1), ty = std::clamp(2 * y + o + b, 0, sb - 1);
             const dvec3 w = par_dir((tx + 0.5) / sb, (ty + 0.5) / sb, h);
-            const double wt = (n == 6 ? g6[a] * g6[b] : bx[a] * bx[b]) * 4 * kB * kB * std::pow(1 + (h ? -w.y : w.y), 2);
+            const double wt =
+                (n == 6 ? g6[a] * g6[b] : bx[a] * bx[b]) * 4 * kB * kB * std::pow(1 + (h ? -w.y : w.y), 2);
             want += wt * dvec4(below[static_cast<std::size_t>(ty * 2 * sb + h * sb + tx)]);
             wsum += wt;
           }

@@ -134,7 +134,8 @@ TEST(EnvironmentPyramid, LevelsKeepTheIntegral) {
     const dvec3 want0 = [&] {
       dvec3 s(0.0);
       for (int y = 0; y < lh; ++y)
-        for (int x = 0; x < lw; ++x) s += lev[static_cast<std::size_t>(y) * lw + x] * (2.0 * kPi / lw * band(y, y + 1, lh));
+        for (int x = 0; x < lw; ++x)
+          s += lev[static_cast<std::size_t>(y) * lw + x] * (2.0 * kPi / lw * band(y, y + 1, lh));
       return s;
     }();
     double worst_old = 0;
@@ -155,8 +156,7 @@ TEST(EnvironmentPyramid, LevelsKeepTheIntegral) {
       lw = nw;
       lh = nh;
     }
-    std::printf("%dx%d texel means (before issue 29): largest relative difference %.2e\n", size.x, size.y,
-                worst_old);
+    std::printf("%dx%d texel means (before issue 29): largest relative difference %.2e\n", size.x, size.y, worst_old);
     for (const std::string filter : {"box", "gauss4", "gauss6"}) {
       nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
       env.set_filter(filter);
@@ -173,8 +173,8 @@ TEST(EnvironmentPyramid, LevelsKeepTheIntegral) {
       if (filter != "box") {
         EXPECT_LT(worst, 0.5 * worst_old) << filter;
       }
-      std::printf("%dx%d %s: largest relative difference of a level's integral %.2e\n", size.x, size.y,
-                  filter.c_str(), worst);
+      std::printf("%dx%d %s: largest relative difference of a level's integral %.2e\n", size.x, size.y, filter.c_str(),
+                  worst);
     }
   }
 }

@@ -45,8 +45,10 @@ TEST(VsglEnergy, OneBounceTotalOnTheWall) {
   };
   for (const Case& c :
        {Case{"lambert", R"({ "type": "lambert", "base_color": [1, 1, 1] })", true},
-        Case{"ggx dielectric 0.5", R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0.5 })", true},
-        Case{"ggx metal 0.5", R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 1, "roughness": 0.5 })", false}}) {
+        Case{"ggx dielectric 0.5", R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0.5 })",
+             true},
+        Case{"ggx metal 0.5", R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 1, "roughness": 0.5 })",
+             false}}) {
     const scene::Scene sc = render_test::parse(scene(c.floor));
     ref::ReferenceSettings rs;
     rs.spp = 1024;
@@ -82,8 +84,8 @@ TEST(VsglEnergy, OneBounceTotalOnTheWall) {
     ASSERT_GT(n, 100);
     ASSERT_GT(want, 0.0);
     const double se = std::sqrt(var) / want;
-    std::printf("  %-20s VSGL / reference one-bounce total on the wall: %.4f (reference se %.4f)\n", c.name,
-                got / want, se);
+    std::printf("  %-20s VSGL / reference one-bounce total on the wall: %.4f (reference se %.4f)\n", c.name, got / want,
+                se);
     if (c.assert_it) {
       EXPECT_LT(std::abs(got / want - 1.0), 0.05 + 4.5 * se) << c.name;
     }
