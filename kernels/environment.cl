@@ -17,6 +17,7 @@
 #define NF_LANES 1
 #include "common/brdf.h"
 #include "common/material.h"
+#include "common/diffuse_fresnel.h"
 #include "common/pyramid.h"
 #include "common/random.h"
 #include "common/sh.h"
@@ -42,30 +43,83 @@
 #define NF_ENV_BACKGROUND 1
 #endif
 
-/* One pyramid level from the one below (docs/environment.md, "Pyramid"); weights over texels, not
-   solid angle. Separable filters centred on the coarse texel's centre (fine 2x + 1/2), per axis:
-     filter 0, box:    taps 2x .. 2x + 1,     weights (1, 1) / 2;
-     filter 1, gauss4: taps 2x - 1 .. 2x + 2, weights (1, 3, 3, 1) / 8;
-     filter 2, gauss6: taps 2x - 2 .. 2x + 3, weights (1, 5, 10, 10, 5, 1) / 32.
-   param 0, lat-long: taps wrap in u and clamp in v (odd sizes repeat their last row);
+/* One pyramid level from the one below (docs/environment.md, "Pyramid"). The radiance (.xyz) is
+   averaged with the texels' solid angles, so that a coarse texel holds the mean radiance over the
+   directions it covers and every level integrates to the map's integral:
+     L_c = sum_i w_i Omega_i L_i / sum_i w_i Omega_i,
+   Omega_i the fine texel's solid angle (lat-long: proportional to cos t0 - cos t1 of its row,
+   written 2 sin(mid) sin(half-height) so that polar rows keep their digits; paraboloid: J at its
+   centre). The density .w (lat-long: p_uv, a density per unit (u, v)) is averaged with (u, v)
+   area instead, as the env-fis integral kernel reads it (mass = area x mean density).
+     filter 0, box: the coarse texel's footprint [x W_f / W_c, (x + 1) W_f / W_c] x [y H_f / H_c,
+       (y + 1) H_f / H_c] in fine texels, each fine texel weighted by its overlap (2 x 2 texels for
+       even sizes; odd sizes split the shared texel, so no row or column is dropped). With exact
+       weights, sum_c Omega_c L_c = sum_i Omega_i L_i for every level (tested);
+     filter 1, gauss4: taps 2x - 1 .. 2x + 2, weights (1, 3, 3, 1) / 8 per axis, times Omega;
+     filter 2, gauss6: taps 2x - 2 .. 2x + 3, weights (1, 5, 10, 10, 5, 1) / 32 per axis, times Omega.
+   param 0, lat-long: taps wrap in u and clamp in v;
    param 1, paraboloid: level k is two S_k x S_k halves side by side, taps clamp inside the half. */
+static float env_row_omega(int r, int h) { /* cos(pi r / h) - cos(pi (r + 1) / h), r clamped */
+  r = clamp(r, 0, h - 1);
+  return 2.0f * sin(NF_PI * ((float)r + 0.5f) / (float)h) * sin(0.5f * NF_PI / (float)h);
+}
+
 __kernel void env_pyramid_down(__global float4* pyr, __global const int4* lv, int src, int filter, int param) {
   const int x = get_global_id(0), y = get_global_id(1);
-  const int4 d = lv[src + 1];
+  const int4 d = lv[src + 1], f = lv[src];
   if (x >= d.y || y >= d.z) return;
-  const float box[2] = {0.5f, 0.5f};
-  const float g4[4] = {0.125f, 0.375f, 0.375f, 0.125f};
-  const float g6[6] = {0.03125f, 0.15625f, 0.3125f, 0.3125f, 0.15625f, 0.03125f};
-  const int n = filter == 2 ? 6 : (filter == 1 ? 4 : 2), o = filter == 2 ? -2 : (filter == 1 ? -1 : 0);
-  const int hf = param == 1 ? x / d.z : 0, lx = param == 1 ? x - hf * d.z : x;
-  float4 s = (float4)(0.0f);
-  for (int b = 0; b < n; ++b)
-    for (int a = 0; a < n; ++a) {
-      const float w = filter == 2 ? g6[a] * g6[b] : (filter == 1 ? g4[a] * g4[b] : box[a] * box[b]);
-      const int tx = 2 * lx + o + a, ty = 2 * y + o + b;
-      s += w * (param == 1 ? nf_par_texel(pyr, lv, src, hf, tx, ty) : nf_pyr_texel(pyr, lv, src, tx, ty));
+  float3 s = (float3)(0.0f);
+  float sw = 0.0f, dens = 0.0f, dw = 0.0f;
+  if (filter == 0 && param == 0) {
+    /* overlap of fine texel r with [y H_f, (y + 1) H_f] / H_c, in units of 1 / H_c fine rows */
+    const int ya = y * f.z, yb = (y + 1) * f.z, xa = x * f.y, xb = (x + 1) * f.y;
+    for (int r = ya / d.z; r * d.z < yb; ++r) {
+      const int oa = max(r * d.z, ya), ob = min((r + 1) * d.z, yb);
+      if (ob <= oa) continue;
+      /* the overlap band's cos t0 - cos t1 = 2 sin(pi mid / H_f) sin(pi half / H_f) */
+      const float mid = 0.5f * (float)(oa + ob) / (float)d.z, hh = 0.5f * (float)(ob - oa) / (float)d.z;
+      const float om = 2.0f * sin(NF_PI * mid / (float)f.z) * sin(NF_PI * hh / (float)f.z);
+      const float av = (float)(ob - oa);
+      for (int c = xa / d.y; c * d.y < xb; ++c) {
+        const int pa = max(c * d.y, xa), pb = min((c + 1) * d.y, xb);
+        if (pb <= pa) continue;
+        const float au = (float)(pb - pa);
+        const float4 t = nf_pyr_texel(pyr, lv, src, c, r);
+        s += (au * om) * t.xyz;
+        sw += au * om;
+        dens += au * av * t.w;
+        dw += au * av;
+      }
     }
-  pyr[d.x + y * d.y + x] = s;
+  } else {
+    const float box[2] = {0.5f, 0.5f};
+    const float g4[4] = {0.125f, 0.375f, 0.375f, 0.125f};
+    const float g6[6] = {0.03125f, 0.15625f, 0.3125f, 0.3125f, 0.15625f, 0.03125f};
+    const int n = filter == 2 ? 6 : (filter == 1 ? 4 : 2), o = filter == 2 ? -2 : (filter == 1 ? -1 : 0);
+    const int hf = param == 1 ? x / d.z : 0, lx = param == 1 ? x - hf * d.z : x;
+    for (int b = 0; b < n; ++b)
+      for (int a = 0; a < n; ++a) {
+        const float w = filter == 2 ? g6[a] * g6[b] : (filter == 1 ? g4[a] * g4[b] : box[a] * box[b]);
+        const int tx = 2 * lx + o + a, ty = 2 * y + o + b;
+        float om;
+        float4 t;
+        if (param == 1) {
+          const int side = f.z, cx = clamp(tx, 0, side - 1), cy = clamp(ty, 0, side - 1);
+          const float3 wd = nf_paraboloid_dir(
+              (float2)(((float)cx + 0.5f) / (float)side, ((float)cy + 0.5f) / (float)side), hf);
+          om = nf_paraboloid_jacobian(hf ? -wd.y : wd.y); /* sigma w_y: < 0 in the rim */
+          t = nf_par_texel(pyr, lv, src, hf, tx, ty);
+        } else {
+          om = env_row_omega(ty, f.z);
+          t = nf_pyr_texel(pyr, lv, src, tx, ty);
+        }
+        s += (w * om) * t.xyz;
+        sw += w * om;
+        dens += w * t.w;
+        dw += w;
+      }
+  }
+  pyr[d.x + y * d.y + x] = (float4)(sw > 0.0f ? s / sw : (float3)(0.0f), dw > 0.0f ? dens / dw : 0.0f);
 }
 
 /* Level 0 of the dual-paraboloid pyramid from level 0 of the lat-long one: each texel is the
@@ -123,25 +177,56 @@ typedef struct {
   int flevels;
 } EnvMap;
 
-/* The filtered radiance around the world direction l over a solid angle omega (sr): the level
-   whose texels span omega, l = log4(omega / Omega_texel), Omega_texel = J / (texels per unit
-   texture area) at l (Krivanek and Colbert 2008 §5.1; docs/environment.md, "Filter size"),
-   clamped to [0, top], trilinear. */
-static float3 env_filtered(const EnvMap* m, float3 l, float omega) {
+/* The filtered radiance around the world direction l over a solid angle omega (sr), for a sample
+   of a surface whose normal makes cos = nl with l: the level whose texels span omega,
+   l = log4(omega / Omega_texel), Omega_texel = J / (texels per unit texture area) at l (Krivanek
+   and Colbert 2008 §5.1; docs/environment.md, "Filter size"), clamped to [0, top], trilinear.
+
+   The surface's horizon (docs/environment.md, "Filtering at the horizon"): f_r cos vanishes like
+   cos = sin e at elevation e above the tangent plane, but a lookup averages L over about one texel
+   side s(level) = 2^level s_0 around l (bilinear taps over the pyramid's box), so a sample near
+   the horizon reads light from below the surface (which f_r cos never weights) and, seen from
+   the other side, the light just above the horizon is read by samples far above it: the mean of
+   the estimator is int (K^T (f_r cos)) L, the lobe blurred by the kernel, and the blurred lobe
+   does not vanish at the horizon. With a footprint radius r(e) = c e, the weight the estimator
+   gives a direction at elevation y under a lobe w(e) ~ a e (the cosine) is a y / (1 - c^2): c = 1
+   (a footprint reaching the horizon) diverges, c = 1/4 overweights by 7 %. So the level is capped
+   where the footprint reaches a quarter of the way to the horizon,
+     level <= log2(e / (4 s_0)),   s_0 = the level-0 texel's longer side (rad),
+   evaluated with sin e = nl in place of e (more conservative, no asin), and below level 0 the
+   lookup goes from bilinear to the texel holding l (the map itself, as mc and the reference read
+   it) over one level. nl = 1 disables the cap (regular sampling). */
+static float3 env_filtered(const EnvMap* m, float3 l, float omega, float nl) {
   const float3 w = nf_env_to_map(l, m->rot);
 #if NF_ENV_PARAM == 1
   int hf;
   const float2 uv = nf_paraboloid_uv(w, &hf);
   const float side = (float)m->flv[0].z;
   const float texel = nf_paraboloid_jacobian(fabs(w.y)) / (side * side);
-  const float level = 0.5f * log2(fmax(omega / texel, 1.0f));
-  return nf_par_trilinear(m->fpyr, m->flv, m->flevels, hf, uv, level).xyz;
+  const float side0 = sqrt(texel); /* a paraboloid texel is square to within 2x */
 #else
   const float2 uv = nf_latlong_uv(w);
   const int4 l0 = m->flv[0];
-  const float texel = fmax(nf_latlong_jacobian(uv.y), 1e-20f) / ((float)l0.y * (float)l0.z);
-  const float level = 0.5f * log2(fmax(omega / texel, 1.0f));
-  return nf_pyr_trilinear(m->fpyr, m->flv, m->flevels, uv, level).xyz;
+  const float jac = nf_latlong_jacobian(uv.y);
+  const float texel = fmax(jac, 1e-20f) / ((float)l0.y * (float)l0.z);
+  /* a lat-long texel is pi / H tall and 2 pi sin(t) / W = J / (pi W) wide: its longer side */
+  const float side0 = fmax(NF_PI / (float)l0.z, jac / (NF_PI * (float)l0.y));
+#endif
+  /* e >= sin e = nl: the cap with nl in place of e is (slightly) more conservative, one log2 */
+  const float e4 = clamp(nl, 0.0f, 1.0f) / (4.0f * side0);
+  const float level = 0.5f * log2(fmax(fmin(fmax(omega / texel, 1.0f), e4 * e4), 1e-30f));
+#if NF_ENV_PARAM == 1
+  float3 r = nf_par_trilinear(m->fpyr, m->flv, m->flevels, hf, uv, level).xyz;
+  if (level < 0.0f) {
+    const int4 q = m->flv[0];
+    const float3 c = nf_par_texel(m->fpyr, m->flv, 0, hf, (int)(uv.x * (float)q.z), (int)(uv.y * (float)q.z)).xyz;
+    r = mix(c, r, clamp(level + 1.0f, 0.0f, 1.0f));
+  }
+  return r;
+#else
+  float3 r = nf_pyr_trilinear(m->fpyr, m->flv, m->flevels, uv, level).xyz;
+  if (level < 0.0f) r = mix(nf_pyr_nearest(m->fpyr, m->flv, 0, uv).xyz, r, clamp(level + 1.0f, 0.0f, 1.0f));
+  return r;
 #endif
 }
 
@@ -363,7 +448,8 @@ static float3 env_regular_lobe(const EnvMap* m, const EnvGlossy* g, int j, __glo
     const float nl = dot(n, l);
     if (!(nl > 0.0f)) continue;
     const float omega = fmin(area * vh / nv, 4.0f * NF_PI);
-    const float3 Lb = env_filtered(m, l, fmax(omega, 1e-12f));
+    /* no horizon cap (nl = 1): the sparse pattern needs the blur between its samples */
+    const float3 Lb = env_filtered(m, l, fmax(omega, 1e-12f), 1.0f);
     float3 f;
     if (g->kind == 1) {
       f = env_specular_cos(n, v, l, g->alpha, g->base, g->metallic);
@@ -482,8 +568,10 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
   }
   float3 lo = (float3)(0.0f);
 #if NF_ENV_DIFFUSE == 0
-  /* SH: the GGX diffuse lobe (1 - F) (1 - metallic) base / pi with F taken at n.v */
-  if (ggx) wd = (1.0f - env_fresnel(base, mat.metallic, dot(n, v))) * (1.0f - mat.metallic) * base;
+  /* SH: the GGX diffuse lobe (1 - F(v.h)) (1 - metallic) base / pi with 1 - F replaced by its
+     cosine-weighted hemispherical mean (common/diffuse_fresnel.h; exact for a constant map) */
+  if (ggx)
+    wd = nf_diffuse_fresnel(mix((float3)(0.04f), base, mat.metallic), dot(n, v)) * (1.0f - mat.metallic) * base;
 #if NF_ENV_VIS
   /* sum_k L_k (V cos)_k, clamped to [0, E(n)] */
   lo += wd * (1.0f / NF_PI) * nf_env_vis_irradiance(lsh16, vis16 + 4 * p, nf_sh9_irradiance(sh, n));
@@ -547,16 +635,21 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       const float3 L = pyr[l0.x + texel].xyz;
 #elif NF_ENV_KERNEL == 0
       /* env-fis, point kernel (Tokuyoshi 2016 Eq. 1): the sample stands for K / (N p) sr */
-      const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf));
+      const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf), dot(n, l));
 #else
       /* env-fis, integral kernel (Tokuyoshi 2016 Eq. 3): the lat-long level holding mass K / N,
          as a solid angle 4^l J(v) / (W H) for the lookup's own parametrisation; the density in
          the denominator is filtered with the same kernel (Eq. 5): pbar = p_uv(uv, l) / J(v) */
       const float2 uv = nf_latlong_uv(nf_env_to_map(l, rot));
-      const float lev = env_integral_level(pyr, lv, levels, uv, k_bias * inv_n);
+      /* the horizon cap of env_filtered applied to the kernel itself, so that numerator and
+         denominator stay filtered alike (in lat-long levels; below 0 both read the point values) */
+      const float side0 = fmax(NF_PI / (float)l0.z, 2.0f * NF_PI * sin(NF_PI * uv.y) / (float)l0.y);
+      const float cap = log2(fmax(clamp(dot(n, l), 0.0f, 1.0f), 1e-30f) / (4.0f * side0));
+      const float lev = fmin(env_integral_level(pyr, lv, levels, uv, k_bias * inv_n), cap);
       const float jl = nf_latlong_jacobian(uv.y);
-      const float3 L = env_filtered(&m, l, exp2(2.0f * lev) * jl / ((float)l0.y * (float)l0.z));
-      pdf = nf_pyr_trilinear(pyr, lv, levels, uv, lev).w / fmax(jl, 1e-20f);
+      const float3 L = env_filtered(&m, l, exp2(2.0f * lev) * jl / ((float)l0.y * (float)l0.z), dot(n, l));
+      const float pbar = nf_pyr_trilinear(pyr, lv, levels, uv, fmax(lev, 0.0f)).w;
+      pdf = (lev < 0.0f ? mix(puv[texel], pbar, clamp(lev + 1.0f, 0.0f, 1.0f)) : pbar) / fmax(jl, 1e-20f);
       if (!(pdf > 0.0f) || !isfinite(pdf)) continue;
 #endif
 #else
@@ -567,7 +660,7 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
       const float3 L = env_l0(&m, l);
 #else
       /* Krivanek and Colbert 2008 §5.1: the sample stands for the solid angle K / (N p) */
-      const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf));
+      const float3 L = env_filtered(&m, l, k_bias / ((float)n_samples * pdf), dot(n, l));
 #endif
 #endif
 #if NF_ENV_VIS

@@ -174,7 +174,8 @@ NF_INLINE float nf_vsgl_mass(__global const float4* pyr, __global const int* off
            point Eq. 4:    w_i = 1 / max(N p(x_i), 1)
            integral Eq. 5: w_i = 1 / (N p_bar(x_i, l_i)), i.e. Q = T mean_Q / (N mean_P).
    4. lobes (App. B.1): xi_bar = sum W xi_bar / sum W, xi = xi_bar / |xi_bar|,
-      lambda = |xi_bar| / (1 - |xi_bar|), c = (sum Phi R) / A(lambda), per RGB channel.
+      lambda = |xi_bar| / (1 - |xi_bar|), c = (sum Phi R) / A(lambda), per RGB channel, times
+      1 + e^{-2} for the diffuse lobe (each VPL's SG normalised to its upper hemisphere).
       Position (App. B.2): mu = sum P y / sum P + origin; sigma^2 = (sum P (|y|^2 + A/6) / sum P -
       |mu - origin|^2) / 2 per axis (the paper's total variance split over the two axes of a
       planar Gaussian; docs/indirect.md). */
@@ -286,7 +287,15 @@ __kernel void vsgl_generate(__global const float4* pyr, __global const int* off,
     const float len = clamp(length(xb), 0.0f, 1.0f - 1e-6f);
     const float3 xi = len > 1e-12f ? xb / length(xb) : (float3)(0.0f, 0.0f, 1.0f);
     const float lam = len / (1.0f - len);
-    const float3 c = fmax(pc, (float3)(0.0f)) / nf_sg_integral(lam);
+    /* Diffuse: each VPL emits Phi R_d only into the hemisphere above its surface, but its SG
+       (lambda_d = 2 about n) puts e^{-2} (1 - e^{-2}) / (1 - e^{-4}) = 11.9 % of its integral
+       below it, light that no receiver above the surface sees (the one-bounce total was 0.86 of
+       the reference). Normalising each VPL's SG to its upper hemisphere, c_j = Phi R_d /
+       A_h(2), A_h(lambda) = 2 pi (1 - e^{-lambda}) / lambda, multiplies its full integral by
+       A(2) / A_h(2) = 1 + e^{-2}; the cluster's lobe carries the same factor (docs/indirect.md,
+       "Lobe energy"). */
+    const float keep = lobe == 0 ? 1.0f + exp(-2.0f) : 1.0f;
+    const float3 c = fmax(pc, (float3)(0.0f)) * keep / nf_sg_integral(lam);
     if (lobe == 0) {
       g.cd_r = c.x;
       g.cd_g = c.y;

@@ -5,12 +5,12 @@
 //    satisfies Eq. 3 to its bisection tolerance: with the density pyramid read back and
 //    interpolated here in double, g(l) = 4^l / M pbar(uv, l) brackets K / N on
 //    [l - top / 2^13, l + top / 2^13] (or l is clamped to 0 / top with g on the right side);
-//  - the filtering bias of both kernels shrinks as N grows: the mean over 4096 pixels against
-//    the double quadrature (4096, 256 and 256 pixels), N = 1024 against N = 4 and 128 (K = 4, the box default); the
-//    integral kernel divides by the density filtered with the same kernel (Eq. 5).
-// False-failure rate: each comparison requires the drop to exceed 3 x the sum of the two means'
-// standard errors (printed; the measured drops are > 10 x that), so a chance failure needs a
-// > 3 sigma excursion: < 3e-3 per comparison, 4 comparisons; deterministic otherwise.
+//  - the filtering bias of both kernels is small at every N: the mean over 4096, 256 and 256
+//    pixels at N = 4, 128, 1024 against the double quadrature (K = 4, the box default), |bias| <
+//    5 % + 3 se, the integral kernel's (which divides by the density filtered with the same
+//    kernel, Eq. 5) < 2 % + 3 se at N = 1024 (issue 29; the measured values are in the test).
+// False-failure rate: each bound needs a > 3 sigma excursion beyond a bias the measured values
+// stay well inside (< 3.4 %): < 1.5e-3 per comparison, 7 comparisons; deterministic otherwise.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -114,10 +114,19 @@ TEST(EnvironmentEnvFis, BiasShrinksWithN) {
       bias.push_back(m / want - 1.0);
       std::printf("env-fis %s N = %3d: relative bias %+.4f +- %.4f\n", kernel.c_str(), N, bias.back(), se.back());
     }
-    // N = 1024 against each smaller N (the integral kernel's bias is already small at N = 4:
-    // there K / N = 1 and Eq. 5's filtered density cancels most of the blur)
-    EXPECT_LT(std::abs(bias[2]), std::abs(bias[0]) - 3 * (se[0] + se[2])) << kernel;
-    EXPECT_LT(std::abs(bias[2]), std::abs(bias[1]) - 3 * (se[1] + se[2])) << kernel;
+    // Issue 29: with the solid-angle pyramid and the horizon cap (docs/environment.md, "Filtering
+    // at the horizon") the bias is small at every N: measured point -1.0 / +2.3 / +3.4 %,
+    // integral +3.3 / +2.7 / +0.6 % at N = 4 / 128 / 1024 (before: point -29 / +24 / +6.2 %,
+    // integral +7.9 / +8.3 / +1.2 %, and this test asserted that the bias shrank with N, which
+    // held because the low-N bias was large). Now: |bias| < 5 % + 3 se at every N, and the
+    // integral kernel's bias at N = 1024 below 2 % + 3 se (it tends to env-is as the kernel
+    // shrinks).
+    for (std::size_t i = 0; i < bias.size(); ++i) {
+      EXPECT_LT(std::abs(bias[i]), 0.05 + 3 * se[i]) << kernel << " " << i;
+    }
+    if (kernel == "integral") {
+      EXPECT_LT(std::abs(bias[2]), 0.02 + 3 * se[2]);
+    }
   }
 }
 

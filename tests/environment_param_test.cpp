@@ -2,7 +2,8 @@
 // docs/environment.md, "Paraboloid"):
 //  - level 0 against its definition computed here in double (4 x 4 sub-samples per texel of the
 //    piecewise-constant map, weighted by J = 4 b^2 (1 + |w_y|)^2), every further level against the
-//    box / gauss6 filter applied in double to the level below, taps clamped inside each half;
+//    box / gauss6 filter applied in double to the level below, taps clamped inside each half and
+//    weighted by their texels' solid angles (J at the centre; issue 29);
 //  - a constant map gives the same image in both parametrisations (fis, fis-rotated, env-fis);
 //  - fis-rotated converges to the unbiased mean (the double quadrature `mc` is z-tested against in
 //    environment_estimator_test) in both parametrisations: RMS error at N = 256 well below N = 4;
@@ -106,13 +107,20 @@ void check_paraboloid(const std::string& filter) {
     for (int y = 0; y < s; ++y)
       for (int x = 0; x < 2 * s; ++x) {
         const int h = x / s, lx = x - h * s;
+        // issue 29: each tap weighted by its texel's solid angle, J at the texel centre
+        // (the plain mean over-weighted the rims, whose texels span 4x less solid angle)
         dvec4 want(0.0);
+        double wsum = 0;
         for (int b = 0; b < n; ++b)
           for (int a = 0; a < n; ++a) {
             const int tx = std::clamp(2 * lx + o + a, 0, sb - 1), ty = std::clamp(2 * y + o + b, 0, sb - 1);
-            const double wt = n == 6 ? g6[a] * g6[b] : bx[a] * bx[b];
+            const dvec3 w = par_dir((tx + 0.5) / sb, (ty + 0.5) / sb, h);
+            const double wt =
+                (n == 6 ? g6[a] * g6[b] : bx[a] * bx[b]) * 4 * kB * kB * std::pow(1 + (h ? -w.y : w.y), 2);
             want += wt * dvec4(below[static_cast<std::size_t>(ty * 2 * sb + h * sb + tx)]);
+            wsum += wt;
           }
+        want /= wsum;
         for (int c = 0; c < 3; ++c)  // float: <= 36 rounded terms, 1e-5 relative
           ASSERT_NEAR(dev[static_cast<std::size_t>(y * 2 * s + x)][c], want[c], 1e-5 * std::abs(want[c]))
               << filter << " level " << k << " texel " << x << ", " << y;

@@ -399,7 +399,9 @@ TEST(VsglKernels, SingleVplMatchesItsPointLightInTheSmallVarianceLimit) {
       const glm::dvec3 d = y - p;
       const double r2 = glm::dot(d, d);
       const glm::dvec3 xi = d / std::sqrt(r2);
-      const double a2 = 2.0 * kPi * (1.0 - std::exp(-4.0)) / 2.0;
+      // the VPL's SG (lambda 2) normalised to its upper hemisphere, A_h(2) = 2 pi (1 - e^-2) / 2
+      // (issue 29; before: the whole sphere's A(2), which left 11.9 % of the flux below the surface)
+      const double a2 = 2.0 * kPi * (1.0 - std::exp(-2.0)) / 2.0;
       const double i = std::exp(2.0 * (glm::dot(-xi, nj) - 1.0)) / a2;
       expect.push_back(i * std::max(glm::dot(n, xi), 0.0) / r2 / kPi);
     }

@@ -209,7 +209,9 @@ TEST(VsglRender, VsglsMatchTheVplsTheyCluster) {
     const Image without = r->last_frame();
     const auto& surf = r->surfaces();
     double sum_vsgl = 0.0, sum_vpl = 0.0, sum_sg = 0.0;
-    const double a2 = 2.0 * kPi * (1.0 - std::exp(-4.0)) / 2.0;  // A(2)
+    // A_h(2): each VPL's SG normalised to its upper hemisphere (issue 29; the whole sphere's A(2)
+    // before, which put 11.9 % of the flux below the surface)
+    const double a2 = 2.0 * kPi * (1.0 - std::exp(-2.0)) / 2.0;
     int wall_pixels = 0;
     for (std::size_t p = 0; p < surf.size(); ++p) {
       if (!surf[p].valid || surf[p].nx > -0.99f) continue;  // the wall faces -x
