@@ -14,9 +14,10 @@
    L = (sum - comp) / frames,
      L_mean = mean of the Rec. 709 luminance over the valid surfaces (non-finite or negative
               luminance counts as 0),  k = exposure / L_mean  (k = 0 when L_mean is 0)
-     d_c    = 1 - exp(-k L_c)  (a short series below k L_c = 0.01),  out_c = d_c^(1/gamma)
-   and the display byte is round(255 clamp(out_c, 0, 1)) (core/image_io.cpp's PNG conversion).
-   Negative and NaN values give 0, +Inf gives 1 (255). */
+     d_c    = 1 - exp(-k L_c),  out_c = d_c^(1/gamma)
+   and the display byte is round(255 clamp(out_c, 0, 1)) (core/image_io.cpp's PNG conversion),
+   evaluated through 255 thresholds on L (display_byte below). Negative and NaN values give 0,
+   +Inf gives 255. */
 #include "shared/surface.h"
 
 /* frame[i] += src[i] (one contribution's radiance into the frame). */
@@ -63,33 +64,34 @@ __kernel void frame_sum_partial(__global const uint* values, int n, __global ulo
   partial[g] = acc;
 }
 
-/* The operator on one channel (core/tonemap.h tonemap_channel), then the display byte. */
-static uchar display_byte(float value, float k, float inv_gamma) {
-  if (!(value > 0.0f) || !(k > 0.0f)) return 0;
-  const float x = k * value;
-  if (isinf(x)) return 255;
-  const float d =
-      x < 0.01f ? x * (1.0f - x * 0.5f * (1.0f - x * (1.0f / 3.0f) * (1.0f - x * 0.25f))) : 1.0f - exp(-x);
-  const float out = d > 0.0f ? pow(d, inv_gamma) : 0.0f;
-  return (uchar)round(255.0f * clamp(out, 0.0f, 1.0f));
+/* The operator and the byte in one step, without a transcendental per pixel: the byte is
+   round(255 d^(1/gamma)) with d = 1 - exp(-k L), which is monotone in L, so byte >= b (b = 1..255)
+   exactly when L >= T_b = -log(1 - ((b - 1/2) / 255)^gamma) / k (the host computes the 255
+   thresholds in double; k = 0 gives T_b = +Inf: every byte 0). The byte is the count of
+   thresholds <= L, found by bisection (8 steps). NaN compares false (0), +Inf passes all (255),
+   negative values pass none (0). */
+static uchar display_byte(float L, __global const float* T) {
+  int n = 0;
+  for (int step = 128; step > 0; step >>= 1)
+    if (n + step <= 255 && T[n + step - 1] <= L) n += step;
+  return (uchar)n;
 }
 
-static uchar4 display_pixel(float4 L, float k, float inv_gamma) {
-  return (uchar4)(display_byte(L.x, k, inv_gamma), display_byte(L.y, k, inv_gamma), display_byte(L.z, k, inv_gamma),
-                  (uchar)255);
+static uchar4 display_pixel(float4 L, __global const float* T) {
+  return (uchar4)(display_byte(L.x, T), display_byte(L.y, T), display_byte(L.z, T), (uchar)255);
 }
 
 /* The accumulated frame tone-mapped into 8-bit RGBA (rows from the top, A = 255). */
-__kernel void frame_display(__global const float4* sum, __global const float4* comp, float inv_frames, float k,
-                            float inv_gamma, int n, __global uchar4* out) {
+__kernel void frame_display(__global const float4* sum, __global const float4* comp, float inv_frames,
+                            __global const float* thresholds, int n, __global uchar4* out) {
   const int i = (int)get_global_id(0);
   if (i >= n) return;
-  out[i] = display_pixel((sum[i] - comp[i]) * inv_frames, k, inv_gamma);
+  out[i] = display_pixel((sum[i] - comp[i]) * inv_frames, thresholds);
 }
 
 /* The pixels that see a luminaire: their radiance L(u -> s) (rgb) replaces the accumulation's. */
-__kernel void frame_display_luminaires(__global const int* pixel, __global const float4* radiance, int m, float k,
-                                       float inv_gamma, __global uchar4* out) {
+__kernel void frame_display_luminaires(__global const int* pixel, __global const float4* radiance, int m,
+                                       __global const float* thresholds, __global uchar4* out) {
   const int j = (int)get_global_id(0);
-  if (j < m) out[pixel[j]] = display_pixel(radiance[j], k, inv_gamma);
+  if (j < m) out[pixel[j]] = display_pixel(radiance[j], thresholds);
 }

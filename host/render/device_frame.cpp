@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "cl/buffers.h"
 
@@ -195,19 +196,26 @@ std::vector<std::uint8_t> DeviceFrame::display(const ::cl::Buffer& surfaces, con
   const double mean = mean_luminance(surfaces);
   if (mean_out) *mean_out = mean;
   if (n_ == 0) return out;
-  const float k = mean > 0.0 && std::isfinite(mean) ? static_cast<float>(params.exposure / mean) : 0.0f;
-  const float inv_gamma = static_cast<float>(1.0 / params.gamma);
+  // The byte thresholds on L (kernels/frame.cl display_byte): byte >= b iff L >= T_b, in double.
+  const double k = mean > 0.0 && std::isfinite(mean) ? params.exposure / mean : 0.0;
+  std::vector<float> thresholds(255, std::numeric_limits<float>::infinity());
+  if (k > 0.0 && std::isfinite(k))
+    for (int b = 1; b <= 255; ++b) {
+      const double d = std::pow((b - 0.5) / 255.0, params.gamma);  // d^(1/gamma) = (b - 1/2) / 255
+      thresholds[static_cast<std::size_t>(b - 1)] = static_cast<float>(-std::log1p(-d) / k);
+    }
   const int m = static_cast<int>(std::min(pixels.size(), radiance.size()));
   cl::call(
       [&] {
+        // The partial sums' buffer is free once the mean is read: it holds the thresholds.
+        rt_.queue().enqueueWriteBuffer(partial_, CL_FALSE, 0, thresholds.size() * sizeof(float), thresholds.data());
         if (!display_k_()) display_k_ = rt_.kernel("frame.cl", "frame_display");
         display_k_.setArg(0, sum_);
         display_k_.setArg(1, comp_);
         display_k_.setArg(2, frames_ > 0 ? static_cast<float>(1.0 / frames_) : 0.0f);
-        display_k_.setArg(3, k);
-        display_k_.setArg(4, inv_gamma);
-        display_k_.setArg(5, static_cast<int>(n_));
-        display_k_.setArg(6, display_);
+        display_k_.setArg(3, partial_);
+        display_k_.setArg(4, static_cast<int>(n_));
+        display_k_.setArg(5, display_);
         rt_.launch(display_k_, range(n_));
         if (m > 0) {
           if (lum_capacity_ < static_cast<std::size_t>(m)) {
@@ -224,9 +232,8 @@ std::vector<std::uint8_t> DeviceFrame::display(const ::cl::Buffer& surfaces, con
           display_lum_.setArg(0, lum_pixel_);
           display_lum_.setArg(1, lum_radiance_);
           display_lum_.setArg(2, m);
-          display_lum_.setArg(3, k);
-          display_lum_.setArg(4, inv_gamma);
-          display_lum_.setArg(5, display_);
+          display_lum_.setArg(3, partial_);
+          display_lum_.setArg(4, display_);
           rt_.launch(display_lum_, range(static_cast<std::size_t>(m)));
         }
         rt_.queue().enqueueReadBuffer(display_, CL_TRUE, 0, out.size(), out.data());
