@@ -149,6 +149,7 @@ int main(int argc, char** argv) {
         run("still", o.still, false);
         run("moving", o.moving, true);
         for (const auto& row : rows) {
+          if (row.frames == 0) continue;
           lines.push_back(csv_row(o.label, row));
           std::fputs((lines.back() + "\n").c_str(), stdout);
           std::fflush(stdout);

@@ -35,11 +35,14 @@ nf=$bin/nearfield
 # NVIDIA's OpenCL and EGL without touching /etc: an ICD folder for the ICD loader and a vendor file
 # for glvnd (the system's own are used when present).
 mkdir -p "$tmp/icd"
-echo libnvidia-opencl.so.1 >"$tmp/icd/nvidia.icd"
+cp /etc/OpenCL/vendors/*.icd "$tmp/icd/" 2>/dev/null  # keep the system's own ICDs visible
+ls "$tmp/icd" | grep -qi nvidia || echo libnvidia-opencl.so.1 >"$tmp/icd/nvidia.icd"
 export OCL_ICD_VENDORS=${OCL_ICD_VENDORS:-$tmp/icd}
 if [[ -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-} && ! -e /usr/share/glvnd/egl_vendor.d/10_nvidia.json ]]; then
   printf '{"file_format_version":"1.0.0","ICD":{"library_path":"libEGL_nvidia.so.0"}}\n' >"$tmp/10_nvidia.json"
-  export __EGL_VENDOR_LIBRARY_FILENAMES=$tmp/10_nvidia.json
+  vendors=$tmp/10_nvidia.json  # first; the system's vendors (e.g. Mesa) after it
+  for f in /usr/share/glvnd/egl_vendor.d/*.json; do [[ -e $f ]] && vendors+=:$f; done
+  export __EGL_VENDOR_LIBRARY_FILENAMES=$vendors
 fi
 export NEARFIELD_CL_DEVICE=${NEARFIELD_CL_DEVICE:-gpu}
 
