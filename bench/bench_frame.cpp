@@ -82,12 +82,13 @@ std::string csv_row(const std::string& label, const Row& r) {
   const double n = std::max(r.frames, 1);
   const auto& t = r.t;
   const double step0_other = t.luminaire_view_ms + t.surfaces_upload_ms + t.visibility_upload_ms;
-  return fmt::format("{},{},{},{},{},{},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.1f}",
-                     label, r.mode, r.width, r.height, r.spp, r.frames, 1e3 * n / r.loop_ms, r.loop_ms / n,
-                     t.wall_ms / n, t.gbuffer_ms / n, t.gbuffer_readback_ms / n, t.shadow_maps_ms / n,
-                     t.visibility_ms / n, step0_other / n, t.step1_ms / n, t.step2_ms / n, t.cl_other_ms() / n,
-                     (t.readback_ms + t.accumulate_ms) / n, t.step3_ms / n,
-                     static_cast<double>(t.samples) / (r.loop_ms * 1e3), r.cpu / n);
+  return fmt::format(
+      "{},{},{},{},{},{},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:.2f},{:."
+      "2f},{:.1f}",
+      label, r.mode, r.width, r.height, r.spp, r.frames, 1e3 * n / r.loop_ms, r.loop_ms / n, t.wall_ms / n,
+      t.gbuffer_ms / n, t.gbuffer_readback_ms / n, t.shadow_maps_ms / n, t.visibility_ms / n, step0_other / n,
+      t.step1_ms / n, t.step2_ms / n, t.cl_other_ms() / n, (t.readback_ms + t.accumulate_ms) / n, t.step3_ms / n,
+      static_cast<double>(t.samples) / (r.loop_ms * 1e3), r.cpu / n);
 }
 
 }  // namespace

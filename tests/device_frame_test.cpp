@@ -122,7 +122,8 @@ TEST(DeviceFrame, DisplayMatchesTheHostToneMapping) {
   std::vector<std::uint8_t> valid(n);
   for (std::size_t p = 0; p < n; ++p) surf[p].valid = valid[p] = p % 7 != 3 ? 1 : 0;
   const std::vector<std::int32_t> lum_pixels{10, 11, 200};
-  const std::vector<glm::vec4> lum_radiance{{1e3f, 2e3f, 3e3f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.0f}, {0.2f, 0.1f, 0.0f, 0.0f}};
+  const std::vector<glm::vec4> lum_radiance{
+      {1e3f, 2e3f, 3e3f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.0f}, {0.2f, 0.1f, 0.0f, 0.0f}};
   for (const auto p : lum_pixels) surf[static_cast<std::size_t>(p)].valid = valid[static_cast<std::size_t>(p)] = 0;
 
   render::DeviceFrame d(runtime());
@@ -133,7 +134,7 @@ TEST(DeviceFrame, DisplayMatchesTheHostToneMapping) {
     d.add(upload_frame(fs[static_cast<std::size_t>(f)]));
     d.accumulate();
   }
-  const std::vector<double> acc = d.accumulated();  // checked against the double sum above
+  const std::vector<double> acc = d.accumulated();          // checked against the double sum above
   EXPECT_TRUE(std::isinf(acc[3 * 4]) && acc[3 * 4] > 0.0);  // as the double sum: +Inf stays +Inf
   EXPECT_TRUE(std::isnan(acc[3 * 5]));                      // and NaN stays NaN
   for (std::size_t i = 0; i < 3 * n; ++i) hdr.pixels[i] = static_cast<float>(acc[i]);
