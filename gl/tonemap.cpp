@@ -61,6 +61,20 @@ void Tonemapper::upload_rgba(const float* rgba) {
     glTextureSubImage2D(input_, 0, 0, h - 1 - y, w, 1, GL_RGBA, GL_FLOAT, rgba + static_cast<std::size_t>(y) * w * 4);
 }
 
+void Tonemapper::show_rgba8(const std::uint8_t* rgba8) {
+  // As floats (bytes / 255) in GL row order (bottom to top): the RGBA32F texture's fast upload
+  // path (a byte upload makes Mesa convert texel by texel).
+  const auto w = static_cast<std::size_t>(width()), h = static_cast<std::size_t>(height());
+  std::vector<float> rgba(4 * w * h);
+  for (std::size_t y = 0; y < h; ++y) {
+    const std::uint8_t* src = rgba8 + 4 * w * y;
+    float* dst = rgba.data() + 4 * w * (h - 1 - y);
+    for (std::size_t i = 0; i < 4 * w; ++i) dst[i] = static_cast<float>(src[i]) * (1.0f / 255.0f);
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(out_.texture(0), 0, 0, 0, width(), height(), GL_RGBA, GL_FLOAT, rgba.data());
+}
+
 double Tonemapper::mean_luminance() {
   glUseProgram(mean_program_);
   glBindTextureUnit(0, input_);

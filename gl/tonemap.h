@@ -26,6 +26,10 @@ class Tonemapper {
   // The same from a tightly packed RGBA float buffer with A = valid (0 or 1), rows from the top.
   void upload_rgba(const float* rgba_top_down);
 
+  // Shows an image tone-mapped elsewhere (the OpenCL Step 3, render/device_frame.h): 8-bit RGBA,
+  // rows from the top, written into output_texture() as render() would have (present(), read()).
+  void show_rgba8(const std::uint8_t* rgba8_top_down);
+
   // Mean luminance over the valid pixels of the uploaded frame (0 when none).
   double mean_luminance();
   // Tone-maps the uploaded frame into output_texture() with `mean` (< 0: mean_luminance()).

@@ -135,7 +135,7 @@ void run_render(const RenderCmd& o) {
 
   t.reset();
   for (int f = 0; f < o.frames; ++f) renderer.render_frame();
-  renderer.tonemap_display();  // Step 3 in GL, as a display would do it (timed)
+  renderer.tonemap_display();  // Step 3 on the device and shown in GL, as a display would do it (timed)
   phases.emplace_back("render", t.ms());
 
   t.reset();
@@ -158,7 +158,7 @@ void run_render(const RenderCmd& o) {
     write_radiance_output(outputs_tx, o.out, hdr, renderer.scene().camera);  // docs/glare.md
   else
     write_exr(outputs_tx, o.out, hdr, attrs);
-  if (!o.png.empty()) write_png(outputs_tx, o.png, renderer.tonemapped());
+  if (!o.png.empty()) write_png(outputs_tx, o.png, renderer.display_image());  // the device's 8-bit image
   progress.advance();
   progress.finish();
   phases.emplace_back("write", t.ms());

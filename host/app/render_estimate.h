@@ -5,13 +5,16 @@
 #include <string>
 
 #include "cl/runtime.h"
+#include "render/device_frame.h"
 #include "scene/scene.h"
 
 namespace nf::app {
 
 // Per pixel: the frame's G-buffer, accumulation, tone-mapped and per-pixel sampling buffers,
 // measured as ~270 bytes per pixel in all at 6000 x 3375 on PoCL (host and device buffers in the
-// same memory), of which ~200 are device buffers and ~70 host copies. Luminaires: their images
+// same memory), of which ~200 are device buffers and ~70 host copies; plus the frame on the device
+// (render/device_frame.h: frame, compensated accumulation, 8-bit display), which replaced the host
+// accumulation (its read-back at the end, 56 bytes per pixel transient, stays in the host figure). Luminaires: their images
 // and precomputed tables from the manifests (3 channels assumed, the EXR is not opened here);
 // presets are small and left out. Meshes: ~100 bytes per triangle on each side. Environment
 // (docs/environment.md): on the device its pyramids (lat-long, and paraboloid when env_param asks
@@ -29,7 +32,8 @@ struct RenderEstimate {
   std::uint64_t farfield_device = 0;
   std::uint64_t local_host = 0, local_device = 0;
 };
-constexpr std::uint64_t kHostBytesPerPixel = 70, kDeviceBytesPerPixel = 200, kBytesPerTriangle = 100;
+constexpr std::uint64_t kHostBytesPerPixel = 70, kBytesPerTriangle = 100;
+constexpr std::uint64_t kDeviceBytesPerPixel = 200 + render::DeviceFrame::kBytesPerPixel;
 constexpr std::uint64_t kEnvironmentHostBytesPerTexel = 48;
 
 // Reads the luminaire manifests and the environment map's header (errors name the scene).

@@ -107,7 +107,7 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
                                                          c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg)}};
   for (const auto& kv : render::settings_attributes(renderer_->settings())) attrs.push_back(kv);
   write_exr(tx, exr, hdr, attrs);
-  write_png(tx, png, renderer_->tonemapped());
+  write_png(tx, png, renderer_->display_image());  // the device's 8-bit image, as shown
   tx.commit();
   status(fmt::format("saved {} and {} ({} frames)", exr.string(), png.string(), renderer_->frames()));
 }

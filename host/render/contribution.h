@@ -30,6 +30,8 @@ class SceneGpu;
 
 namespace nf::render {
 
+class DeviceFrame;
+
 // A luminaire instance on the host: its light field (the luminaire seen along a ray) and, with
 // shadow maps, its cells' reference lights (luminaire-local, index cj * cells_x + ci; visibility
 // of points other than the camera's, e.g. the environment's local maps).
@@ -88,6 +90,10 @@ class Contribution {
   virtual void prepare(const FrameInputs& in) = 0;
   // Computes this frame's radiance (W m^-2 sr^-1, float4 per surface) and adds it into `radiance`.
   virtual ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) = 0;
+  // The same into the frame on the device (render/device_frame.h), what the Renderer calls. This
+  // default runs add() on the host and uploads its radiance (timed as read-back); contributions
+  // whose radiance is on the device already add it there without a read-back.
+  virtual ContributionFrame add_device(const FrameInputs& in, DeviceFrame& frame);
   // A material changed (render::Renderer::set_material): `materials` are the scene's new ones,
   // also what FrameInputs::geometry holds from now on. Rebuilds what depends on them (material
   // tables, anything shaded with them) on the next frame; state that depends only on the

@@ -81,6 +81,7 @@ Renderer::Renderer(scene::Scene scene, RendererOptions options)
   for (std::size_t i = 0; i < scene_.luminaires.size(); ++i)
     instances_.push_back({scene_.luminaires[i].to_world, scene_.luminaires[i].intensity, set.source_of[i]});
   make_contributions_now();
+  dframe_ = std::make_unique<DeviceFrame>(*rt_);
   resize(camera_.width, camera_.height);
 }
 
@@ -117,8 +118,7 @@ void Renderer::stage() const {
 
 void Renderer::resize(int width, int height) {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  sum_.assign(3 * n, 0.0);
-  frame_.assign(n, glm::vec4(0.0f));
+  dframe_->resize(n);
   kinds_.assign(n, PixelKind::background);
   surfaces_.clear();
   view_ = {};
@@ -216,7 +216,7 @@ void Renderer::set_material(std::size_t i, const scene::Material& m) {
 
 void Renderer::reset() {
   frames_ = 0;
-  std::fill(sum_.begin(), sum_.end(), 0.0);
+  dframe_->reset();
   last_ = total_ = first_ = {};
 }
 
@@ -327,6 +327,8 @@ void Renderer::update_view(StepTimes& t, bool keep_version) {
       kinds_[static_cast<std::size_t>(p)] = PixelKind::luminaire;
     }
   }
+  view_radiance_.clear();
+  for (const auto& r : view_.radiance) view_radiance_.emplace_back(r[0], r[1], r[2], 0.0f);
   t.luminaire_view_ms += timer.ms();
   timer.reset();
   const auto& surf = surfaces();
@@ -397,6 +399,7 @@ void Renderer::warm_up() {
   const FrameInputs in{
       *rt_, one, 1, settings_, settings_.sampling.frame, ls, &camera_, &step0_->scene_gpu(), &scene_.geometry};
   for (auto& c : contributions_) c->prepare(in);
+  dframe_->build();
   warm_ = true;
 }
 
@@ -440,10 +443,10 @@ const StepTimes& Renderer::render_frame() {
                        step0_->gbuffer(),
                        hl};
   context_->make_current();  // contributions may draw (the environment's shadow maps)
-  frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
+  dframe_->clear_frame();
   contribution_frames_.clear();
   for (auto& c : contributions_) {
-    const ContributionFrame f = c->add(in, frame_);
+    const ContributionFrame f = c->add_device(in, *dframe_);
     t.step1_ms += f.step1_ms;
     t.step2_ms += f.step2_ms;
     t.sampler_wall_ms += f.wall_ms;
@@ -453,10 +456,9 @@ const StepTimes& Renderer::render_frame() {
   }
   stage();
 
-  // Progressive accumulation: sum of the frames, divided on output.
+  // Progressive accumulation on the device: sum of the frames, divided on output.
   Timer timer;
-  for (std::size_t p = 0; p < frame_.size(); ++p)
-    for (int c = 0; c < 3; ++c) sum_[3 * p + static_cast<std::size_t>(c)] += frame_[p][c];
+  dframe_->accumulate();
   ++frames_;
   t.accumulate_ms = timer.ms();
   stage();
@@ -492,8 +494,9 @@ void put_luminaires(Image& img, const LuminaireView& view) {
 Image Renderer::accumulated() const {
   Image img(camera_.width, camera_.height, 3);
   if (frames_ > 0) {
-    const double inv = 1.0 / frames_;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = static_cast<float>(sum_[i] * inv);
+    const std::vector<double> mean = dframe_->accumulated();
+    for (std::size_t i = 0; i < std::min(mean.size(), img.pixels.size()); ++i)
+      img.pixels[i] = static_cast<float>(mean[i]);
   }
   put_luminaires(img, view_);
   return img;
@@ -501,8 +504,11 @@ Image Renderer::accumulated() const {
 
 Image Renderer::last_frame() const {
   Image img(camera_.width, camera_.height, 3);
-  for (std::size_t p = 0; p < frame_.size(); ++p)
-    for (int c = 0; c < 3; ++c) img.pixels[3 * p + static_cast<std::size_t>(c)] = frame_[p][c];
+  if (frames_ > 0) {
+    const std::vector<glm::vec4> frame = dframe_->last_frame();
+    for (std::size_t p = 0; p < std::min(frame.size(), kinds_.size()); ++p)
+      for (int c = 0; c < 3; ++c) img.pixels[3 * p + static_cast<std::size_t>(c)] = frame[p][c];
+  }
   put_luminaires(img, view_);
   return img;
 }
@@ -533,20 +539,37 @@ Image Renderer::tonemapped(double* mean_out) const {
   return tonemap(accumulated(), valid_mask(), settings_.tonemap, mean_out);
 }
 
+std::vector<std::uint8_t> Renderer::display_rgba8(double* mean_out) {
+  if (frames_ == 0) {  // nothing accumulated yet (or the surfaces were never uploaded): the luminaires alone
+    std::vector<std::uint8_t> out(4 * kinds_.size(), 0);
+    const Image t = tonemap(accumulated(), valid_mask(), settings_.tonemap, mean_out);
+    for (std::size_t p = 0; p < kinds_.size(); ++p) {
+      for (int c = 0; c < 3; ++c)
+        out[4 * p + static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(
+            std::lround(std::clamp(t.pixels[3 * p + static_cast<std::size_t>(c)], 0.0f, 1.0f) * 255.0f));
+      out[4 * p + 3] = 255;
+    }
+    return out;
+  }
+  return dframe_->display(surfaces_buf_, view_.pixel, view_radiance_, settings_.tonemap, mean_out);
+}
+
+Image Renderer::display_image(double* mean_out) {
+  const std::vector<std::uint8_t> rgba = display_rgba8(mean_out);
+  Image img(camera_.width, camera_.height, 3);
+  for (std::size_t p = 0; p < kinds_.size(); ++p)
+    for (int c = 0; c < 3; ++c)
+      img.pixels[3 * p + static_cast<std::size_t>(c)] = rgba[4 * p + static_cast<std::size_t>(c)] / 255.0f;
+  return img;
+}
+
 gl::Tonemapper& Renderer::tonemap_display() {
   Timer timer;
+  const std::vector<std::uint8_t> rgba = display_rgba8();
   context_->make_current();
   if (!tonemapper_ || tonemapper_->width() != camera_.width || tonemapper_->height() != camera_.height)
     tonemapper_ = std::make_unique<gl::Tonemapper>(camera_.width, camera_.height);
-  const Image img = accumulated();
-  std::vector<float> rgba(4 * kinds_.size());
-  for (std::size_t p = 0; p < kinds_.size(); ++p) {
-    for (int c = 0; c < 3; ++c)
-      rgba[4 * p + static_cast<std::size_t>(c)] = img.pixels[3 * p + static_cast<std::size_t>(c)];
-    rgba[4 * p + 3] = kinds_[p] == PixelKind::surface ? 1.0f : 0.0f;
-  }
-  tonemapper_->upload_rgba(rgba.data());
-  tonemapper_->render(settings_.tonemap);
+  tonemapper_->show_rgba8(rgba.data());
   glFinish();
   const double ms = timer.ms();
   std::vector<StepTimes*> times{&last_, &total_};
@@ -583,8 +606,7 @@ std::vector<gl::MemoryItem> Renderer::memory() const {
   for (const auto& c : contributions_) m.push_back({"CL contribution outputs: " + c->name(), c->device_bytes()});
   if (!surfaces_.empty())
     m.push_back({"host surfaces with luminaire pixels masked", surfaces_.size() * sizeof(NfSurface)});
-  m.push_back({"host accumulation (double RGB)", sum_.size() * sizeof(double)});
-  m.push_back({"host last frame (float RGBA)", frame_.size() * sizeof(glm::vec4)});
+  m.push_back({"CL frame, accumulation (compensated float sums) and 8-bit display", dframe_->device_bytes()});
   if (view_.size() > 0)
     m.push_back({"host luminaire view", view_.size() * (2 * sizeof(std::int32_t) + sizeof(glm::vec3))});
   if (tonemapper_)

@@ -29,6 +29,7 @@
 #include "gl/scene_gpu.h"
 #include "kernels/shared/surface.h"
 #include "render/contribution.h"
+#include "render/device_frame.h"
 #include "render/device_luminaire.h"
 #include "render/frame_settings.h"
 #include "render/luminaire_cache.h"
@@ -125,10 +126,15 @@ class Renderer {
   const std::vector<NfSurface>& surfaces() const;
 
   // ---- Step 3 -------------------------------------------------------------------------------
-  // Host tone mapping of accumulated() (files). `mean_out`: the L_mean used.
+  // Host tone mapping of accumulated() in double (the reference formula). `mean_out`: the L_mean.
   Image tonemapped(double* mean_out = nullptr) const;
-  // GL tone mapping of accumulated() into the display texture (timed as Step 3 and added to the
-  // last frame's and the total times). Present it with Tonemapper::present().
+  // Step 3 on the OpenCL device (render/device_frame.h): the accumulation tone-mapped and converted
+  // to 8-bit RGBA (rows from the top, A = 255), the only per-frame read-back of the display.
+  std::vector<std::uint8_t> display_rgba8(double* mean_out = nullptr);
+  // The same as a 3-channel image of bytes / 255 (the PNG: write_png gives back the same bytes).
+  Image display_image(double* mean_out = nullptr);
+  // display_rgba8() shown in the display texture (timed as Step 3 and added to the last frame's
+  // and the total times). Present it with Tonemapper::present().
   gl::Tonemapper& tonemap_display();
 
   // ---- introspection ------------------------------------------------------------------------
@@ -206,8 +212,9 @@ class Renderer {
   bool cl_vis_dirty_ = false;
 
   int frames_ = 0;
-  std::vector<double> sum_;       // 3 per pixel: sum of the frames' radiance
-  std::vector<glm::vec4> frame_;  // the last frame's radiance
+  // The frame and its accumulation on the device; the luminaire pixels' radiance for its display.
+  std::unique_ptr<DeviceFrame> dframe_;
+  std::vector<glm::vec4> view_radiance_;
   StepTimes last_, total_, first_;
 };
 

@@ -1,6 +1,7 @@
 #include "render/luminaire_contribution.h"
 
 #include "core/timer.h"
+#include "render/device_frame.h"
 #include "render/kurt_table.h"
 
 namespace nf::render {
@@ -36,6 +37,21 @@ ContributionFrame LuminaireContribution::add(const FrameInputs& in, std::vector<
   for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
   for (const auto k : sampler_.read_k()) f.samples += k;
   f.readback_ms = readback.ms();
+  return f;
+}
+
+// The radiance stays on the device: it is added into the frame there and the samples drawn are
+// summed there (docs/rendering.md, "The frame on the device").
+ContributionFrame LuminaireContribution::add_device(const FrameInputs& in, DeviceFrame& frame) {
+  const FrameStats fs = sampler_.run(in.surfaces, in.count, in.lights, frame_sampling(in), in.view_version);
+  ContributionFrame f;
+  f.step1_ms = fs.step1_ms;
+  f.step2_ms = fs.step2_ms;
+  f.wall_ms = fs.wall_ms;
+  Timer add;
+  frame.add(sampler_.radiance());
+  f.samples = frame.sum(sampler_.k());
+  f.readback_ms = add.ms();
   return f;
 }
 

@@ -13,6 +13,7 @@ class LuminaireContribution final : public Contribution {
   std::string name() const override { return "luminaires"; }
   void prepare(const FrameInputs& in) override;
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
+  ContributionFrame add_device(const FrameInputs& in, DeviceFrame& frame) override;
   std::size_t device_bytes() const override;
   // The Kurt table. The pixel cache stays: A_m(p) is the light field's energy over the pixel's
   // boxes, a function of the surface point and the luminaire only, not of the BRDF.

@@ -25,10 +25,10 @@ struct StepTimes {
   double step2_ms = 0;         // kernels: per-image K_m, sampling, shading, accumulation (or the fused kernel)
   double sampler_wall_ms = 0;  // host wall clock of Sampler::run: the above plus clears, per-instance
                                // A sums, launch overhead and the final wait
-  // Progressive accumulation (host)
-  double readback_ms = 0;    // radiance and K(p) from OpenCL
-  double accumulate_ms = 0;  // adding the frame into the accumulation buffer
-  // Step 3 (GL): tone mapping for display (upload, mean reduction, operator; glFinish)
+  // Progressive accumulation (on the device, render/device_frame.h)
+  double readback_ms = 0;    // adding the contributions into the device frame (samples' sum; host ones' upload)
+  double accumulate_ms = 0;  // adding the frame into the device accumulation
+  // Step 3 (OpenCL, shown in GL): tone mapping and 8-bit conversion, read-back, texture upload
   double step3_ms = 0;
   double wall_ms = 0;  // host wall clock of the frame(s), Step 3 included when it ran
   // Not in wall_ms: building Step 0 (shaders, scene upload) and the OpenCL programs (with one
