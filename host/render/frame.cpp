@@ -444,7 +444,9 @@ const StepTimes& Renderer::render_frame() {
   frame_.assign(static_cast<std::size_t>(count), glm::vec4(0.0f));
   contribution_frames_.clear();
   for (auto& c : contributions_) {
-    const ContributionFrame f = c->add(in, frame_);
+    Timer whole;
+    ContributionFrame f = c->add(in, frame_);
+    f.total_ms = whole.ms();
     t.step1_ms += f.step1_ms;
     t.step2_ms += f.step2_ms;
     t.sampler_wall_ms += f.wall_ms;
@@ -611,6 +613,7 @@ RenderStats Renderer::stats() {
       c.step2_ms = f.step2_ms;
       c.wall_ms = f.wall_ms;
       c.readback_ms = f.readback_ms;
+      c.total_ms = f.total_ms;
       c.samples = f.samples;
       c.parts_ms = f.parts_ms;
     }
