@@ -140,8 +140,8 @@ TEST(LuminaireCli, FarfieldWritesTheLuminousOpening) {
 }
 
 // `luminaire import` reports where the flux went, per cause, and advises --grid/--resolution
-// (docs/measured-data.md, "Command"). A 1 mm square Lambertian emitter (+z, 12 800 rays, 90 % of
-// the flux) plus 1 280 rays straight back (-z, 10 %): the backward share must read 10.00 %, and
+// (docs/measured-data.md, "Command"). A 1 mm square Lambertian emitter (+z, 51 200 rays, 90 % of
+// the flux) plus 6 400 rays straight back (-z, 10 %): the backward share must read 10.00 %, and
 // kept + lost must add up to the total (to the printed 4 digits). The advice's noise for a step
 // comes from its own sparse binning; --auto imports at that step through the full path, whose
 // reported median noise must be the same number. The chosen step must meet the target and be the
@@ -151,7 +151,7 @@ TEST(LuminaireCli, ImportReportsLossesAndAdvises) {
   nf::lum::RaySet rs;
   rs.kind = nf::lum::FluxKind::luminous;
   rs.format = "generated";
-  const int n = 40;
+  const int n = 80;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const glm::dvec3 p{(i + 0.5) / n * 1e-3 - 0.5e-3, (j + 0.5) / n * 1e-3 - 0.5e-3, 0.0};
@@ -163,7 +163,7 @@ TEST(LuminaireCli, ImportReportsLossesAndAdvises) {
       rs.add(p, {0.0, 0.0, -1.0}, 0.1 / (n * n));
     }
   nf::lum::write_tm25(dir / "lamb.TM25RAY", rs);
-  auto r = run_nearfield("luminaire import '" + (dir / "lamb.TM25RAY").string() + "' --axis 0,0,1 --noise-target 0.3" +
+  auto r = run_nearfield("luminaire import '" + (dir / "lamb.TM25RAY").string() + "' --axis 0,0,1 --noise-target 0.5" +
                          " -o '" + dir.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::smatch m;
@@ -187,19 +187,21 @@ TEST(LuminaireCli, ImportReportsLossesAndAdvises) {
     ladder.push_back({std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3])});
   ASSERT_GE(ladder.size(), 3u) << line;
   ASSERT_TRUE(std::regex_search(
-      r.out, m, std::regex(R"(advice +for --grid (\d+)x\d+ --resolution (\d+) \(median noise (\d+) % <= 30 %\))")))
+      r.out, m, std::regex(R"(advice +for --grid (\d+)x\d+ --resolution (\d+) \(median noise (\d+) % <= 50 %\))")))
       << r.out;
   const int grid = std::stoi(m[1]), res = std::stoi(m[2]);
   const double advised = std::stod(m[3]);
-  EXPECT_LE(advised, 30.0);
+  EXPECT_LE(advised, 50.0);
   for (std::size_t k = 0; k < ladder.size(); ++k)
     if (ladder[k][0] == grid) {
       EXPECT_EQ(ladder[k][1], res);
       EXPECT_EQ(ladder[k][2], advised);
-      if (k + 1 < ladder.size()) EXPECT_GT(ladder[k + 1][2], 30.0) << "a finer step also meets the target";
+      if (k + 1 < ladder.size()) {
+        EXPECT_GT(ladder[k + 1][2], 50.0) << "a finer step also meets the target";
+      }
     }
   // --auto imports at that step; the full import's own median noise is the advice's.
-  r = run_nearfield("luminaire import '" + (dir / "lamb.TM25RAY").string() + "' --axis 0,0,1 --noise-target 0.3" +
+  r = run_nearfield("luminaire import '" + (dir / "lamb.TM25RAY").string() + "' --axis 0,0,1 --noise-target 0.5" +
                     " --auto --name auto -o '" + dir.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find(fmt::format("light field {} x {} bspline2", grid, grid)), std::string::npos) << r.out;

@@ -219,10 +219,10 @@ TEST(RenderCli, SummaryOfAFarFieldOnlyScene) {
       "farfield", R"("farfield_lights": [ { "file": "l.ies", "transform": { "translate": [0, 1, 0], "rotate": [90, 0, 0] } } ],)",
       "l.ies", kIes);
   ASSERT_TRUE(s.stats.is_object()) << s.out;
-  const std::size_t surface = s.stats["pixels"]["surface"];
-  ASSERT_GT(surface, 0u);
-  // One sample per light per surface pixel.
-  EXPECT_NE(s.out.find(fmt::format("samples (last frame): farfield {} (1.0 per surface pixel)", surface)),
+  const std::size_t pixels = s.stats["pixels"]["total"];
+  ASSERT_EQ(pixels, 32u * 20u);
+  // One sample per light per pixel.
+  EXPECT_NE(s.out.find(fmt::format("samples (last frame): farfield {} (1.0 per pixel)", pixels)),
             std::string::npos)
       << s.out;
   EXPECT_EQ(s.out.find("per lit pixel"), std::string::npos) << s.out;
@@ -234,10 +234,10 @@ TEST(RenderCli, SummaryOfAnEnvironmentOnlyScene) {
   const fs::path sky = fs::path(NEARFIELD_SOURCE_DIR) / "scenes" / "dusk_sky.hdr";
   const auto s = render_summary("environment", R"("environment": { "file": ")" + sky.string() + R"(" },)");
   ASSERT_TRUE(s.stats.is_object()) << s.out;
-  const std::size_t surface = s.stats["pixels"]["surface"];
-  ASSERT_GT(surface, 0u);
-  // env_samples = 3 directions per surface pixel (the scene's render section).
-  EXPECT_NE(s.out.find(fmt::format("samples (last frame): environment {} (3.0 per surface pixel)", 3 * surface)),
+  const std::size_t pixels = s.stats["pixels"]["total"];
+  ASSERT_EQ(pixels, 32u * 20u);
+  // env_samples = 3 directions per pixel (the scene's render section).
+  EXPECT_NE(s.out.find(fmt::format("samples (last frame): environment {} (3.0 per pixel)", 3 * pixels)),
             std::string::npos)
       << s.out;
   EXPECT_EQ(s.out.find("per lit pixel"), std::string::npos) << s.out;

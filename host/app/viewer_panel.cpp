@@ -159,11 +159,6 @@ void Panel::footer_lines() {
   if (ImGui::Checkbox("panel over the image", &overlay)) s.panel_overlay = overlay;
 }
 
-int docked_panel_width(const ViewerState& s, int fb_width) {
-  if (!s.panel || s.panel_overlay) return 0;
-  return std::min(400, fb_width / 2);
-}
-
 // A collapsing header; a scripted `section NAME on|off` opens or closes it once.
 bool Panel::section(const char* title, const char* name, bool open_by_default) {
   const auto it = s.open_sections.find(name);
@@ -525,6 +520,11 @@ void Panel::shortcuts() {
 }
 
 }  // namespace
+
+int docked_panel_width(const ViewerState& s, int fb_width) {
+  if (!s.panel || s.panel_overlay) return 0;
+  return std::min(400, fb_width / 2);
+}
 
 void draw_panel(ViewerState& s, ViewerActions& actions, const PanelView& view) {
   Panel{s, actions, view, view.renderer}.draw();

@@ -162,18 +162,19 @@ std::string to_json(const RenderStats& s, const std::vector<std::pair<std::strin
 
 namespace {
 
-// Per frame, what a contribution's samples are counted against (docs/rendering.md, "Statistics"):
-// the light fields draw K(p) per lit pixel (A(p) > 0); the others draw a fixed number per surface
-// pixel (far field: one per light, environment: its N, indirect: one per VSGL).
+// Per frame, what a contribution's samples are counted against (docs/rendering.md, "Outputs"):
+// the light fields draw K(p) per lit pixel (A(p) > 0); the others a fixed number per pixel of the
+// frame, background included (far field: one per light, environment: its N, indirect: one per
+// VSGL).
 std::string samples_text(const RenderStats& s, const ContributionStats& c) {
   if (c.name == "luminaires")
     return s.pixels.lit ? fmt::format("{} ({:.1f} per lit pixel; {} of {} surface pixels lit)", c.samples,
                                       static_cast<double>(c.samples) / static_cast<double>(s.pixels.lit), s.pixels.lit,
                                       s.pixels.surface)
                         : fmt::format("{} (no surface pixel lit)", c.samples);
-  return s.pixels.surface ? fmt::format("{} ({:.1f} per surface pixel)", c.samples,
-                                        static_cast<double>(c.samples) / static_cast<double>(s.pixels.surface))
-                          : fmt::format("{} (no surface pixel)", c.samples);
+  return s.pixels.total ? fmt::format("{} ({:.1f} per pixel)", c.samples,
+                                      static_cast<double>(c.samples) / static_cast<double>(s.pixels.total))
+                        : fmt::format("{} (no pixel)", c.samples);
 }
 
 }  // namespace
