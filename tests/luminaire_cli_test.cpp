@@ -173,7 +173,8 @@ TEST(LuminaireCli, ImportReportsLossesAndAdvises) {
   const double kept = std::stod(m[1]);
   ASSERT_TRUE(std::regex_search(
       r.out, m,
-      std::regex(R"(lost +backward (\S+) lm \((\S+) %\); outside the image (\S+) lm \(\S+ %\); outside the basis \(too oblique\) (\S+) lm)")))
+      std::regex(
+          R"(lost +backward (\S+) lm \((\S+) %\); outside the image (\S+) lm \(\S+ %\); outside the basis \(too oblique\) (\S+) lm)")))
       << r.out;
   EXPECT_EQ(m[2].str(), "10.00");
   EXPECT_NEAR(kept + std::stod(m[1]) + std::stod(m[3]) + std::stod(m[4]), total, 1e-3 * total);

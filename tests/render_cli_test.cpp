@@ -211,19 +211,20 @@ void expect_last_frame_parts_add_up(const std::string& out) {
   EXPECT_NEAR(sum, 100.0, 0.05 * parts + 1e-9) << line;
 }
 
-const char* kIes = "IESNA:LM-63-2002\n[TEST] summary test\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 45 90\n0\n"
-                   "100 100 100\n";
+const char* kIes =
+    "IESNA:LM-63-2002\n[TEST] summary test\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 45 90\n0\n"
+    "100 100 100\n";
 
 TEST(RenderCli, SummaryOfAFarFieldOnlyScene) {
   const auto s = render_summary(
-      "farfield", R"("farfield_lights": [ { "file": "l.ies", "transform": { "translate": [0, 1, 0], "rotate": [90, 0, 0] } } ],)",
+      "farfield",
+      R"("farfield_lights": [ { "file": "l.ies", "transform": { "translate": [0, 1, 0], "rotate": [90, 0, 0] } } ],)",
       "l.ies", kIes);
   ASSERT_TRUE(s.stats.is_object()) << s.out;
   const std::size_t pixels = s.stats["pixels"]["total"];
   ASSERT_EQ(pixels, 32u * 20u);
   // One sample per light per pixel.
-  EXPECT_NE(s.out.find(fmt::format("samples (last frame): farfield {} (1.0 per pixel)", pixels)),
-            std::string::npos)
+  EXPECT_NE(s.out.find(fmt::format("samples (last frame): farfield {} (1.0 per pixel)", pixels)), std::string::npos)
       << s.out;
   EXPECT_EQ(s.out.find("per lit pixel"), std::string::npos) << s.out;
   EXPECT_EQ(s.out.find("Fig. 10"), std::string::npos) << s.out;  // the light fields' breakdown only
@@ -255,7 +256,8 @@ TEST(RenderCli, SummaryOfAnEmptyScene) {
 
 TEST(RenderCli, SummaryOfALightFieldScene) {
   const auto s = render_summary(
-      "lightfield", R"("luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } } ],)");
+      "lightfield",
+      R"("luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } } ],)");
   ASSERT_TRUE(s.stats.is_object()) << s.out;
   const std::size_t lit = s.stats["pixels"]["lit"], surface = s.stats["pixels"]["surface"];
   ASSERT_GT(lit, 0u);

@@ -7,13 +7,13 @@
 // PNG (tone-mapped on the host) to one 8-bit step.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -229,11 +229,12 @@ TEST(ViewXvfb, DockedPanelLeavesTheImageBesideIt) {
   const fs::path dir = nf::testing::temp_dir("view_docked");
   const fs::path scene = copy_default_scene(dir);
   const std::string at = dir.string() + "/";
-  write(dir / "script.txt", "set visibility none\nset spp 2\nset sampler halton\nframes 2\nsection rendering on\n"
-                            "section statistics on\nsection materials on\nframes 1\nsave " + at +
-                                "view.exr\nsave-scene " + at + "view.json\nscreenshot " + at + "window.png\nquit\n");
-  const auto v = run_nearfield("view " + quote(scene) + " --window 192x108 --scale 1 --script " +
-                               quote(dir / "script.txt"));
+  write(dir / "script.txt",
+        "set visibility none\nset spp 2\nset sampler halton\nframes 2\nsection rendering on\n"
+        "section statistics on\nsection materials on\nframes 1\nsave " +
+            at + "view.exr\nsave-scene " + at + "view.json\nscreenshot " + at + "window.png\nquit\n");
+  const auto v =
+      run_nearfield("view " + quote(scene) + " --window 192x108 --scale 1 --script " + quote(dir / "script.txt"));
   ASSERT_EQ(v.exit_code, 0) << v.err;
   const auto saved = nlohmann::json::parse(slurp(dir / "view.json"));
   EXPECT_EQ(saved["camera"]["resolution"], nlohmann::json::array({96, 108}));
@@ -265,7 +266,8 @@ TEST(ViewXvfb, ScriptWithoutQuitEndsUnlessKeepOpen) {
   write(dir / "script.txt", "set visibility none\nset spp 1\nframes 2\nsave " + (dir / "a.exr").string() + "\n");
   const std::string view = std::string("'") + NEARFIELD_BINARY + "' view " + quote(scene) +
                            " --window 64x36 --scale 1 --script " + quote(dir / "script.txt");
-  const int status = std::system(("timeout 300 " + view + " --stats " + quote(dir / "s.json") + " 2>/dev/null").c_str());
+  const int status =
+      std::system(("timeout 300 " + view + " --stats " + quote(dir / "s.json") + " 2>/dev/null").c_str());
   ASSERT_TRUE(WIFEXITED(status));
   ASSERT_EQ(WEXITSTATUS(status), 0) << "the viewer did not end with its script";
   EXPECT_TRUE(fs::exists(dir / "a.exr"));
@@ -273,8 +275,8 @@ TEST(ViewXvfb, ScriptWithoutQuitEndsUnlessKeepOpen) {
   EXPECT_EQ(stats["frames_rendered"].get<int>(), 2) << stats.dump();
 
   write(dir / "script.txt", "set visibility none\nset spp 1\nframes 2\nsave " + (dir / "b.exr").string() + "\n");
-  const std::string probe = "( " + view + " --keep-open 2>/dev/null & pid=$!; " +
-                            "i=0; while [ ! -f " + quote(dir / "b.exr") + " ] && kill -0 $pid 2>/dev/null && " +
+  const std::string probe = "( " + view + " --keep-open 2>/dev/null & pid=$!; " + "i=0; while [ ! -f " +
+                            quote(dir / "b.exr") + " ] && kill -0 $pid 2>/dev/null && " +
                             "[ $i -lt 3000 ]; do sleep 0.1; i=$((i+1)); done; sleep 3; " +
                             "if kill -0 $pid 2>/dev/null; then echo alive > " + quote(dir / "result") +
                             "; kill $pid; else echo ended > " + quote(dir / "result") + "; fi; wait $pid )";

@@ -214,16 +214,18 @@ void run_import(const ImportCli& c) {
   o.coverage = c.coverage;
   o.name = name;
   if (!(c.noise_target > 0.0 && c.noise_target < 10.0))
-    fail(fmt::format("luminaire import: --noise-target {} must be in (0, 10) (a fraction: 0.1 = 10 %)", c.noise_target));
+    fail(
+        fmt::format("luminaire import: --noise-target {} must be in (0, 10) (a fraction: 0.1 = 10 %)", c.noise_target));
   std::vector<lum::ImportCandidate> advice;
   if (rays.size() <= kAdviceMaxRays) {
     lum::ImportOptions probe = o;
     probe.progress = false;
     advice = lum::import_advice(rays, probe);
   } else if (c.auto_pick) {
-    fail(fmt::format("luminaire import: --auto: {} rays are more than the advice handles ({}); give --grid and "
-                     "--resolution",
-                     rays.size(), kAdviceMaxRays));
+    fail(
+        fmt::format("luminaire import: --auto: {} rays are more than the advice handles ({}); give --grid and "
+                    "--resolution",
+                    rays.size(), kAdviceMaxRays));
   }
   const lum::ImportCandidate* pick = recommend(advice, c.noise_target);
   if (c.auto_pick) {
@@ -267,8 +269,8 @@ void run_import(const ImportCli& c) {
     std::printf("noise       median per pixel by --grid/--resolution: %s\n", ladder.c_str());
     const bool met = pick->median_noise <= c.noise_target;
     std::printf("advice      %s --grid %dx%d --resolution %d (median noise %.0f %%%s)%s\n",
-                c.auto_pick ? "used (--auto):" : (met ? "for" : "closest to"),
-                pick->grid, pick->grid, pick->resolution, 100.0 * pick->median_noise,
+                c.auto_pick ? "used (--auto):" : (met ? "for" : "closest to"), pick->grid, pick->grid, pick->resolution,
+                100.0 * pick->median_noise,
                 met ? fmt::format(" <= {:.0f} %", 100.0 * c.noise_target).c_str()
                     : fmt::format(", above the target {:.0f} %: more rays needed", 100.0 * c.noise_target).c_str(),
                 c.auto_pick ? "" : "; --auto uses it");

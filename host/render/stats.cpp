@@ -189,8 +189,10 @@ std::string summary(const RenderStats& s) {
                      t.samples, s.pixels.surface, s.cl_device);
   // Samples of the last frame, per contribution (the sum over all frames is the line above).
   std::string samples;
-  for (const auto& c : s.contributions) samples += fmt::format("{}{} {}", samples.empty() ? "" : " | ", c.name, samples_text(s, c));
-  out += "samples (last frame): " + (samples.empty() ? std::string("none: the scene has no light source") : samples) + "\n";
+  for (const auto& c : s.contributions)
+    samples += fmt::format("{}{} {}", samples.empty() ? "" : " | ", c.name, samples_text(s, c));
+  out += "samples (last frame): " + (samples.empty() ? std::string("none: the scene has no light source") : samples) +
+         "\n";
   out += fmt::format(
       "steps (ms): 0 (GL G-buffer, shadows) {:.1f} | 1 (A) {:.1f} | 2 (sample+shade) {:.1f} | CL other {:.1f} | "
       "accumulation {:.1f} | 3 (tone map) {:.1f} | wall {:.1f}\n",
