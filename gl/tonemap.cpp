@@ -113,12 +113,12 @@ double Tonemapper::render(const TonemapParams& params, double mean) {
   return mean;
 }
 
-void Tonemapper::present(unsigned target, int width, int height) const {
+void Tonemapper::present(unsigned target, int x, int y, int width, int height) const {
   if (width <= 0 || height <= 0) return;
   const double scale =
       std::min(static_cast<double>(width) / this->width(), static_cast<double>(height) / this->height());
   const int w = static_cast<int>(this->width() * scale), h = static_cast<int>(this->height() * scale);
-  const int x0 = (width - w) / 2, y0 = (height - h) / 2;
+  const int x0 = x + (width - w) / 2, y0 = y + (height - h) / 2;
   const float black[4] = {0, 0, 0, 1};
   glClearNamedFramebufferfv(target, GL_COLOR, 0, black);
   glNamedFramebufferReadBuffer(out_.id(), GL_COLOR_ATTACHMENT0);

@@ -41,7 +41,10 @@ class Tonemapper {
   Image read() const;
   // Draws the last render() into framebuffer `target` (0 = a window's default framebuffer),
   // scaled to fit `width` x `height` with the aspect kept (nearest filtering, letterboxed).
-  void present(unsigned target, int width, int height) const;
+  void present(unsigned target, int width, int height) const { present(target, 0, 0, width, height); }
+  // The same into the area (x, y) .. (x + width, y + height) of the target (GL pixels, y up); the
+  // rest of the target is cleared to black.
+  void present(unsigned target, int x, int y, int width, int height) const;
   unsigned output_texture() const { return out_.texture(0); }
   unsigned output_framebuffer() const { return out_.id(); }
   unsigned input_texture() const { return input_; }

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <string>
 
@@ -166,6 +167,111 @@ TEST(RenderCli, RefusesToOverwriteALuminaireImage) {
   EXPECT_NE(r.err.find("refusing to overwrite"), std::string::npos) << r.err;
   EXPECT_EQ(fs::file_size(dir / "panel.exr"), size);
   expect_only(dir, {"scene.json", "panel.json", "panel.exr"});
+}
+
+// ---- the summary on stdout (docs/rendering.md, "Outputs"): sensible for every kind of scene.
+
+// A scene: a floor seen from above, 32 x 20 pixels, and `lights` (JSON members, may be empty).
+std::string summary_scene(const std::string& lights) {
+  return std::string(R"({ "camera": { "position": [0, 2, 2], "target": [0, 0, 0], "fov_y": 60, "resolution": [32, 20] },
+  "objects": [ { "type": "plane", "size": [40, 40] } ],)") +
+         lights + R"( "render": { "spp": 2, "visibility": "none", "env_samples": 3 } })";
+}
+
+struct Summary {
+  std::string out;
+  nlohmann::json stats;
+};
+
+Summary render_summary(const std::string& name, const std::string& lights, const std::string& extra_file = "",
+                       const std::string& extra_text = "") {
+  const auto dir = nf::testing::temp_dir("render_summary_" + name);
+  if (!extra_file.empty()) write(dir, extra_file, extra_text);
+  const auto scene = write(dir, "scene.json", summary_scene(lights));
+  const auto r = run_nearfield("render " + q(scene) + " -o " + q(dir / "out.exr") + " --stats " + q(dir / "s.json"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir / "s.json");
+  return {r.out, nlohmann::json::parse(in, nullptr, false)};
+}
+
+// The "last frame T ms: part p% | ..." line: its percentages must add up to 100 (each printed to
+// 0.1, so within 0.05 per part): no part counted twice, none missing.
+void expect_last_frame_parts_add_up(const std::string& out) {
+  const auto at = out.find("last frame ");
+  ASSERT_NE(at, std::string::npos) << out;
+  const std::string line = out.substr(at, out.find('\n', at) - at);
+  double sum = 0.0;
+  int parts = 0;
+  const std::regex pct(R"(([0-9.]+)%)");
+  for (auto it = std::sregex_iterator(line.begin(), line.end(), pct); it != std::sregex_iterator(); ++it) {
+    sum += std::stod((*it)[1]);
+    ++parts;
+  }
+  EXPECT_GE(parts, 4) << line;
+  EXPECT_NEAR(sum, 100.0, 0.05 * parts + 1e-9) << line;
+}
+
+const char* kIes =
+    "IESNA:LM-63-2002\n[TEST] summary test\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 45 90\n0\n"
+    "100 100 100\n";
+
+TEST(RenderCli, SummaryOfAFarFieldOnlyScene) {
+  const auto s = render_summary(
+      "farfield",
+      R"("farfield_lights": [ { "file": "l.ies", "transform": { "translate": [0, 1, 0], "rotate": [90, 0, 0] } } ],)",
+      "l.ies", kIes);
+  ASSERT_TRUE(s.stats.is_object()) << s.out;
+  const std::size_t pixels = s.stats["pixels"]["total"];
+  ASSERT_EQ(pixels, 32u * 20u);
+  // One sample per light per pixel.
+  EXPECT_NE(s.out.find(fmt::format("samples (last frame): farfield {} (1.0 per pixel)", pixels)), std::string::npos)
+      << s.out;
+  EXPECT_EQ(s.out.find("per lit pixel"), std::string::npos) << s.out;
+  EXPECT_EQ(s.out.find("Fig. 10"), std::string::npos) << s.out;  // the light fields' breakdown only
+  expect_last_frame_parts_add_up(s.out);
+}
+
+TEST(RenderCli, SummaryOfAnEnvironmentOnlyScene) {
+  const fs::path sky = fs::path(NEARFIELD_SOURCE_DIR) / "scenes" / "dusk_sky.hdr";
+  const auto s = render_summary("environment", R"("environment": { "file": ")" + sky.string() + R"(" },)");
+  ASSERT_TRUE(s.stats.is_object()) << s.out;
+  const std::size_t pixels = s.stats["pixels"]["total"];
+  ASSERT_EQ(pixels, 32u * 20u);
+  // env_samples = 3 directions per pixel (the scene's render section).
+  EXPECT_NE(s.out.find(fmt::format("samples (last frame): environment {} (3.0 per pixel)", 3 * pixels)),
+            std::string::npos)
+      << s.out;
+  EXPECT_EQ(s.out.find("per lit pixel"), std::string::npos) << s.out;
+  EXPECT_EQ(s.out.find("Fig. 10"), std::string::npos) << s.out;
+  expect_last_frame_parts_add_up(s.out);
+}
+
+TEST(RenderCli, SummaryOfAnEmptyScene) {
+  const auto s = render_summary("empty", "");
+  EXPECT_NE(s.out.find("32x20, 1 frame(s), 0 samples"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("samples (last frame): none: the scene has no light source"), std::string::npos) << s.out;
+  EXPECT_EQ(s.out.find("Fig. 10"), std::string::npos) << s.out;
+  expect_last_frame_parts_add_up(s.out);
+}
+
+TEST(RenderCli, SummaryOfALightFieldScene) {
+  const auto s = render_summary(
+      "lightfield",
+      R"("luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } } ],)");
+  ASSERT_TRUE(s.stats.is_object()) << s.out;
+  const std::size_t lit = s.stats["pixels"]["lit"], surface = s.stats["pixels"]["surface"];
+  ASSERT_GT(lit, 0u);
+  std::uint64_t samples = 0;
+  for (const auto& c : s.stats["contributions"])
+    if (c["name"] == "luminaires") samples = c["samples"];
+  ASSERT_GT(samples, 0u);
+  EXPECT_NE(s.out.find(fmt::format("samples (last frame): luminaires {} ({:.1f} per lit pixel; {} of {} surface "
+                                   "pixels lit)",
+                                   samples, static_cast<double>(samples) / static_cast<double>(lit), lit, surface)),
+            std::string::npos)
+      << s.out;
+  EXPECT_NE(s.out.find("Fig. 10 breakdown"), std::string::npos) << s.out;
+  expect_last_frame_parts_add_up(s.out);
 }
 
 }  // namespace

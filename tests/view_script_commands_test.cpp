@@ -64,7 +64,7 @@ std::string fingerprint(const ViewerState& s, const ScriptRunner& r, const Saved
     o << l.intensity << ';';
   }
   for (const auto& m : s.materials) o << nf::scene::material_json(m).dump() << ';';
-  o << static_cast<int>(s.display) << s.panel << ';';
+  o << static_cast<int>(s.display) << s.panel << s.panel_overlay << ';';
   for (const auto& [k, on] : s.open_sections) o << k << on << ';';
   o << s.capture.string() << ';' << s.quit << ';' << r.frames_due() << ';';
   for (const auto& e : f.log) o << e << ';';

@@ -7,6 +7,7 @@
 // PNG (tone-mapped on the host) to one 8-bit step.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -65,8 +66,8 @@ TEST(ViewXvfb, ScriptedViewMatchesHeadlessRenderOfTheSavedScene) {
   // Paths in scripts are relative to the working directory: give them in full.
   const std::string at = dir.string() + "/";
   write(dir / "script.txt",
-        "# scripted camera and luminaire, deterministic sampler\n"
-        "set spp 4\nset sampler halton\nset seed 7\n"
+        "# scripted camera and luminaire, deterministic sampler; the panel floats: the image fills the window\n"
+        "panel-overlay on\nset spp 4\nset sampler halton\nset seed 7\n"
         "orbit 20 -4 2          # two moving frames\n"
         "zoom 0.85\npan 0.15 0.05\n"
         "luminaire 1 translate 0.7 0.72 0.05\nluminaire 1 rotate 0 175 0\n"
@@ -216,6 +217,72 @@ TEST(ViewXvfb, FramesAndScreenshotWithoutScript) {
   const nf::Image s = nf::read_image(dir / "shot.png");
   EXPECT_EQ(s.width, 160);  // the window, panel included
   EXPECT_EQ(s.height, 90);
+}
+
+// The docked panel (the default layout, docs/viewer.md "Layout") takes min(400, width / 2) pixels
+// at the left; the image is rendered for the rest (times the scale) and shown beside it 1:1 at
+// scale 1. So the saved view's resolution is (192 - 96) x 108, and the window's columns right of
+// the panel are the image as the viewer's own PNG of it has it (GPU vs host tone mapping: one
+// 8-bit step, as above), with sections open in the panel (they scroll; they never spill into the image).
+TEST(ViewXvfb, DockedPanelLeavesTheImageBesideIt) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = nf::testing::temp_dir("view_docked");
+  const fs::path scene = copy_default_scene(dir);
+  const std::string at = dir.string() + "/";
+  write(dir / "script.txt",
+        "set visibility none\nset spp 2\nset sampler halton\nframes 2\nsection rendering on\n"
+        "section statistics on\nsection materials on\nframes 1\nsave " +
+            at + "view.exr\nsave-scene " + at + "view.json\nscreenshot " + at + "window.png\nquit\n");
+  const auto v =
+      run_nearfield("view " + quote(scene) + " --window 192x108 --scale 1 --script " + quote(dir / "script.txt"));
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  const auto saved = nlohmann::json::parse(slurp(dir / "view.json"));
+  EXPECT_EQ(saved["camera"]["resolution"], nlohmann::json::array({96, 108}));
+  const nf::Image w = nf::read_image(dir / "window.png"), p = nf::read_image(dir / "view.png");
+  ASSERT_EQ(w.width, 192);
+  ASSERT_EQ(w.height, 108);
+  ASSERT_EQ(p.width, 96);
+  ASSERT_EQ(p.height, 108);
+  int off_by_one = 0;
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double d = std::fabs(w.at(96 + x, y, c) - p.at(x, y, c)) * 255.0;
+        ASSERT_LE(d, 1.0 + 1e-3) << "window pixel (" << 96 + x << ", " << y << ") channel " << c;
+        if (d > 0.5) ++off_by_one;
+      }
+  EXPECT_LT(off_by_one, p.width * p.height * 3 / 20) << "too many rounding differences";
+}
+
+// A script that ends without `quit` (and no --screenshot, no --frames) ends the viewer there; with
+// --keep-open the viewer keeps running. The script's last command saves an image, so the test
+// knows when the script has ended: without --keep-open the process must exit (`timeout` would
+// exit 124 after 300 s), with it the process must still be alive 3 s after the image appeared
+// (then the test ends it). The viewer's teardown takes well under a second after its last frame.
+TEST(ViewXvfb, ScriptWithoutQuitEndsUnlessKeepOpen) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = nf::testing::temp_dir("view_keep_open");
+  const fs::path scene = copy_default_scene(dir);
+  write(dir / "script.txt", "set visibility none\nset spp 1\nframes 2\nsave " + (dir / "a.exr").string() + "\n");
+  const std::string view = std::string("'") + NEARFIELD_BINARY + "' view " + quote(scene) +
+                           " --window 64x36 --scale 1 --script " + quote(dir / "script.txt");
+  const int status =
+      std::system(("timeout 300 " + view + " --stats " + quote(dir / "s.json") + " 2>/dev/null").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 0) << "the viewer did not end with its script";
+  EXPECT_TRUE(fs::exists(dir / "a.exr"));
+  const auto stats = nlohmann::json::parse(slurp(dir / "s.json"));
+  EXPECT_EQ(stats["frames_rendered"].get<int>(), 2) << stats.dump();
+
+  write(dir / "script.txt", "set visibility none\nset spp 1\nframes 2\nsave " + (dir / "b.exr").string() + "\n");
+  const std::string probe = "( " + view + " --keep-open 2>/dev/null & pid=$!; " + "i=0; while [ ! -f " +
+                            quote(dir / "b.exr") + " ] && kill -0 $pid 2>/dev/null && " +
+                            "[ $i -lt 3000 ]; do sleep 0.1; i=$((i+1)); done; sleep 3; " +
+                            "if kill -0 $pid 2>/dev/null; then echo alive > " + quote(dir / "result") +
+                            "; kill $pid; else echo ended > " + quote(dir / "result") + "; fi; wait $pid )";
+  std::system(probe.c_str());
+  EXPECT_TRUE(fs::exists(dir / "b.exr"));
+  EXPECT_EQ(slurp(dir / "result"), "alive\n") << "--keep-open: the viewer ended with its script";
 }
 
 // No display needed: the script is checked before the window opens.

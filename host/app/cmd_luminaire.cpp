@@ -86,6 +86,8 @@ bool run_photometry_info(const std::string& file) {
   std::printf("peak        %.6g cd\n", peak);
   if (g.stated_lumens > 0) std::printf("stated      %.6g lm\n", g.stated_lumens);
   std::printf("flux        %.6g lm\n", g.lumens());
+  std::printf("opening     width %.6g m, length %.6g m, height %.6g m (LM-63 luminous opening; 0: a point)\n",
+              g.opening_width, g.opening_length, g.opening_height);
   std::printf("colour      %s\n", app::describe_stated_colour(g.stated_colour).c_str());
   return true;
 }
@@ -105,11 +107,20 @@ void run_farfield(const std::string& file, const std::string& out) {
   for (int k = 0; k <= 90; ++k) g.gamma.push_back(k);
   for (double c : g.c)
     for (double gm : g.gamma) g.cd.push_back(lum::farfield_intensity(l, lum::type_c_direction(c, gm)));
+  // The luminous opening (LM-63: length along C 0-180 = local x, width along C 90-270 = local y,
+  // height along gamma = 0 = local z): the lit part of S, a flat rectangle.
+  const lum::Rect area = lum::emitting_area(l);
+  if (!area.empty()) {
+    g.opening_length = area.hi.x - area.lo.x;
+    g.opening_width = area.hi.y - area.lo.y;
+  }
   lum::write_ies(out, g, "far field of nearfield luminaire " + l.name);
   const lum::UnitNames un = lum::unit_names(l.units);
   std::printf(
-      "wrote %s: %zu x %zu intensities, peak %.6g %s, flux %.6g %s%s\n", out.c_str(), g.c.size(), g.gamma.size(),
-      *std::max_element(g.cd.begin(), g.cd.end()), un.intensity, g.lumens(), un.flux,
+      "wrote %s: %zu x %zu intensities, peak %.6g %s, flux %.6g %s, luminous opening %.4g x %.4g mm (length x "
+      "width)%s\n",
+      out.c_str(), g.c.size(), g.gamma.size(), *std::max_element(g.cd.begin(), g.cd.end()), un.intensity, g.lumens(),
+      un.flux, g.opening_length * 1e3, g.opening_width * 1e3,
       l.units == lum::Units::radiometric ? " (radiometric: the .ies file's cd and lm columns hold W/sr and W)" : "");
 }
 
@@ -151,10 +162,22 @@ void run_info(const std::string& file) {
 
 struct ImportCli {
   std::string rays, out_dir = ".", grid = "16x16", basis = "bspline2", axis, name;
-  double delta = 0.0, coverage = 0.98;
+  double delta = 0.0, coverage = 0.98, noise_target = 0.1;
   int resolution = 48;
-  bool half = false, force = false;
+  bool half = false, force = false, auto_pick = false;
 };
+
+// The advice line (docs/measured-data.md, "Choosing --grid and --resolution"): the finest ladder
+// step whose median noise per pixel is within the target, or the coarsest when none is.
+const lum::ImportCandidate* recommend(const std::vector<lum::ImportCandidate>& cs, double target) {
+  const lum::ImportCandidate* best = nullptr;
+  for (const auto& c : cs)
+    if (c.median_noise <= target) best = &c;
+  return best ? best : (cs.empty() ? nullptr : &cs.front());
+}
+
+// Above this many rays the advice is skipped: its sparse binning holds 9 pairs of 16 bytes per ray.
+constexpr std::size_t kAdviceMaxRays = 4'000'000;
 
 std::array<int, 2> parse_grid(const std::string& g) {
   int w = 0, h = 0;
@@ -211,6 +234,26 @@ void run_import(const ImportCli& c) {
   if (!c.axis.empty()) o.axis = parse_axis(c.axis);
   o.coverage = c.coverage;
   o.name = name;
+  if (!(c.noise_target > 0.0 && c.noise_target < 10.0))
+    fail(
+        fmt::format("luminaire import: --noise-target {} must be in (0, 10) (a fraction: 0.1 = 10 %)", c.noise_target));
+  std::vector<lum::ImportCandidate> advice;
+  if (rays.size() <= kAdviceMaxRays) {
+    lum::ImportOptions probe = o;
+    probe.progress = false;
+    advice = lum::import_advice(rays, probe);
+  } else if (c.auto_pick) {
+    fail(
+        fmt::format("luminaire import: --auto: {} rays are more than the advice handles ({}); give --grid and "
+                    "--resolution",
+                    rays.size(), kAdviceMaxRays));
+  }
+  const lum::ImportCandidate* pick = recommend(advice, c.noise_target);
+  if (c.auto_pick) {
+    if (!pick) fail("luminaire import: --auto: no grid of the ladder fits this ray set; give --grid and --resolution");
+    o.grid = {pick->grid, pick->grid};
+    o.resolution = pick->resolution;
+  }
   const lum::Imported imp = lum::import_rays(rays, o);
   const auto& r = imp.report;
   const auto& l = imp.luminaire;
@@ -223,9 +266,13 @@ void run_import(const ImportCli& c) {
               r.total_flux, unit,
               rays.header_flux >= 0 ? fmt::format(" (header states {:.6g})", rays.header_flux).c_str() : "");
   for (const auto& n : rays.notes) std::printf("note        %s\n", n.c_str());
-  std::printf("kept        %zu rays, %.6g %s (%.2f %%); backward %.4g %s; outside the planes %.4g %s\n", r.kept_rays,
-              r.kept_flux, unit, 100.0 * r.kept_flux / r.total_flux, r.backward_flux, unit,
-              r.total_flux - r.kept_flux - r.backward_flux, unit);
+  auto pct = [&](double f) { return 100.0 * f / r.total_flux; };
+  std::printf("kept        %zu rays, %.6g %s (%.2f %%)\n", r.kept_rays, r.kept_flux, unit, pct(r.kept_flux));
+  std::printf(
+      "lost        backward %.4g %s (%.2f %%); outside the image %.4g %s (%.2f %%); outside the basis (too oblique) "
+      "%.4g %s (%.2f %%)\n",
+      r.backward_flux, unit, pct(r.backward_flux), r.outside_image_flux, unit, pct(r.outside_image_flux),
+      r.outside_basis_flux, unit, pct(r.outside_basis_flux));
   std::printf("axis        (%.4f, %.4f, %.4f), origin (%.6g, %.6g, %.6g) m in the file's frame\n", r.frame.ez.x,
               r.frame.ez.y, r.frame.ez.z, r.frame.origin.x, r.frame.origin.y, r.frame.origin.z);
   std::printf("light field %d x %d %s, cells %.4g x %.4g mm, delta %.4g mm, |tan theta| <= %.3g\n", l.basis.count[0],
@@ -235,6 +282,22 @@ void run_import(const ImportCli& c) {
       "images      %d x %d pixels over %.4g x %.4g mm; %zu lit pixel-basis pairs, median noise %.0f %% per pixel\n",
       l.image.resolution[0], l.image.resolution[1], l.image.size.x * 1e3, l.image.size.y * 1e3, r.lit_pixels,
       100.0 * r.median_noise);
+  if (!advice.empty()) {
+    std::string ladder;
+    for (const auto& a : advice)
+      ladder += fmt::format("{}{}x{}/{} {:.0f} %", ladder.empty() ? "" : ", ", a.grid, a.grid, a.resolution,
+                            100.0 * a.median_noise);
+    std::printf("noise       median per pixel by --grid/--resolution: %s\n", ladder.c_str());
+    const bool met = pick->median_noise <= c.noise_target;
+    std::printf("advice      %s --grid %dx%d --resolution %d (median noise %.0f %%%s)%s\n",
+                c.auto_pick ? "used (--auto):" : (met ? "for" : "closest to"), pick->grid, pick->grid, pick->resolution,
+                100.0 * pick->median_noise,
+                met ? fmt::format(" <= {:.0f} %", 100.0 * c.noise_target).c_str()
+                    : fmt::format(", above the target {:.0f} %: more rays needed", 100.0 * c.noise_target).c_str(),
+                c.auto_pick ? "" : "; --auto uses it");
+  } else if (rays.size() > kAdviceMaxRays) {
+    std::printf("advice      none: over %zu rays\n", kAdviceMaxRays);
+  }
   std::printf("pixels      radiance in %s/m^2/sr (%s)\n", unit,
               r.kind == lum::FluxKind::luminous ? "cd/m^2" : "W/m^2/sr");
   std::printf("wrote       %s (read %.0f ms, import %.0f ms, write %.0f ms)\n", manifest.string().c_str(), read_ms,
@@ -275,6 +338,10 @@ const CommandRegistration reg("luminaire", [](CLI::App& app) {
   imp->add_option("--coverage", ic.coverage, "Fraction of the forward flux the basis covers in angle")
       ->capture_default_str()
       ->check(CLI::Range(1e-3, 1.0));
+  imp->add_option("--noise-target", ic.noise_target,
+                  "Median noise per pixel the advice (and --auto) aims for, a fraction (0.1 = 10 %)")
+      ->capture_default_str();
+  imp->add_flag("--auto", ic.auto_pick, "Use the advised --grid and --resolution (the finest within --noise-target)");
   imp->add_flag("--half", ic.half, "Store half floats (smaller, lossy)");
   imp->add_flag("--force", ic.force, "Replace a luminaire of the same name in the output directory");
   imp->callback([] { run_import(ic); });

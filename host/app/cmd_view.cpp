@@ -1,5 +1,6 @@
 // nearfield view SCENE [--scale S] [--window WxH] [--frames N] [--script FILE] [--screenshot OUT.png]
-//                      [--stats STATS.json] [--set NAME=VALUE ...] [--no-panel] [--fast-motion]
+//                      [--stats STATS.json] [--set NAME=VALUE ...] [--no-panel] [--panel-overlay] [--fast-motion]
+//                      [--keep-open]
 // The interactive viewer (README.md, docs/viewer.md).
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +22,7 @@ struct ViewCmd {
   ViewerOptions options;
   std::string scene, window, script, screenshot, stats;
   std::vector<std::string> set;
+  bool no_panel = false;
 };
 
 void parse_window(const std::string& text, int& w, int& h) {
@@ -39,6 +41,7 @@ void run_view(ViewCmd& c) {
   o.script = c.script;
   o.screenshot = c.screenshot;
   o.stats = c.stats;
+  o.panel = !c.no_panel;
   o.cl_device = global_options().cl_device;
   if (!c.window.empty()) parse_window(c.window, o.window_width, o.window_height);
   if (o.frames < 0) fail(fmt::format("--frames must be >= 0, got {}", o.frames));
@@ -84,7 +87,11 @@ const CommandRegistration reg("view", [](CLI::App& app) {
   cmd->add_option("--stats", c.stats, "Write fps and renderer statistics as JSON on exit");
   cmd->add_option("--set", c.set, "Setting override NAME=VALUE (spp, method, visibility, exposure, ...; repeatable)")
       ->allow_extra_args(false);
-  cmd->add_flag("!--no-panel", c.options.panel, "Start with the panel hidden (Tab shows it)");
+  cmd->add_flag("--no-panel", c.no_panel, "Start with the panel hidden (Tab shows it)");
+  cmd->add_flag("--panel-overlay", c.options.panel_overlay,
+                "Float the panel translucently over the image (default: docked at the left, the image beside it)");
+  cmd->add_flag("--keep-open", c.options.keep_open,
+                "Keep running when the script ends without quit (default: quit; --screenshot, --frames decide first)");
   cmd->add_flag("--fast-motion", c.options.fast_motion, "Visibility 'none' while the camera or a luminaire moves");
   cmd->callback([] { run_view(c); });
 });

@@ -28,11 +28,11 @@ void ImageDisplay::upload(const Image& rgb) {
   glTextureSubImage2D(fb_->texture(0), 0, 0, 0, rgb.width, rgb.height, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
 }
 
-void ImageDisplay::present(unsigned target, int width, int height) const {
+void ImageDisplay::present(unsigned target, int x, int y, int width, int height) const {
   if (!fb_ || width <= 0 || height <= 0) return;
   const double scale = std::min(static_cast<double>(width) / fb_->width(), static_cast<double>(height) / fb_->height());
   const int w = static_cast<int>(fb_->width() * scale), h = static_cast<int>(fb_->height() * scale);
-  const int x0 = (width - w) / 2, y0 = (height - h) / 2;
+  const int x0 = x + (width - w) / 2, y0 = y + (height - h) / 2;
   const float black[4] = {0, 0, 0, 1};
   glClearNamedFramebufferfv(target, GL_COLOR, 0, black);
   glNamedFramebufferReadBuffer(fb_->id(), GL_COLOR_ATTACHMENT0);

@@ -13,7 +13,9 @@ class ImageDisplay {
  public:
   void upload(const Image& rgb);
   // Draws the last upload into framebuffer `target` (0 = the window) of width x height.
-  void present(unsigned target, int width, int height) const;
+  void present(unsigned target, int width, int height) const { present(target, 0, 0, width, height); }
+  // The same into the area (x, y) .. (x + width, y + height) (GL pixels, y up); the rest is black.
+  void present(unsigned target, int x, int y, int width, int height) const;
   bool empty() const { return !fb_; }
 
  private:

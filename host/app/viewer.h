@@ -21,6 +21,8 @@ struct ViewerOptions {
   std::filesystem::path screenshot;         // with frames (or at the script's end): save the window, then quit
   std::filesystem::path stats;              // write fps and renderer statistics as JSON on exit
   bool panel = true;
+  bool panel_overlay = false;  // the panel floats over the image instead of beside it
+  bool keep_open = false;      // a script that ends without quit (and without --screenshot, --frames): keep running
   bool fast_motion = false;                              // visibility `none` while moving
   std::vector<std::pair<std::string, std::string>> set;  // setting overrides (view_settings.h names)
   std::string cl_device;

@@ -90,6 +90,7 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
   if (!o.script.empty()) script_.emplace(load_script(o.script));  // a bad script fails before the window opens
   check_script_outputs();
   state_.panel = o.panel;
+  state_.panel_overlay = o.panel_overlay;
 
   int ww = o.window_width, wh = o.window_height;
   if (ww <= 0) ww = 1280;
@@ -135,9 +136,11 @@ Viewer::~Viewer() {
   }
 }
 
+// The image's area: the window less the docked panel (docs/viewer.md, "Layout").
 int Viewer::render_width() const {
   int w = 0, h = 0;
   window_->framebuffer_size(w, h);
+  w -= docked_panel_width(state_, w);
   return std::max(1, static_cast<int>(std::lround(w * state_.settings.scale)));
 }
 
@@ -187,12 +190,16 @@ void Viewer::iterate() {
   if (scripted()) {
     input_.clear();  // scripts own the viewer
     render_now = script_->step(state_, *this);
-    if (script_->done() && !opt_.screenshot.empty() && opt_.frames == 0) {  // the script's end: --screenshot
-      state_.capture = opt_.screenshot;
-      state_.quit_after_capture = true;
+    if (script_->done() && opt_.frames == 0) {  // the script's end: --screenshot, else quit unless --keep-open
+      if (!opt_.screenshot.empty()) {
+        state_.capture = opt_.screenshot;
+        state_.quit_after_capture = true;
+      } else if (!opt_.keep_open) {
+        state_.quit = true;
+      }
     }
   } else {
-    input_.handle(state_, *this, fw, fh);
+    input_.handle(state_, *this, fw - docked_panel_width(state_, fw), fh);
   }
   sync();
   if (render_now && !state_.quit) render_one();
@@ -319,11 +326,12 @@ void Viewer::display() {
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glViewport(0, 0, fw, fh);
+  const int px = docked_panel_width(state_, fw), iw = fw - px;  // the image beside a docked panel
   if (state_.display == DisplayMode::image) {
-    tonemapper_->present(0, fw, fh);
+    tonemapper_->present(0, px, 0, iw, fh);
   } else if (state_.display == DisplayMode::vsgl) {
     if (rendered_ || state_.redisplay || false_view_.empty()) false_view_.upload(vsgl_view_image(*renderer_));
-    false_view_.present(0, fw, fh);
+    false_view_.present(0, px, 0, iw, fh);
   } else {
     if (rendered_ || state_.redisplay || false_view_.empty()) {
       const Image values = state_.display == DisplayMode::a ? renderer_->a_image() : renderer_->k_image();
@@ -332,7 +340,7 @@ void Viewer::display() {
       false_range_ = false_colour(values, fo);
       false_view_.upload(false_range_.image);
     }
-    false_view_.present(0, fw, fh);
+    false_view_.present(0, px, 0, iw, fh);
   }
   state_.redisplay = false;
   if (state_.panel)

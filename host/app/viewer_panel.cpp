@@ -97,16 +97,29 @@ struct Panel {
   void materials(bool open_all);
   void material(const scene::Material& m);
   void statistics();
+  void footer_lines();
   void files();
   void shortcuts();
 };
 
 void Panel::draw() {
   const int fh = v.fb_height;
-  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(400, static_cast<float>(std::max(fh - 16, 200))), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowBgAlpha(0.85f);
-  if (ImGui::Begin("nearfield view")) {
+  const int docked = docked_panel_width(s, v.fb_width);
+  ImGuiWindowFlags flags = 0;
+  if (docked > 0) {  // docked: the window's left strip, full height; the image is beside it
+    ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(static_cast<float>(docked), static_cast<float>(fh)), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(1.0f);
+    flags = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+  } else {  // floating over the image, translucent, wherever the user puts it
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(400, static_cast<float>(std::max(fh - 16, 200))), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.85f);
+  }
+  if (ImGui::Begin("nearfield view", nullptr, flags)) {
+    // The essentials stay visible below the sections, which scroll in their own region.
+    const float footer = 3.0f * ImGui::GetTextLineHeightWithSpacing() + ImGui::GetStyle().ItemSpacing.y + 2.0f;
+    ImGui::BeginChild("sections", ImVec2(0, -footer));
     ImGui::PushItemWidth(-190.0f);  // room for the labels
     header();
     if (section("Rendering", "rendering", true)) rendering();
@@ -127,8 +140,24 @@ void Panel::draw() {
       ImGui::PopTextWrapPos();
     }
     ImGui::PopItemWidth();
+    ImGui::EndChild();
+    footer_lines();
   }
   ImGui::End();
+}
+
+// Always visible under the scrolling sections: frames, speed, the last frame's time.
+void Panel::footer_lines() {
+  ImGui::Separator();
+  const render::StepTimes& t = v.stats.last_times();
+  const double loop = v.stats.loop_ms_recent();
+  ImGui::Text("%d frames, %lld spp | %.1f fps", r.frames(),
+              static_cast<long long>(r.frames()) * s.settings.frame.sampling.spp, loop > 0 ? 1000.0 / loop : 0.0);
+  const double seconds = v.stats.last_loop_ms() / 1000.0;
+  ImGui::Text("renderer %.1f ms | %.3g samples/s", t.wall_ms,
+              seconds > 0 ? static_cast<double>(t.samples) / seconds : 0.0);
+  bool overlay = s.panel_overlay;
+  if (ImGui::Checkbox("panel over the image", &overlay)) s.panel_overlay = overlay;
 }
 
 // A collapsing header; a scripted `section NAME on|off` opens or closes it once.
@@ -495,6 +524,11 @@ void Panel::shortcuts() {
 }
 
 }  // namespace
+
+int docked_panel_width(const ViewerState& s, int fb_width) {
+  if (!s.panel || s.panel_overlay) return 0;
+  return std::min(400, fb_width / 2);
+}
 
 void draw_panel(ViewerState& s, ViewerActions& actions, const PanelView& view) {
   Panel{s, actions, view, view.renderer}.draw();

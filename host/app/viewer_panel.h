@@ -24,6 +24,10 @@ struct PanelView {
 };
 
 void draw_panel(ViewerState& s, ViewerActions& actions, const PanelView& view);
+// The width the docked panel takes from the left of a window `fb_width` wide: 0 when the panel is
+// hidden or floats over the image (ViewerState::panel_overlay); otherwise 400 pixels, at most
+// half the window.
+int docked_panel_width(const ViewerState& s, int fb_width);
 // The "overwrite?" dialog while ViewerState::pending holds a save.
 void draw_confirm_popup(ViewerState& s, ViewerActions& actions);
 

@@ -48,6 +48,9 @@ struct ViewerState {
   DisplayMode display = DisplayMode::image;
   bool false_log = true;  // false colour on a log scale
   bool panel = true;
+  // Panel layout (docs/viewer.md, "Layout"): docked at the left, the image beside it (false), or
+  // floating translucently over the image, which then fills the window (true).
+  bool panel_overlay = false;
   std::map<std::string, bool> open_sections;  // scripted `section` requests, applied on the next draw
   bool redisplay = true;                      // redraw the window image even without a new frame
 

@@ -114,4 +114,25 @@ double farfield_ring_flux(const Luminaire& l, double theta0, double theta1, int 
   return total;
 }
 
+Rect emitting_area(const Luminaire& l) {
+  const int nx = l.image.resolution[0], ny = l.image.resolution[1], ch = l.channels;
+  int a0 = nx, a1 = -1, r0 = ny, r1 = -1;  // lit columns and rows (row 0 at the top)
+  for (const auto& img : l.images)
+    for (int r = 0; r < ny; ++r)
+      for (int a = 0; a < nx; ++a) {
+        const std::size_t k = (static_cast<std::size_t>(r) * nx + a) * static_cast<std::size_t>(ch);
+        bool lit = false;
+        for (int c = 0; c < ch && k + c < img.size(); ++c) lit = lit || img[k + c] > 0.0f;
+        if (!lit) continue;
+        a0 = std::min(a0, a);
+        a1 = std::max(a1, a);
+        r0 = std::min(r0, r);
+        r1 = std::max(r1, r);
+      }
+  if (a1 < 0) return {};
+  const double px = l.image.size.x / nx, py = l.image.size.y / ny;
+  return {{l.image.origin.x + a0 * px, l.image.origin.y + (ny - 1 - r1) * py},
+          {l.image.origin.x + (a1 + 1) * px, l.image.origin.y + (ny - r0) * py}};
+}
+
 }  // namespace nf::lum

@@ -8,6 +8,7 @@
 // cos^4). Unit: the pixels' flux unit per steradian (cd for a luminaire in lm).
 #include <glm/vec3.hpp>
 
+#include "luminaire/basis.h"
 #include "luminaire/luminaire.h"
 
 namespace nf::lum {
@@ -19,5 +20,12 @@ double farfield_intensity(const Luminaire& l, glm::dvec3 w);
 // theta (n_theta points per ring) and the trapezoid rule in phi (n_phi points, exact for the
 // periodic integrand up to its smoothness).
 double farfield_ring_flux(const Luminaire& l, double theta0, double theta1, int n_theta = 12, int n_phi = 96);
+
+// The emitting area on S (luminaire frame, metres, z = 0): the bounding rectangle of the pixels
+// that hold light in any image. Every ray of the light field leaves through S there (the far
+// field above integrates over S), so it is the opening light leaves through, with the far field's
+// photometric centre (the origin) in its plane. Empty when no image holds light.
+// `luminaire farfield` writes its size as the LM-63 luminous opening (docs/photometry.md).
+Rect emitting_area(const Luminaire& l);
 
 }  // namespace nf::lum

@@ -168,7 +168,9 @@ void write_ies(const std::filesystem::path& file, const Goniometric& g, const st
     f << "IESNA:LM-63-2002\n[TEST] " << description << "\n[MANUFAC] nearfield\n"
       << "[OTHER] C counterclockwise seen from above, luminaire aimed down\n"
       << "[_ABSOLUTELUMENS] " << fmt::format("{:.6g}", g.lumens()) << "\nTILT=NONE\n";
-    f << fmt::format("1 -1 1.0 {} {} 1 2 0 0 0\n1.0 1.0 0\n", g.gamma.size(), g.c.size());
+    // Units type 2: the luminous opening's width, length and height are in metres.
+    f << fmt::format("1 -1 1.0 {} {} 1 2 {:.6g} {:.6g} {:.6g}\n1.0 1.0 0\n", g.gamma.size(), g.c.size(),
+                     g.opening_width, g.opening_length, g.opening_height);
     auto list = [&](const std::vector<double>& v) {
       for (std::size_t k = 0; k < v.size(); ++k)
         f << fmt::format("{:.9g}", v[k]) << ((k + 1) % 10 == 0 || k + 1 == v.size() ? "\n" : " ");

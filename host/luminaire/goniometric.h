@@ -17,6 +17,10 @@ struct Goniometric {
   std::vector<double> cd;       // cd[ic * gamma.size() + ig]
   double stated_lumens = -1.0;  // the flux the file states (< 0: none)
   std::string stated_colour;     // EULUMDAT line 26d of the first lamp set (colour temperature / appearance), as written
+  // LM-63 luminous opening in metres (0 0 0: a point): width across the C 90-270 plane (local y),
+  // length along the C 0-180 plane (local x), height along the gamma = 0 axis (local z). Negative
+  // values are LM-63's non-rectangular shapes (circles, spheres ...), kept as the file states them.
+  double opening_width = 0.0, opening_length = 0.0, opening_height = 0.0;
 
   double intensity(double c_deg, double gamma_deg) const;  // bilinear; 0 outside the gamma range
   double lumens() const;                                   // integral of the bilinear table over the sphere

@@ -92,10 +92,11 @@ Goniometric read_ies(const std::filesystem::path& path) {
   const double multiplier = next("candela multiplier");
   const double nv = next("number of vertical angles"), nh = next("number of horizontal angles");
   const double type = next("photometric type");
-  next("units type");
-  next("width");
-  next("length");
-  next("height");
+  const double units = next("units type");
+  const double to_metres = units == 1 ? 0.3048 : 1.0;  // 1: feet, 2: metres
+  g.opening_width = next("width") * to_metres;
+  g.opening_length = next("length") * to_metres;
+  g.opening_height = next("height") * to_metres;
   const double ballast = next("ballast factor");
   const double ballast_lamp = next("future use / ballast-lamp photometric factor");
   next("input watts");

@@ -97,12 +97,22 @@ struct EtendueKernel {
   }
 };
 
-}  // namespace
+// ---- the parts of an import that do not depend on the grid and resolution: the frame, each
+// forward ray's crossing of S and slope, the basis's angular coverage, the rays' extent on S.
+struct ForwardRay {
+  glm::dvec2 s, t;
+  double flux;
+  std::size_t ray;
+};
 
-Imported import_rays(const RaySet& rays, const ImportOptions& o) {
-  Timer timer;
-  const std::string where = fmt::format("luminaire import {}", rays.source);
-  if (rays.size() == 0) fail(where + ": the ray set is empty");
+struct Prepared {
+  LuminaireFrame frame;
+  std::vector<ForwardRay> fwd;
+  double total_flux = 0.0, backward_flux = 0.0, tan_max = 0.0;
+  glm::dvec2 lo{0.0}, hi{0.0};  // the covered rays' s, trimmed to the 0.05 % .. 99.95 % quantiles
+};
+
+void check_options(const ImportOptions& o, const std::string& where) {
   if (o.grid[0] < 1 || o.grid[1] < 1 || o.grid[0] > 256 || o.grid[1] > 256)
     fail(fmt::format("{}: --grid {}x{} out of range 1..256", where, o.grid[0], o.grid[1]));
   if (o.resolution < 1 || o.resolution > 4096)
@@ -111,12 +121,13 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
     fail(fmt::format("{}: --delta {} must be >= 0 (0: automatic)", where, o.delta));
   if (!(o.coverage > 0.0 && o.coverage <= 1.0))
     fail(fmt::format("{}: coverage {} must be in (0, 1]", where, o.coverage));
+}
 
-  ImportReport rep;
-  rep.rays = rays.size();
-  rep.kind = rays.kind;
-  rep.total_flux = rays.total_flux();
-  if (!(rep.total_flux > 0.0)) fail(where + ": the rays carry no flux");
+Prepared prepare(const RaySet& rays, const ImportOptions& o, const std::string& where) {
+  if (rays.size() == 0) fail(where + ": the ray set is empty");
+  Prepared pr;
+  pr.total_flux = rays.total_flux();
+  if (!(pr.total_flux > 0.0)) fail(where + ": the rays carry no flux");
 
   // ---- frame: +z = emission axis, origin on the axis through the flux centroid, at the top of
   // the source's bounding box along the axis.
@@ -125,14 +136,14 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
     axis += rays.flux[r] * rays.direction[r];
     centroid += rays.flux[r] * rays.position[r];
   }
-  centroid /= rep.total_flux;
+  centroid /= pr.total_flux;
   if (o.axis) axis = *o.axis;
   const double alen = std::sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
   if (!(alen > 1e-12) || !std::isfinite(alen))
     fail(o.axis ? fmt::format("{}: --axis {:g},{:g},{:g} is not a finite non-zero direction", where, o.axis->x,
                               o.axis->y, o.axis->z)
                 : fmt::format("{}: the emission axis is undefined (mean direction is zero); give --axis", where));
-  LuminaireFrame& f = rep.frame;
+  LuminaireFrame& f = pr.frame;
   f.ez = axis / alen;
   const glm::dvec3 ref = std::abs(f.ez.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   f.ex = normalized(ref - (ref.x * f.ez.x + ref.y * f.ez.y + ref.z * f.ez.z) * f.ez);
@@ -143,42 +154,53 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   f.origin = centroid + ztop * f.ez;
 
   // ---- each forward ray meets S (z = 0) at s and has the slope t = d_xy / d_z.
-  struct Local {
-    glm::dvec2 s, t;
-    double flux;
-    std::size_t ray;
-  };
-  std::vector<Local> fwd;
-  fwd.reserve(rays.size());
+  pr.fwd.reserve(rays.size());
   std::vector<std::pair<double, double>> cheb;
   for (std::size_t r = 0; r < rays.size(); ++r) {
     const glm::dvec3 q = f.to_local_point(rays.position[r]), d = f.to_local_dir(rays.direction[r]);
     if (!(d.z > 1e-9)) {
-      rep.backward_flux += rays.flux[r];
+      pr.backward_flux += rays.flux[r];
       continue;
     }
     const glm::dvec2 t(d.x / d.z, d.y / d.z);
-    fwd.push_back({glm::dvec2(q.x, q.y) - q.z * t, t, rays.flux[r], r});
+    pr.fwd.push_back({glm::dvec2(q.x, q.y) - q.z * t, t, rays.flux[r], r});
     cheb.emplace_back(std::max(std::abs(t.x), std::abs(t.y)), rays.flux[r]);
   }
-  if (fwd.empty()) fail(where + ": no ray travels along the emission axis (all have d . axis <= 0)");
-  rep.tan_max = quantile(cheb, o.coverage);
-  if (!(rep.tan_max > 0.0)) rep.tan_max = 1e-3;
+  if (pr.fwd.empty()) fail(where + ": no ray travels along the emission axis (all have d . axis <= 0)");
+  pr.tan_max = quantile(cheb, o.coverage);
+  if (!(pr.tan_max > 0.0)) pr.tan_max = 1e-3;
 
   // ---- image rectangle: the s of the covered rays, trimmed to the 0.05 % .. 99.95 % quantiles.
   std::vector<std::pair<double, double>> sx, sy;
-  for (const auto& l : fwd)
-    if (std::max(std::abs(l.t.x), std::abs(l.t.y)) <= rep.tan_max) {
+  for (const auto& l : pr.fwd)
+    if (std::max(std::abs(l.t.x), std::abs(l.t.y)) <= pr.tan_max) {
       sx.emplace_back(l.s.x, 1.0);
       sy.emplace_back(l.s.y, 1.0);
     }
-  glm::dvec2 lo(quantile(sx, 5e-4), quantile(sy, 5e-4)), hi(quantile(sx, 1.0 - 5e-4), quantile(sy, 1.0 - 5e-4));
-  const double extent0 = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6});
+  pr.lo = {quantile(sx, 5e-4), quantile(sy, 5e-4)};
+  pr.hi = {quantile(sx, 1.0 - 5e-4), quantile(sy, 1.0 - 5e-4)};
+  const double extent0 = std::max({pr.hi.x - pr.lo.x, pr.hi.y - pr.lo.y, 1e-6});
   for (int a = 0; a < 2; ++a)
-    if (hi[a] - lo[a] < 1e-3 * extent0) {
-      lo[a] -= 0.5e-3 * extent0;
-      hi[a] += 0.5e-3 * extent0;
+    if (pr.hi[a] - pr.lo[a] < 1e-3 * extent0) {
+      pr.lo[a] -= 0.5e-3 * extent0;
+      pr.hi[a] += 0.5e-3 * extent0;
     }
+  return pr;
+}
+
+// ---- the grid and resolution: pixels on S, delta, the basis on U.
+struct Layout {
+  double pix = 0.0, delta = 0.0;
+  int nx = 0, ny = 0;
+  glm::dvec2 s0{0.0};
+  Basis b;
+  int kcell[2] = {1, 1};
+  glm::dvec2 pou_lo{0.0}, pou_hi{0.0};
+};
+
+Layout layout(const Prepared& pr, const ImportOptions& o, const std::string& where) {
+  Layout ly;
+  const glm::dvec2 lo = pr.lo, hi = pr.hi;
   const double pix = std::max(hi.x - lo.x, hi.y - lo.y) / o.resolution;
   if (!(std::isfinite(pix) && pix > 0.0))
     fail(
@@ -194,16 +216,15 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   // ---- basis: its partition-of-unity region (where n supports overlap) holds every u = s - delta t
   // with s on the image and |t| <= tan_max; cells are whole multiples of the pixel and aligned
   // with the pixel grid, so a pixel-basis pair's etendue depends on an integer offset only.
-  Basis b;
+  Basis& b = ly.b;
   b.kind = o.basis;
   b.count = o.grid;
   const int n = b.support();
-  int kcell[2];
   for (int a = 0; a < 2; ++a) {
     const int inner = o.grid[a] - n + 1;
     if (inner < 1)
       fail(fmt::format("{}: --grid needs at least {} basis functions per axis for {}", where, n, to_string(o.basis)));
-    const double need = (a == 0 ? nx : ny) * pix + 2.0 * delta * rep.tan_max + pix;
+    const double need = (a == 0 ? nx : ny) * pix + 2.0 * delta * pr.tan_max + pix;
     // A cell of more than 1e6 pixels: the basis must span rays so oblique (|tan theta| up to
     // tan_max) or a delta so long that the etendue table would not fit any memory.
     const double cells = std::ceil(need / inner / pix);
@@ -211,14 +232,142 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
       fail(
           fmt::format("{}: the basis would need cells of {:.3g} pixels to cover rays up to |tan theta| = {:.4g} "
                       "at delta = {:.4g} m; lower --coverage or --delta, or {} --axis",
-                      where, cells, rep.tan_max, delta, o.axis ? "check" : "give"));
-    kcell[a] = std::max(1, static_cast<int>(cells));
-    b.cell[a] = kcell[a] * pix;
+                      where, cells, pr.tan_max, delta, o.axis ? "check" : "give"));
+    ly.kcell[a] = std::max(1, static_cast<int>(cells));
+    b.cell[a] = ly.kcell[a] * pix;
     const double ideal = centre[a] - 0.5 * (n - 1 + o.grid[a]) * b.cell[a];
     b.origin[a] = s0[a] + pix * std::round((ideal - s0[a]) / pix);
   }
-  const glm::dvec2 pou_lo = b.origin + (n - 1.0) * b.cell;
-  const glm::dvec2 pou_hi = b.origin + glm::dvec2(o.grid[0], o.grid[1]) * b.cell;
+  ly.pou_lo = b.origin + (n - 1.0) * b.cell;
+  ly.pou_hi = b.origin + glm::dvec2(o.grid[0], o.grid[1]) * b.cell;
+  ly.pix = pix;
+  ly.delta = delta;
+  ly.nx = nx;
+  ly.ny = ny;
+  ly.s0 = s0;
+  return ly;
+}
+
+// A forward ray's place in the light field: its pixel (column a, row rb from the bottom) and the
+// basis functions it weights (m, Phi_m(u) renormalised to sum 1), or why it is not kept.
+struct Term {
+  int m;
+  double w;
+};
+enum class Placement { kept, outside_image, outside_basis };
+
+Placement place(const Layout& ly, const ForwardRay& l, int& a, int& rb, Term (&terms)[16], int& nt) {
+  const Basis& b = ly.b;
+  const int n = b.support(), W = b.count[0], H = b.count[1];
+  const double fa = std::floor((l.s.x - ly.s0.x) / ly.pix), frb = std::floor((l.s.y - ly.s0.y) / ly.pix);
+  if (!(fa >= 0.0 && fa < ly.nx && frb >= 0.0 && frb < ly.ny)) return Placement::outside_image;  // (before the casts)
+  a = static_cast<int>(fa);
+  rb = static_cast<int>(frb);
+  const glm::dvec2 u = l.s - ly.delta * l.t;
+  if (!(u.x >= ly.pou_lo.x && u.x < ly.pou_hi.x && u.y >= ly.pou_lo.y && u.y < ly.pou_hi.y))
+    return Placement::outside_basis;
+  const double cx = (u.x - b.origin.x) / b.cell.x, cy = (u.y - b.origin.y) / b.cell.y;
+  double wsum = 0.0;
+  nt = 0;
+  for (int j = static_cast<int>(std::floor(cy)) - n + 1; j <= static_cast<int>(std::floor(cy)); ++j) {
+    if (j < 0 || j >= H) continue;
+    const double wy = phi(b.kind, cy - j);
+    for (int i = static_cast<int>(std::floor(cx)) - n + 1; i <= static_cast<int>(std::floor(cx)); ++i) {
+      if (i < 0 || i >= W) continue;
+      const double w = wy * phi(b.kind, cx - i);
+      if (w > 0.0) {
+        terms[nt++] = {j * W + i, w};
+        wsum += w;
+      }
+    }
+  }
+  if (!(wsum > 0.0)) return Placement::outside_basis;
+  for (int k = 0; k < nt; ++k) terms[k].w /= wsum;  // exact partition of unity despite rounding
+  return Placement::kept;
+}
+
+// Median over the lit pixel-basis pairs of sqrt(sum v^2) / sum v, v = flux_r Phi_m(u_r): the
+// relative standard deviation of a pixel's binned flux (each ray an independent draw), as the
+// import reports it, computed sparsely (only the pairs that receive rays) for the advice.
+double median_noise(const Prepared& pr, const Layout& ly) {
+  const std::size_t npix = static_cast<std::size_t>(ly.nx) * static_cast<std::size_t>(ly.ny);
+  std::vector<std::pair<std::uint64_t, double>> v;
+  v.reserve(pr.fwd.size() * 9);
+  Term terms[16];
+  for (const auto& l : pr.fwd) {
+    int a = 0, rb = 0, nt = 0;
+    if (place(ly, l, a, rb, terms, nt) != Placement::kept) continue;
+    for (int k = 0; k < nt; ++k)
+      v.emplace_back(static_cast<std::uint64_t>(terms[k].m) * npix + static_cast<std::uint64_t>(rb) * ly.nx + a,
+                     l.flux * terms[k].w);
+  }
+  std::sort(v.begin(), v.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<double> noise;
+  for (std::size_t i = 0; i < v.size();) {
+    double num = 0.0, sq = 0.0;
+    std::size_t j = i;
+    for (; j < v.size() && v[j].first == v[i].first; ++j) {
+      num += v[j].second;
+      sq += v[j].second * v[j].second;
+    }
+    if (num > 0.0) noise.push_back(std::sqrt(sq) / num);
+    i = j;
+  }
+  if (noise.empty()) return 1.0;
+  std::nth_element(noise.begin(), noise.begin() + static_cast<std::ptrdiff_t>(noise.size() / 2), noise.end());
+  return noise[noise.size() / 2];
+}
+
+}  // namespace
+
+std::vector<ImportCandidate> import_advice(const RaySet& rays, const ImportOptions& o) {
+  const std::string where = fmt::format("luminaire import {}", rays.source);
+  check_options(o, where);
+  const Prepared pr = prepare(rays, o, where);
+  std::vector<ImportCandidate> out;
+  Basis kind;
+  kind.kind = o.basis;
+  const int nmin = kind.support();
+  for (const auto& [g, r] : import_ladder()) {
+    if (g < nmin) continue;
+    ImportOptions c = o;
+    c.grid = {g, g};
+    c.resolution = r;
+    try {
+      const Layout ly = layout(pr, c, where);
+      out.push_back({g, r, median_noise(pr, ly)});
+    } catch (const Error&) {
+      // a ladder step this ray set cannot hold (cells too large): not a candidate
+    }
+  }
+  return out;
+}
+
+const std::vector<std::pair<int, int>>& import_ladder() {
+  // Square grids with 3 pixels per basis function along each axis (the defaults' 16 x 16 and 48).
+  static const std::vector<std::pair<int, int>> ladder{{4, 12},  {6, 18},  {8, 24},  {10, 30}, {12, 36},
+                                                       {16, 48}, {20, 60}, {24, 72}, {32, 96}};
+  return ladder;
+}
+
+Imported import_rays(const RaySet& rays, const ImportOptions& o) {
+  Timer timer;
+  const std::string where = fmt::format("luminaire import {}", rays.source);
+  check_options(o, where);
+  ImportReport rep;
+  rep.rays = rays.size();
+  rep.kind = rays.kind;
+  const Prepared pr = prepare(rays, o, where);
+  rep.total_flux = pr.total_flux;
+  rep.backward_flux = pr.backward_flux;
+  rep.frame = pr.frame;
+  rep.tan_max = pr.tan_max;
+  const Layout ly = layout(pr, o, where);
+  const Basis& b = ly.b;
+  const double pix = ly.pix, delta = ly.delta;
+  const int nx = ly.nx, ny = ly.ny;
+  const glm::dvec2 s0 = ly.s0;
+  const int* kcell = ly.kcell;
 
   {  // the written luminaire must be readable: lengths and origins within the manifest's ranges
     Luminaire geometry;
@@ -263,38 +412,23 @@ Imported import_rays(const RaySet& rays, const ImportOptions& o) {
   std::vector<double> num(static_cast<std::size_t>(M) * npix, 0.0), sq(num.size(), 0.0);
   std::vector<glm::dvec3> num_rgb(per_ray_colour ? num.size() : 0, glm::dvec3(0.0));
   std::vector<char> needed(static_cast<std::size_t>(tw * th), 0);
-  for (const auto& l : fwd) {
-    const double fa = std::floor((l.s.x - s0.x) / pix), frb = std::floor((l.s.y - s0.y) / pix);
-    if (!(fa >= 0.0 && fa < nx && frb >= 0.0 && frb < ny)) continue;  // (before the casts: s may be huge)
-    const int a = static_cast<int>(fa), rb = static_cast<int>(frb);   // rb counts from the bottom
-    const glm::dvec2 u = l.s - delta * l.t;
-    if (!(u.x >= pou_lo.x && u.x < pou_hi.x && u.y >= pou_lo.y && u.y < pou_hi.y)) continue;
-    const int r = ny - 1 - rb;
-    const double cx = (u.x - b.origin.x) / b.cell.x, cy = (u.y - b.origin.y) / b.cell.y;
-    double wsum = 0.0;
-    struct Term {
-      int m;
-      double w;
-    } terms[16];
-    int nt = 0;
-    for (int j = static_cast<int>(std::floor(cy)) - n + 1; j <= static_cast<int>(std::floor(cy)); ++j) {
-      if (j < 0 || j >= H) continue;
-      const double wy = phi(b.kind, cy - j);
-      for (int i = static_cast<int>(std::floor(cx)) - n + 1; i <= static_cast<int>(std::floor(cx)); ++i) {
-        if (i < 0 || i >= W) continue;
-        const double w = wy * phi(b.kind, cx - i);
-        if (w > 0.0) {
-          terms[nt++] = {j * W + i, w};
-          wsum += w;
-        }
-      }
+  Term terms[16];
+  for (const auto& l : pr.fwd) {
+    int a = 0, rb = 0, nt = 0;  // rb counts from the bottom
+    const Placement where_to = place(ly, l, a, rb, terms, nt);
+    if (where_to == Placement::outside_image) {
+      rep.outside_image_flux += l.flux;
+      continue;
     }
-    if (!(wsum > 0.0)) continue;
+    if (where_to == Placement::outside_basis) {
+      rep.outside_basis_flux += l.flux;
+      continue;
+    }
+    const int r = ny - 1 - rb;
     rep.kept_rays++;
     rep.kept_flux += l.flux;
     for (int k = 0; k < nt; ++k) {
-      // weights renormalised: exact partition of unity despite rounding
-      const double v = l.flux * terms[k].w / wsum;
+      const double v = l.flux * terms[k].w;
       const std::size_t idx = static_cast<std::size_t>(terms[k].m) * npix + static_cast<std::size_t>(r) * nx + a;
       num[idx] += v;
       sq[idx] += v * v;

@@ -10,6 +10,8 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -39,7 +41,12 @@ struct LuminaireFrame {
 
 struct ImportReport {
   std::size_t rays = 0, kept_rays = 0;
-  double total_flux = 0.0, kept_flux = 0.0, backward_flux = 0.0;  // in flux_unit(kind)
+  double total_flux = 0.0, kept_flux = 0.0;  // in flux_unit(kind)
+  // Where the rest went (they add up to total - kept): rays that leave backwards (d . axis <= 0);
+  // that cross S outside the image rectangle (its 0.05 % .. 99.95 % quantiles of the covered
+  // rays, or rays more oblique than the coverage); that cross S on the image but come from U
+  // outside the basis's partition-of-unity region (more oblique than |tan theta| <= tan_max).
+  double backward_flux = 0.0, outside_image_flux = 0.0, outside_basis_flux = 0.0;
   FluxKind kind = FluxKind::radiant;
   LuminaireFrame frame;
   double tan_max = 0.0;        // |tan theta| per axis the basis covers
@@ -54,5 +61,17 @@ struct Imported {
 };
 
 Imported import_rays(const RaySet& rays, const ImportOptions& options);
+
+// Advice (docs/measured-data.md, "Choosing --grid and --resolution"): the median noise per lit
+// pixel-basis pair that import_rays would report, for each step of import_ladder() this ray set
+// can hold (the options' axis, coverage, delta and basis kind; their grid and resolution are
+// replaced). Only the binning runs (no etendue table, no images): fast.
+struct ImportCandidate {
+  int grid = 0, resolution = 0;
+  double median_noise = 0.0;
+};
+std::vector<ImportCandidate> import_advice(const RaySet& rays, const ImportOptions& options);
+// The candidates, coarse to fine: square grids G x G with resolution 3 G.
+const std::vector<std::pair<int, int>>& import_ladder();
 
 }  // namespace nf::lum

@@ -75,6 +75,7 @@ struct ContributionFrame {
   double step2_ms = 0.0;     // kernels: sampling and shading
   double wall_ms = 0.0;      // host wall clock of the kernels' launches and waits
   double readback_ms = 0.0;  // reading the radiance (and counts) back and adding it into the frame
+  double total_ms = 0.0;     // host wall clock of add() as a whole, builds included (set by the Renderer)
   std::uint64_t samples = 0;
   // The contribution's own stages when it rebuilt something this frame (name, ms), e.g. the
   // indirect light's RSM, RSM lighting, pyramid and VSGL generation; part of step1_ms.

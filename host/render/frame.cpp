@@ -446,7 +446,9 @@ const StepTimes& Renderer::render_frame() {
   dframe_->clear_frame();
   contribution_frames_.clear();
   for (auto& c : contributions_) {
-    const ContributionFrame f = c->add_device(in, *dframe_);
+    Timer whole;
+    ContributionFrame f = c->add_device(in, *dframe_);
+    f.total_ms = whole.ms();
     t.step1_ms += f.step1_ms;
     t.step2_ms += f.step2_ms;
     t.sampler_wall_ms += f.wall_ms;
@@ -632,6 +634,7 @@ RenderStats Renderer::stats() {
       c.step2_ms = f.step2_ms;
       c.wall_ms = f.wall_ms;
       c.readback_ms = f.readback_ms;
+      c.total_ms = f.total_ms;
       c.samples = f.samples;
       c.parts_ms = f.parts_ms;
     }

@@ -126,6 +126,7 @@ std::string to_json(const RenderStats& s, const std::vector<std::pair<std::strin
                         {"step2_ms", c.step2_ms},
                         {"wall_ms", c.wall_ms},
                         {"readback_ms", c.readback_ms},
+                        {"total_ms", c.total_ms},
                         {"samples", c.samples},
                         {"device_bytes", c.device_bytes},
                         {"parts_ms", parts}});
@@ -159,27 +160,67 @@ std::string to_json(const RenderStats& s, const std::vector<std::pair<std::strin
   return j.dump(2) + "\n";
 }
 
+namespace {
+
+// Per frame, what a contribution's samples are counted against (docs/rendering.md, "Outputs"):
+// the light fields draw K(p) per lit pixel (A(p) > 0); the others a fixed number per pixel of the
+// frame, background included (far field: one per light, environment: its N, indirect: one per
+// VSGL).
+std::string samples_text(const RenderStats& s, const ContributionStats& c) {
+  if (c.name == "luminaires")
+    return s.pixels.lit ? fmt::format("{} ({:.1f} per lit pixel; {} of {} surface pixels lit)", c.samples,
+                                      static_cast<double>(c.samples) / static_cast<double>(s.pixels.lit), s.pixels.lit,
+                                      s.pixels.surface)
+                        : fmt::format("{} (no surface pixel lit)", c.samples);
+  return s.pixels.total ? fmt::format("{} ({:.1f} per pixel)", c.samples,
+                                      static_cast<double>(c.samples) / static_cast<double>(s.pixels.total))
+                        : fmt::format("{} (no pixel)", c.samples);
+}
+
+}  // namespace
+
 std::string summary(const RenderStats& s) {
   const StepTimes& t = s.total;
-  const Breakdown b = fig10_breakdown(t);
-  const double total = b.total() > 0 ? b.total() : 1.0;
+  const StepTimes& last = s.last_frame;
   std::size_t bytes = 0;
   for (const auto& m : s.memory) bytes += m.bytes;
   std::string out;
-  out += fmt::format(
-      "{}x{}, {} frame(s), {} samples ({:.1f} per lit pixel per frame), device {}\n", s.width, s.height, t.frames,
-      t.samples,
-      s.pixels.lit ? static_cast<double>(t.samples) / std::max(1, t.frames) / static_cast<double>(s.pixels.lit) : 0.0,
-      s.cl_device);
+  out += fmt::format("{}x{}, {} frame(s), {} samples, {} surface pixels, device {}\n", s.width, s.height, t.frames,
+                     t.samples, s.pixels.surface, s.cl_device);
+  // Samples of the last frame, per contribution (the sum over all frames is the line above).
+  std::string samples;
+  for (const auto& c : s.contributions)
+    samples += fmt::format("{}{} {}", samples.empty() ? "" : " | ", c.name, samples_text(s, c));
+  out += "samples (last frame): " + (samples.empty() ? std::string("none: the scene has no light source") : samples) +
+         "\n";
   out += fmt::format(
       "steps (ms): 0 (GL G-buffer, shadows) {:.1f} | 1 (A) {:.1f} | 2 (sample+shade) {:.1f} | CL other {:.1f} | "
       "accumulation {:.1f} | 3 (tone map) {:.1f} | wall {:.1f}\n",
       t.step0_ms(), t.step1_ms, t.step2_ms, t.cl_other_ms(), t.readback_ms + t.accumulate_ms, t.step3_ms, t.wall_ms);
-  out += fmt::format(
-      "Fig. 10 breakdown: A estimation {:.1f}% | sampling+shading {:.1f}% | shadow {:.1f}% | accumulation {:.1f}% | "
-      "other {:.1f}%\n",
-      100 * b.a_estimation / total, 100 * b.sampling_shading / total, 100 * b.shadow / total,
-      100 * b.accumulation / total, 100 * b.other / total);
+  // Where the last frame's wall time went, by part: Step 0, each contribution as a whole (its own
+  // builds, kernels, readback), the accumulation, Step 3, the rest.
+  if (last.wall_ms > 0) {
+    const double wall = last.wall_ms;
+    double named = last.step0_ms() + last.accumulate_ms + last.step3_ms;
+    std::string parts = fmt::format("Step 0 {:.1f}%", 100 * last.step0_ms() / wall);
+    for (const auto& c : s.contributions) {
+      parts += fmt::format(" | {} {:.1f}%", c.name, 100 * c.total_ms / wall);
+      named += c.total_ms;
+    }
+    parts += fmt::format(" | accumulation {:.1f}% | tone map {:.1f}% | other {:.1f}%", 100 * last.accumulate_ms / wall,
+                         100 * last.step3_ms / wall, 100 * std::max(0.0, wall - named) / wall);
+    out += fmt::format("last frame {:.1f} ms: {}\n", wall, parts);
+  }
+  // Lu et al. 2015 Fig. 10 is the light fields' breakdown: only with light-field luminaires.
+  if (!s.luminaires.empty()) {
+    const Breakdown b = fig10_breakdown(t);
+    const double total = b.total() > 0 ? b.total() : 1.0;
+    out += fmt::format(
+        "Fig. 10 breakdown: A estimation {:.1f}% | sampling+shading {:.1f}% | shadow {:.1f}% | accumulation {:.1f}% | "
+        "other {:.1f}%\n",
+        100 * b.a_estimation / total, 100 * b.sampling_shading / total, 100 * b.shadow / total,
+        100 * b.accumulation / total, 100 * b.other / total);
+  }
   for (const auto& l : s.luminaires)
     out += fmt::format(
         "luminaire {}: {} instance(s), {} images of {}x{}, {} ({}), load {:.1f} ms, precompute {:.1f} ms, {:.1f} "

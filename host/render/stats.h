@@ -84,6 +84,7 @@ struct PixelCounts {
 struct ContributionStats {
   std::string name;
   double step1_ms = 0, step2_ms = 0, wall_ms = 0, readback_ms = 0;
+  double total_ms = 0;  // its whole add() in the last frame (ContributionFrame::total_ms)
   std::uint64_t samples = 0;
   std::size_t device_bytes = 0;
   std::vector<std::pair<std::string, double>> parts_ms;  // ContributionFrame::parts_ms
