@@ -41,7 +41,7 @@ HostMaterial host_decode(const NfSurface& s, int kurt_count) {
   HostMaterial m{s.brdf, 0, 0, 0, {s.base_r, s.base_g, s.base_b}, {0, 0, 0}};
   double metallic = s.metallic;
   if (s.brdf == NF_BRDF_KURT) {
-    if (s.metallic >= 0.0f && s.metallic < kurt_count) {
+    if (s.metallic >= 0.0f && s.metallic < static_cast<float>(kurt_count)) {
       m.kmat = static_cast<int>(s.metallic);
       for (int c = 0; c < 3; ++c) m.tangent[c] = m.base[c];
     } else {

@@ -221,8 +221,8 @@ TEST(MisLightPdf, SampledDirectionsFollowPdf) {
           glm::dvec3 w;
           ASSERT_GE(x.col, 0) << c.name;
           const auto& g = l.image;
-          const double sx = g.origin.x + (x.col + x.fx) * g.size.x / g.resolution[0];
-          const double sy = g.origin.y + g.size.y - (x.row + x.fy) * g.size.y / g.resolution[1];
+          const double sx = g.origin.x + (static_cast<double>(x.col) + x.fx) * g.size.x / g.resolution[0];
+          const double sy = g.origin.y + g.size.y - (static_cast<double>(x.row) + x.fy) * g.size.y / g.resolution[1];
           w = glm::normalize(glm::dvec3(sx, sy, 0.0) - c.p);
           if (c.p.z < 0) w = -w;
           const double a = w.x / -w.z, b = w.y / -w.z;

@@ -9,7 +9,7 @@
 //   alias        that input spelled through "sub/.."
 //   symlink      a symbolic link to it
 //   hard link    a hard link to it
-//   other output the same path as another output of the command
+//   other output the same file as another output of the command (a hard link with its extension)
 //   directory    an existing directory named like an output
 //   missing dir  a file in a directory that does not exist
 //   under a file a file "inside" a regular file
@@ -129,16 +129,17 @@ fs::path input_like(const FileCommand& c, const std::string& ext) {
   return c.inputs.front();
 }
 
-// Runs `c` with output `k` at `bad` (and output `twin`, when >= 0, at the same path) and checks
-// the policy.
+// Runs `c` with output `k` at `bad` (and output `twin`, when >= 0, at `twin_path`) and checks the
+// policy.
 void expect_refused(const FileCommand& c, std::size_t k, const fs::path& bad, const std::string& label,
-                    int twin = -1) {
+                    int twin = -1, const fs::path& twin_path = {}) {
   const Work& w = work();
   SCOPED_TRACE(c.args + " " + c.outputs[k].flag + " [" + label + "] " + bad.string());
   std::string cmd = c.args;
   for (std::size_t i = 0; i < c.outputs.size(); ++i) {
-    const bool is_bad = i == k || static_cast<int>(i) == twin;
-    const fs::path p = is_bad ? bad : w.dir / "fresh" / ("ok" + std::to_string(i) + c.outputs[i].ext);
+    const fs::path p = i == k                         ? bad
+                       : static_cast<int>(i) == twin ? twin_path
+                                                     : w.dir / "fresh" / ("ok" + std::to_string(i) + c.outputs[i].ext);
     cmd += " " + c.outputs[i].flag + " " + q(p);
   }
   fs::create_directories(w.dir / "fresh");
@@ -165,7 +166,22 @@ void run_matrix(const FileCommand& c) {
     fs::create_hard_link(input, hard);
     expect_refused(c, k, hard, "hard link");
     fs::remove(hard);
-    if (c.outputs.size() > 1) expect_refused(c, k, w.dir / ("same" + ext), "other output", (k + 1) % c.outputs.size());
+    if (c.outputs.size() > 1) {
+      // Another output names the same file: an existing file and a hard link to it, each with its
+      // option's extension (the same path would fail on the extension first).
+      const std::size_t t = (k + 1) % c.outputs.size();
+      const fs::path same = w.dir / ("same" + ext), twin = w.dir / ("same_twin" + c.outputs[t].ext);
+      write(w.dir, same.filename().string(), "an earlier result");
+      fs::remove(twin);
+      if (c.outputs[t].ext == ext)
+        expect_refused(c, k, same, "other output", static_cast<int>(t), same);
+      else {
+        fs::create_hard_link(same, twin);
+        expect_refused(c, k, same, "other output", static_cast<int>(t), twin);
+      }
+      fs::remove(twin);
+      fs::remove(same);
+    }
     fs::create_directories(w.dir / ("folder" + ext));
     expect_refused(c, k, w.dir / ("folder" + ext), "directory");
     fs::remove(w.dir / ("folder" + ext));

@@ -92,7 +92,7 @@ TEST(ReferenceCli, BadInputFailsCleanly) {
       {q(scene) + " -o " + q(scene), ".exr"},
       {q(scene) + " -o " + q(dir / "x.exr") + " --stats " + q(scene), "refusing to overwrite"},
       {q(scene) + " -o " + q(dir / "x.exr") + " --png " + q(dir / "x.json"), ".png"},
-      {q(scene) + " -o " + q(dir / "x.exr") + " --stats " + q(dir / "x.exr"), "two outputs"},
+      {q(scene) + " -o " + q(dir / "x.exr") + " --stats " + q(dir / "x.exr"), "must end in .json"},
       {q(scene) + " -o " + q(dir / "missing" / "x.exr"), "does not exist"},
       {q(scene) + " -o " + q(dir / "x.exr") + " --spp 0", "--spp"},
       {q(scene) + " -o " + q(dir / "x.exr") + " --bounces 2", "--bounces"},

@@ -134,7 +134,7 @@ TEST(RenderCli, BadOptionsFailBeforeAnyWork) {
       {"-o " + q(scene), ".exr"},
       {"-o " + q(dir / "x.exr") + " --stats " + q(scene), "refusing to overwrite"},
       {"-o " + q(dir / "x.exr") + " --png " + q(dir / "x.json"), ".png"},
-      {"-o " + q(dir / "x.exr") + " --stats " + q(dir / "x.exr"), "two outputs"},
+      {"-o " + q(dir / "x.exr") + " --stats " + q(dir / "x.exr"), "must end in .json"},
       {"-o " + q(dir / "x.png"), ".exr"},
       {"-o " + q(dir / "missing" / "x.exr"), "does not exist"},
       {"-o " + q(dir / "x.exr") + " --method magic", "--method"},

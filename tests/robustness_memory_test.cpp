@@ -90,7 +90,7 @@ TEST(RobustnessMemory, LuminaireLargerThanTheBudgetIsRefusedWithTheFigures) {
 }
 
 // A 16384^2 camera: `render --dry-run` prints the estimate and refuses when it exceeds the
-// budget (270 B/pixel x 2^28 pixels = 67.5 GiB > 8 GiB), naming the scene; a render refuses
+// budget (322 B/pixel x 2^28 pixels = 80.5 GiB > 8 GiB; docs/robustness.md), naming the scene; a render refuses
 // before any work, writing nothing.
 TEST(RobustnessMemory, RenderRefusesAnImageThatCannotFit) {
   const auto dir = nf::testing::temp_dir("mem_render");
@@ -102,7 +102,7 @@ TEST(RobustnessMemory, RenderRefusesAnImageThatCannotFit) {
   EXPECT_NE(dry.exit_code, 0);
   EXPECT_NE(dry.out.find("estimate"), std::string::npos) << dry.out;
   EXPECT_NE(dry.err.find("huge.json"), std::string::npos) << dry.err;
-  EXPECT_NE(dry.err.find("needs about 67."), std::string::npos) << dry.err;
+  EXPECT_NE(dry.err.find("needs about 80.5"), std::string::npos) << dry.err;
   EXPECT_NE(real.exit_code, 0);
   EXPECT_NE(real.err.find("needs about"), std::string::npos) << real.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out.exr"));

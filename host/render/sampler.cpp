@@ -168,6 +168,7 @@ static cl_uint bound_args(const std::string& name, bool mean_direction) {
   if (name == "lf_step2_image") return kSpecificArgs + 3 + (mean_direction ? 1 : 0);
   if (name == "lf_fused") return kSpecificArgs + 6 + (mean_direction ? 1 : 0);
   if (name == "lf_debug_samples") return kSpecificArgs + 2;
+  if (name == "lf_debug_pdf") return kSpecificArgs + 3;
   fail("Sampler: no argument list for kernel " + name);
 }
 
@@ -404,7 +405,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
                         const SamplingSettings& s, std::uint64_t view_version) {
   s.validate();
   if (count < 0) fail(fmt::format("Sampler::run: negative surface count {}", count));
-  if (s.light_selection == LightSelection::flat && lights.size() > 1) return run_selected(surfaces, count, lights, s);
+  if (selects_instances(s.light_selection, lights.size())) return run_selected(surfaces, count, lights, s);
   sel_.valid = false;
   Timer timer;
   ensure(count);

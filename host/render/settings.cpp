@@ -28,7 +28,8 @@ constexpr Table<Balance, 3> kBalances{
     {{Balance::paper, "paper"}, {Balance::min1, "min1"}, {Balance::roulette, "roulette"}}};
 constexpr Table<SearchKind, 2> kSearches{{{SearchKind::secant, "secant"}, {SearchKind::binary, "binary"}}};
 constexpr Table<Structure, 2> kStructures{{{Structure::per_image, "per-image"}, {Structure::fused, "fused"}}};
-constexpr Table<LightSelection, 2> kSelections{{{LightSelection::all, "all"}, {LightSelection::flat, "flat"}}};
+constexpr Table<LightSelection, 3> kSelections{
+    {{LightSelection::automatic, "auto"}, {LightSelection::all, "all"}, {LightSelection::flat, "flat"}}};
 constexpr Table<Mis, 3> kMis{{{Mis::none, "none"}, {Mis::balance, "balance"}, {Mis::power, "power"}}};
 
 template <typename E, std::size_t N>
@@ -79,6 +80,10 @@ std::vector<std::string> balance_names() { return names_of(kBalances); }
 std::vector<std::string> search_names() { return names_of(kSearches); }
 std::vector<std::string> structure_names() { return names_of(kStructures); }
 std::vector<std::string> light_selection_names() { return names_of(kSelections); }
+bool selects_instances(LightSelection s, std::size_t instances) {
+  if (instances < 2) return false;
+  return s == LightSelection::flat || (s == LightSelection::automatic && instances >= kAutoSelectionInstances);
+}
 std::vector<std::string> mis_names() { return names_of(kMis); }
 
 void SamplingSettings::validate() const {

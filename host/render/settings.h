@@ -1,5 +1,6 @@
 #pragma once
 // Sampling settings (docs/sampling.md), selectable everywhere: probe, render, view, bench.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -17,8 +18,13 @@ enum class SearchKind { secant, binary };
 // Per-image passes as in the paper (Step 1 per image, Step 2 per image) or one fused pass.
 enum class Structure { per_image, fused };
 // Many instances (docs/sampling.md "Light selection"): every instance at every pixel (`all`), or one
-// instance per pixel and frame drawn with probability q_i(p) from a flat per-pixel CDF (`flat`).
-enum class LightSelection { all, flat };
+// instance per pixel and frame drawn with probability q_i(p) from a flat per-pixel CDF (`flat`);
+// `automatic` ("auto") is `flat` from kAutoSelectionInstances instances on, `all` below (measured
+// crossover of the equal-time error, bench/results/selection/README.md).
+enum class LightSelection { all, flat, automatic };
+inline constexpr std::size_t kAutoSelectionInstances = 16;
+// Whether a frame with `instances` luminaire instances selects one per pixel.
+bool selects_instances(LightSelection s, std::size_t instances);
 // MIS of the light-field samples with BRDF samples (docs/mis.md): off, balance or power heuristic.
 enum class Mis { none, balance, power };
 
@@ -74,7 +80,7 @@ struct SamplingSettings {
   // view (docs/sampling.md "Pixel cache"); 0 = recompute every frame. Above it: recomputation.
   int pixel_cache_mib = 1024;
   // With several instances: K is the pixel's budget over all of them (flat) or per instance (all).
-  LightSelection light_selection = LightSelection::flat;
+  LightSelection light_selection = LightSelection::automatic;
 
   void validate() const;         // throws nf::Error naming the bad field
   std::string describe() const;  // one line: method=... sampler=... K=...

@@ -178,10 +178,10 @@ std::vector<Setting> declare() {
           "MiB of device memory for A_m(p) kept across progressive frames (0 = recompute every frame)",
           [](auto& r) -> auto& { return r.pixel_cache; }),
       choice(
-          "light_selection", "light_selection", {"all", "flat"}, "luminaires", R,
+          "light_selection", "light_selection", {"auto", "all", "flat"}, "luminaires", R,
           "several luminaire instances: all = every instance at every pixel with K samples each; flat = K is the "
           "pixel's budget, one instance per pixel and frame drawn with probability q_i(p) from a flat CDF, "
-          "weighted 1/q_i (docs/sampling.md \"Light selection\")",
+          "weighted 1/q_i; auto = flat from 16 instances on, all below (docs/sampling.md \"Light selection\")",
           [](auto& r) -> auto& { return r.light_selection; }),
       choice(
           "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is", "env-fis", "regular"}, "environment", R,
