@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/memory.h"
 #include "luminaire/io.h"
 
 namespace nf::ref {
@@ -32,6 +34,12 @@ EnvironmentMap::EnvironmentMap(const Image& image, double rotation_deg, double i
   if (w_ <= 0 || h_ <= 0 || image.channels <= 0) fail(fmt::format("{}: empty environment image", name));
   if (!(intensity >= 0.0) || !std::isfinite(intensity) || !std::isfinite(rotation_deg))
     fail(fmt::format("{}: environment intensity must be finite and >= 0, rotation finite", name));
+  // The tables below take 48 bytes per texel beside the image's floats (found by fuzz_envmap: a
+  // small run-length .hdr whose image fits the memory limit while its tables do not).
+  const auto texels = mul_sat(static_cast<std::uint64_t>(w_), static_cast<std::uint64_t>(h_));
+  check_memory(name,
+               fmt::format("building the sampling tables of its {} x {} texels", w_, h_),
+               mul_sat(texels, sizeof(glm::dvec3) + 2 * sizeof(double) + sizeof(float) * 4), available_host_memory());
   const double th = rotation_deg * kPi / 180.0;
   cos_ = std::cos(th);
   sin_ = std::sin(th);
