@@ -17,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "luminaire/generator.h"
+#include "render_support.h"
 #include "scene/calculation_surface.h"
 #include "support/testing.h"
 
@@ -251,6 +253,87 @@ TEST(CalculationSurfaces, BoxShadowsThePlaneExactly) {
   }
   EXPECT_GE(dark, 4);  // the test means something: the box's shadow covers several points
   check_summary(out, expected);
+}
+
+// The light-field path with visibility: the `panel` preset (a uniform Lambertian rectangle R of
+// radiance L0 on S, Lambert's polygon formula in closed form) 2 m above the floor, aimed down, and
+// a box that shadows part of the floor. Each point is classified by 21 x 21 segments to R (slab
+// test in double): all blocked is umbra (E = 0), none blocked is lit (E = Lambert), the rest is
+// penumbra and not checked (there the frame's shadow maps approximate visibility per cell, paper
+// §6.2, docs/calculation-surfaces.md). Lit points must agree with the closed form within the
+// Student-t quantile (nu = batches - 1) at alpha = 1e-3 / N per point (Sidak over the N points):
+// false-failure rate 1e-3 per mode. Both the kernels with the frame's shadow maps and --reference
+// (exact visibility; a 3 % target keeps it short) are checked.
+TEST(CalculationSurfaces, LightFieldShadowAgainstClosedForm) {
+  const auto dir = nf::testing::temp_dir("calc_lf");
+  const fs::path scene = dir / "scene.json";
+  std::ofstream(scene)
+      << R"({"camera": {"position": [0, 5, 8], "target": [0, 0, 0], "fov_y": 50, "resolution": [64, 48]},
+    "materials": {"grey": {"type": "lambert", "base_color": [0.5, 0.5, 0.5]}},
+    "objects": [{"name": "floor", "type": "plane", "size": [10, 10], "material": "grey"},
+                {"name": "box", "type": "box", "size": [0.6, 0.1, 0.6], "material": "grey",
+                 "transform": {"translate": [0.8, 1.0, 0.0]}}],
+    "luminaires": [{"name": "panel", "preset": "panel", "transform": {"translate": [0, 2, 0], "rotate": [90, 0, 0]}}],
+    "render": {"visibility": "shadowmaps"},
+    "calculation_surfaces": [{"name": "floor", "origin": [-1.5, 0, 1.5], "u": [3, 0, 0], "v": [0, 0, -3],
+                              "spacing": 0.5}]})";
+  const auto spec = nf::lum::panel_spec();
+  const std::vector<glm::dvec3> rect{{spec.lo.x, spec.lo.y, 0.0},
+                                     {spec.hi.x, spec.lo.y, 0.0},
+                                     {spec.hi.x, spec.hi.y, 0.0},
+                                     {spec.lo.x, spec.hi.y, 0.0}};
+  const double lo[3] = {0.5, 0.95, -0.3}, hi[3] = {1.1, 1.05, 0.3};
+  const auto blocked = [&](glm::dvec3 a, glm::dvec3 b) {
+    double t0 = 0.0, t1 = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = b[k] - a[k];
+      if (std::fabs(d) < 1e-15) {
+        if (a[k] < lo[k] || a[k] > hi[k]) return false;
+        continue;
+      }
+      double ta = (lo[k] - a[k]) / d, tb = (hi[k] - a[k]) / d;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    return t0 < t1;
+  };
+  for (const std::string mode : {"", " --reference --noise 0.03"}) {
+    const fs::path out = dir / ("out" + std::to_string(mode.size()));
+    const auto r = run_nearfield("probe '" + scene.string() + "' -o '" + out.string() + "'" + mode);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(out / "calculation.json");
+    const auto j = nlohmann::json::parse(in);
+    ASSERT_TRUE(j["noise"]["estimated"].get<bool>());
+    const int nu = j["noise"]["batches"].get<int>() - 1;
+    const auto rows = read_rows(out / "floor.csv");
+    ASSERT_EQ(rows.size(), 36u);
+    const double t = nf::render_test::student_t_quantile(1.0 - std::pow(1.0 - 1e-3, 1.0 / 36.0), nu);
+    int lit = 0, umbra = 0;
+    for (const auto& p : rows) {
+      const glm::dvec3 pw(p.x, p.y, p.z);
+      int hits = 0, total = 0;
+      for (int a = 0; a <= 20; ++a)
+        for (int b = 0; b <= 20; ++b, ++total) {
+          // S (local z = 0) to world: rotate 90 about x, (x, y, 0) -> (x, 0, y), then up 2 m.
+          const double sx = spec.lo.x + (spec.hi.x - spec.lo.x) * a / 20.0,
+                       sy = spec.lo.y + (spec.hi.y - spec.lo.y) * b / 20.0;
+          hits += blocked(pw, {sx, 2.0, sy}) ? 1 : 0;
+        }
+      if (hits == total) {
+        ++umbra;
+        EXPECT_EQ(p.e, 0.0) << mode << " umbra " << p.x << " " << p.z;
+      } else if (hits == 0) {
+        ++lit;
+        // Luminaire frame: p_local = (x, z, 2 - y), floor normal (0, 0, -1).
+        const double exact = nf::render_test::lambert_polygon(rect, {p.x, p.z, 2.0 - p.y}, {0.0, 0.0, -1.0}, spec.l0);
+        EXPECT_LE(std::fabs(p.e - exact), t * p.se)
+            << mode << " lit " << p.x << " " << p.z << ": " << p.e << " vs " << exact;
+      }
+    }
+    EXPECT_GE(umbra, 2) << mode;
+    EXPECT_GE(lit, 24) << mode;
+  }
 }
 
 }  // namespace
