@@ -122,7 +122,7 @@ class KernelLightFields {
   std::vector<double> batch(int b) {
     render::SamplingSettings s = settings_;
     s.frame = static_cast<std::uint32_t>(b);
-    sampler_.run(surfaces_, count_, lights_, s);
+    sampler_.run(surfaces_, count_, lights_, s, 1);  // fixed surfaces: the pixel cache keeps A_m(p)
     const auto rgb = sampler_.read_radiance();
     std::vector<double> y(rgb.size());
     for (std::size_t i = 0; i < y.size(); ++i) y[i] = luminance_y(glm::dvec3(rgb[i].x, rgb[i].y, rgb[i].z));

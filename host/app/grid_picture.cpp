@@ -143,7 +143,7 @@ double nice_step(double x) {
 std::string number(double v) {
   const double a = std::fabs(v);
   if (a == 0.0) return "0";
-  if (a >= 1e5 || a < 1e-2) return fmt::format("{:.2g}", v);
+  if (a >= 1e5 || a < 1e-2) return fmt::format("{:.3g}", v);
   if (a >= 100.0) return fmt::format("{:.0f}", v);
   if (a >= 10.0) return fmt::format("{:.1f}", v);
   return fmt::format("{:.2f}", v);
@@ -170,6 +170,15 @@ void draw_text(Image& img, int x, int y, const std::string& s, float r, float g,
             for (int c = 0; c < scale; ++c) put(img, x + col * scale + a, y + row * scale + c, {r, g, b});
     x += 4 * scale;
   }
+}
+
+std::string axis_name(glm::dvec3 d) {
+  const double len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  if (len > 0.0) d /= len;
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k)
+    if (std::fabs(std::fabs(d[k]) - 1.0) < 1e-9) return fmt::format("{}{}", d[k] > 0 ? "+" : "-", names[k]);
+  return fmt::format("({:.2f},{:.2f},{:.2f})", d.x, d.y, d.z);
 }
 
 int text_width(const std::string& s, int scale) {

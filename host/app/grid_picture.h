@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "core/image.h"
 
 namespace nf::app {
@@ -29,5 +31,8 @@ Image grid_picture(const GridPictureInput& in);
 // Text in the pictures' 3 x 5 pixel font at `scale` (letters, digits, + - . , : ( ) / = _ %).
 void draw_text(Image& img, int x, int y, const std::string& s, float r, float g, float b, int scale = 2);
 int text_width(const std::string& s, int scale = 2);
+
+// The world axis of a direction when it is one ("+x", "-z"), else its unit vector "(0.71,0.00,0.71)".
+std::string axis_name(glm::dvec3 d);
 
 }  // namespace nf::app

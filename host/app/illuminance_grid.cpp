@@ -58,6 +58,8 @@ GridPoints grid_points(const GridSpec& spec) {
   g.nv = count(lv);
   g.spacing_u = lu / g.nu;
   g.spacing_v = lv / g.nv;
+  g.u_dir = spec.u / lu;
+  g.v_dir = spec.v / lv;
   const glm::dvec3 n = glm::normalize(glm::cross(spec.u, spec.v));
   for (int j = 0; j < g.nv; ++j)
     for (int i = 0; i < g.nu; ++i) {
@@ -102,6 +104,8 @@ Image grid_picture(const GridPoints& g, const std::vector<double>& e) {
   in.lu = g.nu * g.spacing_u;
   in.lv = g.nv * g.spacing_v;
   in.values = e;
+  in.u_axis = "u = " + axis_name(g.u_dir) + " (m)";
+  in.v_axis = "v = " + axis_name(g.v_dir) + " (m)";
   return app::grid_picture(in);
 }
 

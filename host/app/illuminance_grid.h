@@ -34,6 +34,7 @@ struct GridPoints {
   std::vector<glm::dvec2> uv;               // metres along u and v of each point (cell centres)
   double spacing = 0.0;                     // the p used
   double spacing_u = 0.0, spacing_v = 0.0;  // the cells' sides: |u| / nu, |v| / nv
+  glm::dvec3 u_dir{1.0, 0.0, 0.0}, v_dir{0.0, 1.0, 0.0};  // the edges' directions (picture axes)
 };
 GridPoints grid_points(const GridSpec& spec);
 

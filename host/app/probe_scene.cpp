@@ -55,16 +55,6 @@ std::string unit_of(const scene::Scene& s) {
   return photometric ? "lx" : "W/m2";
 }
 
-// World axis of a unit vector when it is one ("+x"), else its components.
-std::string axis_name(glm::dvec3 d) {
-  const double len = glm::length(d);
-  if (len > 0.0) d /= len;
-  const char* names[3] = {"x", "y", "z"};
-  for (int k = 0; k < 3; ++k)
-    if (std::fabs(std::fabs(d[k]) - 1.0) < 1e-9) return fmt::format("{}{}", d[k] > 0 ? "+" : "-", names[k]);
-  return fmt::format("({:.2f},{:.2f},{:.2f})", d.x, d.y, d.z);
-}
-
 }  // namespace
 
 void run_probe_scene(const ProbeSceneOptions& o) {
