@@ -196,8 +196,9 @@ std::vector<double> isoline_levels(double hi) {
 Image grid_picture(const GridPictureInput& in) {
   const int nu = std::max(in.nu, 1), nv = std::max(in.nv, 1);
   const double lu = in.lu > 0.0 ? in.lu : nu, lv = in.lv > 0.0 ? in.lv : nv;
-  // Map scale: the longer side 480 px, each cell at least 3 px, the map at most 2400 px a side.
-  double ppm = 480.0 / std::max(lu, lv);
+  // Map scale: the longer side 480 px, each cell at least 3 px, the map at most 2400 px a side
+  // (and the shorter side at least 160 px, up to 1600 px for the longer one).
+  double ppm = std::min(std::max(480.0 / std::max(lu, lv), 160.0 / std::min(lu, lv)), 1600.0 / std::max(lu, lv));
   ppm = std::max(ppm, 3.0 / std::min(lu / nu, lv / nv));
   ppm = std::min(ppm, 2400.0 / std::max(lu, lv));
   const int map_w = std::max(1, static_cast<int>(std::lround(lu * ppm)));

@@ -140,7 +140,9 @@ void run_probe_scene(const ProbeSceneOptions& o) {
         in.lv = glm::length(c.v);
         in.values = e;
         in.unit = unit;
-        in.title = fmt::format("{}: E_m {} {}, U0 {:.2f}", c.name, fmt::format("{:.3g}", sum.mean), unit, sum.u0);
+        in.title = fmt::format("{}: E_m {} {}, U0 {:.2f}, MF {:.2g}", c.name,
+                               sum.mean >= 100.0 ? fmt::format("{:.0f}", sum.mean) : fmt::format("{:.3g}", sum.mean),
+                               unit, sum.u0, c.maintenance_factor);
         in.u_axis = fmt::format("u = {} (m)", axis_name(c.u));
         in.v_axis = fmt::format("v = {} (m)", axis_name(c.v));
         write_png(tx, dir / (c.name + ".png"), grid_picture(in));
