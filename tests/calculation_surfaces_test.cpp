@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/grid_picture.h"
 #include "core/error.h"
 #include "luminaire/generator.h"
 #include "render_support.h"
@@ -333,6 +334,44 @@ TEST(CalculationSurfaces, LightFieldShadowAgainstClosedForm) {
     }
     EXPECT_GE(umbra, 2) << mode;
     EXPECT_GE(lit, 24) << mode;
+  }
+}
+
+// The picture: isolines at round steps; nothing drawn touches the image border, so no label (the
+// unit, the legend's values, the axes' ticks) is clipped, for square, long and tiny grids and for
+// large and small values.
+TEST(CalculationSurfaces, PictureLevelsAndNothingClipped) {
+  EXPECT_EQ(nf::app::isoline_levels(12.3), (std::vector<double>{2.0, 4.0, 6.0, 8.0, 10.0, 12.0}));
+  EXPECT_EQ(nf::app::isoline_levels(124300.0), (std::vector<double>{20000, 40000, 60000, 80000, 100000, 120000}));
+  EXPECT_TRUE(nf::app::isoline_levels(0.0).empty());
+  struct Case {
+    int nu, nv;
+    double lu, lv, scale;
+  };
+  for (const Case c : {Case{8, 8, 2.0, 2.0, 12.0}, Case{14, 2, 28.0, 4.0, 19449.0}, Case{1, 1, 0.1, 0.1, 1e-3},
+                       Case{10, 12, 14.0, 14.0, 1.24e5}, Case{40, 3, 60.0, 0.5, 7.0}}) {
+    nf::app::GridPictureInput in;
+    in.nu = c.nu;
+    in.nv = c.nv;
+    in.lu = c.lu;
+    in.lv = c.lv;
+    in.unit = "lx";
+    in.title = "test: E_m 1 lx";
+    for (int k = 0; k < c.nu * c.nv; ++k) in.values.push_back(c.scale * (1.0 + k % 7) / 7.0);
+    const nf::Image img = nf::app::grid_picture(in);
+    ASSERT_GT(img.width, 0);
+    const auto background = [&](int x, int y) {
+      const float* p = img.pixels.data() + (static_cast<std::size_t>(y) * img.width + x) * 3;
+      return p[0] == 0.12f && p[1] == 0.12f && p[2] == 0.12f;
+    };
+    for (int x = 0; x < img.width; ++x) {
+      EXPECT_TRUE(background(x, 0)) << c.nu << "x" << c.nv << " top, x " << x;
+      EXPECT_TRUE(background(x, img.height - 1)) << c.nu << "x" << c.nv << " bottom, x " << x;
+    }
+    for (int y = 0; y < img.height; ++y) {
+      EXPECT_TRUE(background(0, y)) << c.nu << "x" << c.nv << " left, y " << y;
+      EXPECT_TRUE(background(img.width - 1, y)) << c.nu << "x" << c.nv << " right, y " << y;
+    }
   }
 }
 
