@@ -9,9 +9,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "app/false_colour.h"
+#include "app/grid_picture.h"
 #include "core/error.h"
 #include "core/excerpt.h"
+#include "scene/calculation_surface.h"
 
 namespace nf::app {
 
@@ -42,7 +43,7 @@ GridSpec parse_grid(const std::string& text, const std::string& where) {
   return g;
 }
 
-double en12464_spacing(double d) { return std::min(10.0, 0.2 * std::pow(5.0, std::log10(d))); }
+double en12464_spacing(double d) { return scene::en12464_spacing(d); }
 
 GridPoints grid_points(const GridSpec& spec) {
   const double lu = glm::length(spec.u), lv = glm::length(spec.v);
@@ -55,6 +56,10 @@ GridPoints grid_points(const GridSpec& spec) {
   };
   g.nu = count(lu);
   g.nv = count(lv);
+  g.spacing_u = lu / g.nu;
+  g.spacing_v = lv / g.nv;
+  g.u_dir = spec.u / lu;
+  g.v_dir = spec.v / lv;
   const glm::dvec3 n = glm::normalize(glm::cross(spec.u, spec.v));
   for (int j = 0; j < g.nv; ++j)
     for (int i = 0; i < g.nu; ++i) {
@@ -80,114 +85,28 @@ GridSummary summarize(const std::vector<double>& e) {
   return s;
 }
 
-std::string grid_csv(const GridPoints& g, const std::vector<double>& e, const std::string& unit) {
-  std::string out = fmt::format("i,j,u_m,v_m,x_m,y_m,z_m,E_{}\n", unit);
+std::string grid_csv(const GridPoints& g, const std::vector<double>& e, const std::string& unit,
+                     const std::vector<double>* se) {
+  std::string out = fmt::format("i,j,u_m,v_m,x_m,y_m,z_m,E_{}{}\n", unit, se ? fmt::format(",SE_{}", unit) : "");
   for (std::size_t k = 0; k < g.points.size(); ++k) {
     const auto& p = g.points[k].p;
-    out += fmt::format("{},{},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g}\n", static_cast<int>(k) % g.nu,
+    out += fmt::format("{},{},{:.6g},{:.6g},{:.9g},{:.9g},{:.9g},{:.9g}", static_cast<int>(k) % g.nu,
                        static_cast<int>(k) / g.nu, g.uv[k].x, g.uv[k].y, p.x, p.y, p.z, e[k]);
+    out += se ? fmt::format(",{:.3g}\n", (*se)[k]) : "\n";
   }
   return out;
 }
 
-namespace {
-
-// 3 x 5 pixel glyphs, rows from the top, bit 2 = left column.
-std::array<int, 5> glyph(char c) {
-  switch (c) {
-    case '0':
-      return {7, 5, 5, 5, 7};
-    case '1':
-      return {2, 6, 2, 2, 7};
-    case '2':
-      return {7, 1, 7, 4, 7};
-    case '3':
-      return {7, 1, 7, 1, 7};
-    case '4':
-      return {5, 5, 7, 1, 1};
-    case '5':
-      return {7, 4, 7, 1, 7};
-    case '6':
-      return {7, 4, 7, 5, 7};
-    case '7':
-      return {7, 1, 1, 1, 1};
-    case '8':
-      return {7, 5, 7, 5, 7};
-    case '9':
-      return {7, 5, 7, 1, 7};
-    case '.':
-      return {0, 0, 0, 0, 2};
-    case '-':
-      return {0, 0, 7, 0, 0};
-    case '+':
-      return {0, 2, 7, 2, 0};
-    case 'e':
-      return {0, 7, 7, 4, 7};
-    case 'l':
-      return {4, 4, 4, 4, 6};
-    case 'x':
-      return {0, 5, 2, 5, 0};
-    default:
-      return {0, 0, 0, 0, 0};
-  }
-}
-
-constexpr int kGlyphScale = 2;  // each glyph pixel is 2 x 2 image pixels
-
-void put(Image& img, int x, int y, glm::vec3 c) {
-  if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-  float* p = img.pixels.data() + (static_cast<std::size_t>(y) * img.width + x) * 3;
-  p[0] = c.r;
-  p[1] = c.g;
-  p[2] = c.b;
-}
-
-void text(Image& img, int x, int y, const std::string& s) {
-  for (const char ch : s) {
-    const auto g = glyph(ch);
-    for (int r = 0; r < 5; ++r)
-      for (int col = 0; col < 3; ++col)
-        if (g[static_cast<std::size_t>(r)] & (4 >> col))
-          for (int a = 0; a < kGlyphScale; ++a)
-            for (int b = 0; b < kGlyphScale; ++b)
-              put(img, x + col * kGlyphScale + a, y + r * kGlyphScale + b, glm::vec3(1.0f));
-    x += 4 * kGlyphScale;
-  }
-}
-
-}  // namespace
-
 Image grid_picture(const GridPoints& g, const std::vector<double>& e) {
-  const int cell = std::clamp(512 / std::max(g.nu, g.nv), 2, 64);
-  const int map_w = g.nu * cell, map_h = g.nv * cell;
-  const int bar_x = map_w + 12, bar_w = 16, label_x = bar_x + bar_w + 6;
-  const int height = std::max(map_h, 160) + 20;
-  const int width = label_x + 10 * 4 * kGlyphScale;
-  Image img(width, height, 3);
-  const double hi = summarize(e).max;
-  const auto colour = [&](double v) {
-    return v > 0.0 && hi > 0.0 ? colour_map(v / hi) : glm::vec3(0.0f);  // 0 lux: black, as in the viewer
-  };
-  const int top = 10;
-  for (int j = 0; j < g.nv; ++j)
-    for (int i = 0; i < g.nu; ++i) {
-      const glm::vec3 c = colour(e[static_cast<std::size_t>(j) * g.nu + i]);
-      const int y0 = top + (g.nv - 1 - j) * cell;  // +v upwards
-      for (int y = 0; y < cell; ++y)
-        for (int x = 0; x < cell; ++x) put(img, i * cell + x, y0 + y, c);
-    }
-  const int bar_h = height - 2 * top;
-  for (int y = 0; y < bar_h; ++y) {
-    const double t = 1.0 - (y + 0.5) / bar_h;
-    for (int x = 0; x < bar_w; ++x) put(img, bar_x + x, top + y, t > 0.0 ? colour_map(t) : glm::vec3(0.0f));
-  }
-  for (int k = 0; k <= 4; ++k) {
-    const int y = top + static_cast<int>(std::lround((1.0 - k / 4.0) * (bar_h - 1)));
-    for (int x = -3; x < 0; ++x) put(img, bar_x + x, y, glm::vec3(1.0f));
-    text(img, label_x, std::clamp(y - 5, 0, height - 10), fmt::format("{:.3g}", hi * k / 4.0));
-  }
-  text(img, bar_x, 0, "lx");
-  return img;
+  GridPictureInput in;
+  in.nu = g.nu;
+  in.nv = g.nv;
+  in.lu = g.nu * g.spacing_u;
+  in.lv = g.nv * g.spacing_v;
+  in.values = e;
+  in.u_axis = "u = " + axis_name(g.u_dir) + " (m)";
+  in.v_axis = "v = " + axis_name(g.v_dir) + " (m)";
+  return app::grid_picture(in);
 }
 
 }  // namespace nf::app

@@ -29,10 +29,12 @@ GridSpec parse_grid(const std::string& text, const std::string& where);
 double en12464_spacing(double d);
 
 struct GridPoints {
-  int nu = 0, nv = 0;              // points along u and v: round(|u| / p), at least 1
-  std::vector<ref::Probe> points;  // row-major, v outer: point (i, j) at index j * nu + i
-  std::vector<glm::dvec2> uv;      // metres along u and v of each point (cell centres)
-  double spacing = 0.0;            // the p used
+  int nu = 0, nv = 0;                       // points along u and v: round(|u| / p), at least 1
+  std::vector<ref::Probe> points;           // row-major, v outer: point (i, j) at index j * nu + i
+  std::vector<glm::dvec2> uv;               // metres along u and v of each point (cell centres)
+  double spacing = 0.0;                     // the p used
+  double spacing_u = 0.0, spacing_v = 0.0;  // the cells' sides: |u| / nu, |v| / nv
+  glm::dvec3 u_dir{1.0, 0.0, 0.0}, v_dir{0.0, 1.0, 0.0};  // the edges' directions (picture axes)
 };
 GridPoints grid_points(const GridSpec& spec);
 
@@ -42,11 +44,13 @@ struct GridSummary {
 };
 GridSummary summarize(const std::vector<double>& e);
 
-// One line per point: "i,j,u_m,v_m,x,y,z,E" after a header naming the unit.
-std::string grid_csv(const GridPoints& g, const std::vector<double>& e, const std::string& unit);
+// One line per point: "i,j,u_m,v_m,x,y,z,E" after a header naming the unit; with `se`, a last
+// column with each point's estimated standard error (same unit).
+std::string grid_csv(const GridPoints& g, const std::vector<double>& e, const std::string& unit,
+                     const std::vector<double>* se = nullptr);
 
-// The grid in false colour (linear, 0 .. max), each point a square of pixels, with a vertical scale
-// bar on the right labelled with its values at 0, 1/4, ... max.
+// The grid in false colour (app/grid_picture.h): seen from the lit side, u to the right and v up,
+// axes in metres, isolines, values in the cells where they fit, a legend in lux.
 Image grid_picture(const GridPoints& g, const std::vector<double>& e);
 
 }  // namespace nf::app

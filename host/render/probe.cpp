@@ -30,24 +30,46 @@ NfSurface probe_surface(double px, double py, double pz, double nx, double ny, d
   return s;
 }
 
+struct ProbeRunner::Impl {
+  Impl(cl::Runtime& rt, const lum::Precomputed& pc, const std::vector<NfSurface>& surfaces)
+      : lum(rt, pc), sampler(rt), buf(upload_surfaces(rt, surfaces)), count(static_cast<int>(surfaces.size())) {}
+  DeviceLuminaire lum;
+  Sampler sampler;
+  ::cl::Buffer buf;
+  int count;
+};
+
+ProbeRunner::ProbeRunner(cl::Runtime& rt, const lum::Precomputed& pc, const std::vector<NfSurface>& surfaces) {
+  if (!surfaces.empty()) impl_ = std::make_unique<Impl>(rt, pc, surfaces);
+}
+ProbeRunner::~ProbeRunner() = default;
+
+std::vector<glm::dvec3> ProbeRunner::pass(const SamplingSettings& settings) {
+  settings.validate();
+  if (!impl_) return {};
+  LightInstance li;
+  li.luminaire = &impl_->lum;
+  // The surfaces never change between passes: view version 1 lets the sampler keep A_m(p) on the
+  // device (the pixel cache, docs/sampling.md; the estimates are bit-identical with and without).
+  impl_->sampler.run(impl_->buf, impl_->count, std::span<const LightInstance>(&li, 1), settings, 1);
+  const auto rgb = impl_->sampler.read_radiance();
+  std::vector<glm::dvec3> out(rgb.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::dvec3(rgb[i].x, rgb[i].y, rgb[i].z);
+  return out;
+}
+
 std::vector<glm::dvec3> probe_estimate(cl::Runtime& rt, const lum::Precomputed& pc,
                                        const std::vector<NfSurface>& surfaces, const ProbeSettings& settings) {
   if (settings.passes < 1) fail(fmt::format("probe: passes must be >= 1, got {}", settings.passes));
   settings.sampling.validate();
   std::vector<glm::dvec3> out(surfaces.size(), glm::dvec3(0.0));
   if (surfaces.empty()) return out;
-  const DeviceLuminaire lum(rt, pc);
-  Sampler sampler(rt);
-  const ::cl::Buffer buf = upload_surfaces(rt, surfaces);
-  LightInstance li;
-  li.luminaire = &lum;
-  const int count = static_cast<int>(surfaces.size());
+  ProbeRunner runner(rt, pc, surfaces);
   for (int f = 0; f < settings.passes; ++f) {
     SamplingSettings s = settings.sampling;
     s.frame = settings.sampling.frame + static_cast<std::uint32_t>(f);
-    sampler.run(buf, count, std::span<const LightInstance>(&li, 1), s);
-    const auto rgb = sampler.read_radiance();
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] += glm::dvec3(rgb[i].x, rgb[i].y, rgb[i].z);
+    const auto rgb = runner.pass(s);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] += rgb[i];
   }
   for (auto& v : out) v /= static_cast<double>(settings.passes);
   return out;

@@ -18,6 +18,7 @@
 #include "core/log.h"
 #include "luminaire/io.h"
 #include "luminaire/optics_presets.h"
+#include "scene/calculation_surface.h"
 #include "scene/json_read.h"
 #include "scene/loaders.h"
 #include "scene/material_json.h"
@@ -65,7 +66,7 @@ class Parser {
     Scene s;
     object(root, "",
            {"format", "version", "description", "camera", "materials", "objects", "luminaires", "farfield_lights",
-            "environment", "render", "radiometric_to_photometric"});
+            "environment", "render", "radiometric_to_photometric", "calculation_surfaces"});
     if (root.contains("format") && string(root["format"], "/format") != "nearfield-scene")
       error("/format", "expected \"nearfield-scene\"");
     if (root.contains("version") && integer(root["version"], "/version", 0, 1 << 30) != 1)
@@ -95,6 +96,9 @@ class Parser {
       s.radiometric_to_photometric =
           number(root["radiometric_to_photometric"], "/radiometric_to_photometric", 1e-6, kMaxIntensity);
     units(s);
+    // Checked here, so every command refuses a bad one; `probe SCENE` reads them
+    // (scene/calculation_surface.h).
+    if (root.contains("calculation_surfaces")) (void)parse_calculation_surfaces(root["calculation_surfaces"], name_);
     if (root.contains("environment")) s.environment = environment(root["environment"], "/environment");
     if (root.contains("render")) s.render = render(root["render"], "/render");
     s.local_environments = std::move(locals_);
