@@ -5,11 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
+#include <tuple>
 
 #include "app/bitmap_text.h"
 #include "app/false_colour.h"
@@ -163,6 +167,48 @@ TEST(PhotometricImages, BadOptionsFailBeforeAnyWork) {
       EXPECT_TRUE(n == "scene.json" || n == "iso.ies") << args << ": left " << n;
     }
   }
+}
+
+// The viewer's readout (docs/viewer.md, "Readout"): `illuminance` then `readout X Y` in a script
+// print L and E at render pixel (X, Y); both must be the closed form at the plane point that
+// pixel's centre sees (the viewer renders at window x scale = 80 x 60 with the scene's camera).
+TEST(PhotometricImages, ViewerReadoutUnderXvfb) {
+  const char* d = std::getenv("DISPLAY");
+  if (!d || !*d) GTEST_SKIP() << "DISPLAY is not set: window tests need an X server (xvfb-run -a ctest -R Photometric)";
+  const auto dir = nf::testing::temp_dir("photometric_view");
+  write(dir, "iso.ies", kIes);
+  const auto scene = write(dir, "scene.json", kScene);
+  const auto script = write(dir, "view.txt",
+                            "frames 1\nreadout 40 30\nilluminance 1\nreadout 40 30\nreadout 20 45\n"
+                            "readout 0 0\nreadout 500 5\nquit\n");
+  const auto r = run_nearfield("view " + q(scene) + " --script " + q(script) + " --window 320x240 --no-panel");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nf::scene::Camera cam = nf::scene::load_scene(scene).camera;
+  cam.width = 80;
+  cam.height = 60;
+  std::vector<std::string> lines;
+  std::istringstream in(r.out);
+  for (std::string l; std::getline(in, l);)
+    if (l.rfind("readout ", 0) == 0) lines.push_back(l);
+  ASSERT_EQ(lines.size(), 5u) << r.out;
+  EXPECT_NE(lines[0].find("E not computed"), std::string::npos) << lines[0];
+  for (const auto& [k, x, y] : {std::tuple{1, 40, 30}, std::tuple{2, 20, 45}}) {
+    double ref = 0.0;
+    ASSERT_TRUE(closed_form(cam, x, y, ref));
+    double l = 0.0, e = 0.0;
+    int px = 0, py = 0;
+    ASSERT_EQ(std::sscanf(lines[static_cast<std::size_t>(k)].c_str(), "readout (%d, %d) L %lf cd/m2 | E %lf lx", &px,
+                          &py, &l, &e),
+              4)
+        << lines[static_cast<std::size_t>(k)];
+    EXPECT_EQ(px, x);
+    EXPECT_EQ(py, y);
+    // Printed with 4 significant digits: tolerance 5e-4 relative (+ the 1e-4 of the kernel).
+    EXPECT_NEAR(e, ref, 6e-4 * ref) << lines[static_cast<std::size_t>(k)];
+    EXPECT_NEAR(l, kRho * ref / kPi, 6e-4 * kRho * ref / kPi) << lines[static_cast<std::size_t>(k)];
+  }
+  EXPECT_NE(lines[3].find("(background)"), std::string::npos) << lines[3];
+  EXPECT_EQ(lines[4], "readout outside the image");
 }
 
 TEST(PhotometricImages, ScaleTicksAndRanges) {
