@@ -105,16 +105,22 @@ double nice_ceil(double v) {
 
 std::pair<double, double> readable_range(const Image& values, const std::vector<std::uint8_t>& mask, bool log_scale,
                                          double max_decades) {
-  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  std::vector<double> v;
   const std::size_t stride = static_cast<std::size_t>(std::max(values.channels, 1));
   for (std::size_t p = 0; p * stride < values.pixels.size(); ++p) {
     if (!mask.empty() && (p >= mask.size() || mask[p] == 0)) continue;
-    const double v = values.pixels[p * stride];
-    if (!(v > 0.0) || !std::isfinite(v)) continue;
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
+    const double x = values.pixels[p * stride];
+    if (x > 0.0 && std::isfinite(x)) v.push_back(x);
   }
-  if (!(hi > 0.0)) return {0.0, 0.0};
+  if (v.empty()) return {0.0, 0.0};
+  // Nearest-rank percentiles: a few noisy outliers (a light-field luminaire's samples) do not
+  // stretch the scale; they take the end colours.
+  std::sort(v.begin(), v.end());
+  const auto rank = [&](double q) {
+    const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+    return v[std::min(v.size() - 1, k > 0 ? k - 1 : 0)];
+  };
+  const double lo = rank(0.01), hi = rank(0.999);
   if (!log_scale) return {0.0, nice_ceil(hi)};
   const double top = std::ceil(std::log10(hi) - 1e-9);
   double bottom = std::floor(std::log10(lo) + 1e-9);

@@ -46,9 +46,10 @@ double false_colour_position(double v, const FalseColourResult& r);
 // ---- pictures with a labelled scale (render --false-colour; docs/photometry.md) ----------------
 
 // A readable range for the positive finite values of `values` (channel 0) where `mask` is empty
-// or non-zero: on a log scale whole decades, from 10^floor(log10 min) to 10^ceil(log10 max), at
-// most `max_decades` below the top; on a linear scale 0 to the largest value rounded up to 1, 2,
-// 2.5 or 5 times a power of ten. {0, 0} when no value is positive.
+// or non-zero, from their 1st and 99.9th percentiles (nearest rank) "min" and "max": on a log
+// scale whole decades, from 10^floor(log10 min) to 10^ceil(log10 max), at most `max_decades`
+// below the top; on a linear scale 0 to max rounded up to 1, 2, 2.5 or 5 times a power of ten.
+// {0, 0} when no value is positive.
 std::pair<double, double> readable_range(const Image& values, const std::vector<std::uint8_t>& mask, bool log_scale,
                                          double max_decades = 4.0);
 
