@@ -106,6 +106,15 @@ TEST(PhotometricImages, IlluminanceAndLuminanceOfALambertPlaneUnderAPointLight) 
     }
   EXPECT_GT(checked, e.width * e.height / 2);
   std::printf("checked %d pixels: worst relative difference E %.2e, L %.2e\n", checked, worst_e, worst_l);
+  // `reference` (pixel centres, double precision) writes the same units and the same luminance.
+  const auto rr = run_nearfield("reference " + q(scene) + " -o " + q(dir / "R.exr") + " --spp 1");
+  ASSERT_EQ(rr.exit_code, 0) << rr.err;
+  nf::ImageAttributes ra;
+  const nf::Image ref_img = nf::read_image(dir / "R.exr", &ra);
+  EXPECT_EQ(as_map(ra)["nearfield:units"], "cd/m2 (photometric)");
+  double ref_e = 0.0;
+  ASSERT_TRUE(closed_form(s.camera, 32, 24, ref_e));
+  EXPECT_NEAR(ref_img.at(32, 24, 1), kRho * ref_e / kPi, 1e-9 * ref_e + 1e-6 * kRho * ref_e / kPi);
   // The pictures: the image and a legend on its right, at least 300 pixels high.
   for (const char* name : {"E.png", "L.png"}) {
     const nf::Image png = nf::read_image(dir / name);
