@@ -139,6 +139,85 @@ TEST(PhotometricImages, IlluminanceAndLuminanceOfALambertPlaneUnderAPointLight) 
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(png.at(32, 24, k), c[k], 0.5 / 255.0 + 1e-6);
 }
 
+// A light-field luminaire's illuminance (sampled) against the reference quadrature of the same
+// light field (`probe --reference`, double precision, independent of the kernels; about 80 ms a
+// point, so 144 pixels are checked: every 4th of a 48 x 48 image). Six renders with independent
+// seeds (sampler random) give each pixel's mean and standard error; groups of 2 x 2 checked
+// pixels (36 groups) are compared by a t-test, |mean - reference| <= 5.5 standard errors of the
+// group mean: 4 x 5 = 20 degrees of freedom per group, P(|t_20| > 5.5) = 2e-5, so the
+// false-failure rate over 36 groups is below 1e-3.
+TEST(PhotometricImages, LightFieldIlluminanceMatchesTheReferenceQuadrature) {
+  const auto dir = nf::testing::temp_dir("photometric_lightfield");
+  const auto gen = run_nearfield("luminaire gen --preset panel -o " + q(dir / "lf"));
+  ASSERT_EQ(gen.exit_code, 0) << gen.err;
+  const auto scene = write(dir, "scene.json", R"({
+    "camera": { "position": [0, 2.0, 0.0001], "target": [0, 0, 0], "up": [0, 0, -1], "fov_y": 60,
+                "resolution": [48, 48] },
+    "objects": [ { "type": "plane", "size": [6, 6], "casts_shadows": false } ],
+    "luminaires": [ { "manifest": "lf/panel.json", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } } ],
+    "render": { "spp": 64, "sampler": "random", "visibility": "none" } })");
+  constexpr int kRuns = 6, kStep = 4, kN = 12;  // checked pixels (2 + 4 a, 2 + 4 b), a, b < 12
+  std::vector<nf::Image> runs;
+  for (int k = 0; k < kRuns; ++k) {
+    const auto e = dir / fmt::format("E{}.exr", k);
+    const auto r = run_nearfield("render " + q(scene) + " -o " + q(dir / fmt::format("L{}.exr", k)) +
+                                 " --illuminance " + q(e) + " --seed " + std::to_string(11 + 7 * k));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    runs.push_back(nf::read_image(e));
+  }
+  // The plane points of the pixel centres, in the luminaire frame: world (X, Y, Z) = T R_x(90)
+  // local, so local = (X, Z, 0.5 - Y); the floor's normal +y is local -z.
+  nf::scene::Camera cam = nf::scene::load_scene(scene).camera;
+  std::string pts;
+  for (int b = 0; b < kN; ++b)
+    for (int a = 0; a < kN; ++a) {
+      const auto ray = cam.pixel_ray(2 + kStep * a, 2 + kStep * b);
+      const double t = -ray.origin.y / ray.direction.y;
+      const glm::dvec3 p = ray.origin + t * ray.direction;
+      pts += fmt::format("{:.17g} {:.17g} {:.17g} 0 0 -1\n", p.x, p.z, 0.5 - p.y);
+    }
+  write(dir, "points.txt", pts);
+  const auto pr =
+      run_nearfield("probe " + q(dir / "lf" / "panel.json") + " --reference --points " + q(dir / "points.txt"));
+  ASSERT_EQ(pr.exit_code, 0) << pr.err;
+  std::vector<double> ref;
+  std::istringstream in(pr.out);
+  for (std::string l; std::getline(in, l);) {
+    if (l.empty() || l[0] == '#') continue;
+    double r = 0.0, g = 0.0, b = 0.0;
+    ASSERT_EQ(std::sscanf(l.c_str(), "%lf %lf %lf", &r, &g, &b), 3) << l;
+    ref.push_back(0.2126 * r + 0.7152 * g + 0.0722 * b);
+  }
+  ASSERT_EQ(ref.size(), static_cast<std::size_t>(kN * kN));
+  double worst_t = 0.0, worst_rel = 0.0;
+  int lit = 0;
+  for (int gb = 0; gb < kN; gb += 2)
+    for (int ga = 0; ga < kN; ga += 2) {
+      double sum = 0.0, var = 0.0, rsum = 0.0;
+      for (int b = gb; b < gb + 2; ++b)
+        for (int a = ga; a < ga + 2; ++a) {
+          const int i = 2 + kStep * a, j = 2 + kStep * b;
+          double m = 0.0, m2 = 0.0;
+          for (const auto& img : runs) m += img.at(i, j, 0);
+          m /= kRuns;
+          for (const auto& img : runs) m2 += (img.at(i, j, 0) - m) * (img.at(i, j, 0) - m);
+          sum += m;
+          var += m2 / (kRuns - 1) / kRuns;  // the squared standard error of the pixel's mean
+          rsum += ref[static_cast<std::size_t>(b * kN + a)];
+        }
+      const double mean = sum / 4.0, se = std::sqrt(var) / 4.0, r = rsum / 4.0;
+      if (r <= 0.0) continue;
+      ++lit;
+      const double t = (mean - r) / std::max(se, 1e-12 * r);
+      worst_t = std::max(worst_t, std::abs(t));
+      worst_rel = std::max(worst_rel, std::abs(mean / r - 1.0));
+      EXPECT_LE(std::abs(t), 5.5) << "group " << ga << "," << gb << ": render " << mean << " +- " << se
+                                  << ", reference " << r;
+    }
+  EXPECT_GE(lit, 30);
+  std::printf("%d lit groups: worst |t| %.2f, worst relative difference %.2e\n", lit, worst_t, worst_rel);
+}
+
 TEST(PhotometricImages, RadiometricScenesSaySo) {
   const auto dir = nf::testing::temp_dir("photometric_radiometric");
   const auto scene = write(dir, "scene.json", R"({
