@@ -272,7 +272,8 @@ TEST(PhotometricImages, ViewerReadoutUnderXvfb) {
   const auto scene = write(dir, "scene.json", kScene);
   const auto script = write(dir, "view.txt",
                             "frames 1\nreadout 40 30\nilluminance 1\nreadout 40 30\nreadout 20 45\n"
-                            "readout 0 0\nreadout 500 5\nquit\n");
+                            "readout 0 0\nreadout 500 5\nsave " +
+                                (dir / "view.exr").string() + "\nquit\n");
   const auto r = run_nearfield("view " + q(scene) + " --script " + q(script) + " --window 320x240 --no-panel");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   nf::scene::Camera cam = nf::scene::load_scene(scene).camera;
@@ -301,6 +302,9 @@ TEST(PhotometricImages, ViewerReadoutUnderXvfb) {
   }
   EXPECT_NE(lines[3].find("(background)"), std::string::npos) << lines[3];
   EXPECT_EQ(lines[4], "readout outside the image");
+  nf::ImageAttributes va;  // the viewer's saved image carries the units too
+  nf::read_image(dir / "view.exr", &va);
+  EXPECT_EQ(as_map(va)["nearfield:units"], "cd/m2 (photometric)");
 }
 
 TEST(PhotometricImages, ScaleTicksAndRanges) {
