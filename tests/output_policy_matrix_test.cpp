@@ -193,7 +193,13 @@ void run_matrix(const FileCommand& c) {
 
 TEST(OutputPolicyMatrix, Render) {
   const Work& w = work();
-  run_matrix({"render " + q(w.scene), {{"-o", ".exr"}, {"--png", ".png"}, {"--stats", ".json"}},
+  run_matrix({"render " + q(w.scene),
+              {{"-o", ".exr"},
+               {"--png", ".png"},
+               {"--stats", ".json"},
+               {"--illuminance", ".exr"},
+               {"--false-colour luminance", ".png"},
+               {"--false-colour illuminance", ".png"}},
               {w.scene, w.manifest, w.image, w.env}});
 }
 

@@ -27,6 +27,8 @@ struct SavedFiles : ScriptActions {
   std::vector<std::string> log;
   void save_image(const std::filesystem::path& exr) override { log.push_back("image " + exr.string()); }
   void save_scene(const std::filesystem::path& json) override { log.push_back("scene " + json.string()); }
+  void illuminance(int frames) override { log.push_back("illuminance " + std::to_string(frames)); }
+  void readout(int x, int y) override { log.push_back("readout " + std::to_string(x) + " " + std::to_string(y)); }
 };
 
 // A state as the viewer builds it for a scene with two luminaires.

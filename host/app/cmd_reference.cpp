@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/command.h"
+#include "app/image_units.h"
 #include "app/output_checks.h"
 #include "app/radiance_output.h"
 #include "app/reference_parts.h"
@@ -168,6 +169,7 @@ void run_reference_cmd(const ReferenceCmd& o) {
                         {"nearfield:threads", std::to_string(st.threads)},
                         {"nearfield:date", utc_now()}};
   attrs.emplace_back("nearfield:view", radiance_view(scene.camera).format());
+  for (const auto& kv : image_units(scene).radiance_attributes()) attrs.push_back(kv);  // app/image_units.h
   for (const auto& kv : set.attributes()) attrs.push_back(kv);
   if (is_radiance_hdr(o.out))
     write_radiance_output(outputs_tx, o.out, run.result.image, scene.camera);  // docs/glare.md

@@ -1,17 +1,23 @@
-// nearfield render SCENE -o OUT.exr [--png OUT.png] [--stats STATS.json] [overrides]
+// nearfield render SCENE -o OUT.exr [--png OUT.png] [--stats STATS.json] [--illuminance E.exr]
+//                  [--false-colour luminance|illuminance OUT.png [--scale log|linear] [--range LO,HI]] [overrides]
 // Renders a scene headless (docs/rendering.md, README.md): linear radiance to OpenEXR with every setting in
-// its metadata, optionally a tone-mapped PNG and a stats JSON (docs/rendering.md). Outputs are
+// its metadata and its units (cd/m2 for photometric scenes, docs/photometry.md), optionally a
+// tone-mapped PNG, a stats JSON (docs/rendering.md), the illuminance on the visible surfaces and
+// false-colour pictures of luminance or illuminance with a labelled scale. Outputs are
 // written to temporary files and moved into place together at the end, so a failure leaves no
 // output behind and never a partial file; an output that would replace the scene or one of its
 // input files is refused before any work.
+#include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -20,7 +26,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/command.h"
+#include "app/false_colour.h"
+#include "app/image_units.h"
 #include "app/output_checks.h"
+#include "app/photometric_images.h"
 #include "app/radiance_output.h"
 #include "app/render_estimate.h"
 #include "cl/runtime.h"
@@ -32,6 +41,7 @@
 #include "core/memory.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "gl/context.h"
 #include "luminaire/io.h"
 #include "luminaire/memory_estimate.h"
 #include "render/environment_contribution.h"
@@ -47,7 +57,9 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RenderCmd {
-  std::string scene, out, png, stats;
+  std::string scene, out, png, stats, illuminance;
+  std::vector<std::pair<std::string, std::string>> false_colour;  // --false-colour QUANTITY PATH, repeatable
+  std::string scale = "log", range;
   int width = 0, height = 0, frames = 1;
   std::map<std::string, std::string> settings;  // declared setting name -> its --option text (scene/settings.h)
   std::map<std::string, CLI::Option*> given;    // option name -> its CLI11 option
@@ -76,17 +88,71 @@ void apply_overrides(const RenderCmd& o, scene::Scene& s) {
   }
 }
 
+struct FalseColourRequest {
+  std::string quantity, path;  // luminance | illuminance
+  FalseColourOptions options;
+};
+
+// The --false-colour QUANTITY PATH pairs with --scale and --range, checked before any work.
+std::vector<FalseColourRequest> false_colour_requests(const RenderCmd& o) {
+  std::vector<FalseColourRequest> r;
+  if (o.false_colour.empty() && (o.has("--scale") || o.has("--range")))
+    fail("render: --scale and --range apply to --false-colour pictures; none was asked for");
+  FalseColourOptions opt;
+  if (o.scale != "log" && o.scale != "linear")
+    fail(fmt::format("render: --scale '{}': expected log or linear", o.scale));
+  opt.log_scale = o.scale == "log";
+  if (!o.range.empty()) {
+    double lo = 0.0, hi = 0.0;
+    char extra = 0;
+    if (std::sscanf(o.range.c_str(), "%lf,%lf%c", &lo, &hi, &extra) != 2 || !std::isfinite(lo) || !std::isfinite(hi) ||
+        !(hi > lo) || lo < 0.0 || (opt.log_scale && !(lo > 0.0)))
+      fail(fmt::format("render: --range '{}': expected LO,HI with 0 <= LO < HI (LO > 0 on a log scale)", o.range));
+    opt.auto_range = false;
+    opt.lo = lo;
+    opt.hi = hi;
+  }
+  for (const auto& [q, path] : o.false_colour) {
+    if (q != "luminance" && q != "illuminance")
+      fail(fmt::format("render: --false-colour '{}': expected luminance or illuminance, then OUT.png", q));
+    check_output_extension(path, ".png", "--false-colour " + q);
+    r.push_back({q, path, opt});
+  }
+  return r;
+}
+
+// The picture of one quantity: its range (given, or readable_range over the surface pixels) and
+// the legend (app/false_colour.h).
+Image false_colour_output(const Image& values, const std::vector<std::uint8_t>& surfaces, const FalseColourRequest& p,
+                          const std::string& unit) {
+  FalseColourOptions opt = p.options;
+  if (opt.auto_range) {
+    const auto [lo, hi] = readable_range(values, surfaces, opt.log_scale);
+    opt.auto_range = !(hi > lo);
+    opt.lo = lo;
+    opt.hi = hi;
+  }
+  return false_colour_picture(false_colour(values, opt), p.quantity, unit.empty() ? "no units" : unit);
+}
+
 void run_render(const RenderCmd& o) {
   Timer total;
   if (o.out.empty() && !o.dry_run) fail("render: -o OUT.exr is required (or --dry-run)");
   if (!o.out.empty()) check_output_extensions(o.out, {".exr", ".hdr"}, "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
   if (!o.stats.empty()) check_output_extension(o.stats, ".json", "--stats");
+  if (!o.illuminance.empty()) check_output_extension(o.illuminance, ".exr", "--illuminance");
   if (o.frames < 1) fail(fmt::format("--frames must be >= 1, got {}", o.frames));
+  const std::vector<FalseColourRequest> pictures = false_colour_requests(o);
   std::vector<std::pair<std::string, std::string>> outputs;
   if (!o.out.empty()) outputs.emplace_back("-o", o.out);
   if (!o.png.empty()) outputs.emplace_back("--png", o.png);
   if (!o.stats.empty()) outputs.emplace_back("--stats", o.stats);
+  if (!o.illuminance.empty()) outputs.emplace_back("--illuminance", o.illuminance);
+  for (const auto& p : pictures) outputs.emplace_back("--false-colour " + p.quantity, p.path);
+  const bool want_illuminance =
+      !o.illuminance.empty() || std::any_of(pictures.begin(), pictures.end(),
+                                            [](const FalseColourRequest& p) { return p.quantity == "illuminance"; });
   std::vector<std::pair<std::string, double>> phases;
 
   Timer t;
@@ -125,9 +191,17 @@ void run_render(const RenderCmd& o) {
   phases.emplace_back("load_scene", t.ms());
 
   t.reset();
-  Progress progress("render", 1 + 3 * static_cast<std::size_t>(o.frames) + 1);
+  const ImageUnits units = image_units(scene);
+  // The illuminance pass renders the scene again with white Lambert materials (photometric_images.h).
+  std::optional<scene::Scene> white;
+  if (want_illuminance) white = illuminance_scene(scene);
+  Progress progress("render", (want_illuminance ? 2 : 1) * (1 + 3 * static_cast<std::size_t>(o.frames)) + 1);
+  // One GL context for both passes: each headless context would own (and terminate) the same
+  // EGL display (gl/context.cpp).
+  const std::unique_ptr<gl::Context> gl_context = gl::create_headless_context();
   render::RendererOptions ropt;
   ropt.runtime = &runtime;
+  ropt.context = gl_context.get();
   ropt.on_stage = [&progress] { progress.advance(); };
   render::Renderer renderer(std::move(scene), ropt);
   progress.advance();
@@ -137,6 +211,13 @@ void run_render(const RenderCmd& o) {
   for (int f = 0; f < o.frames; ++f) renderer.render_frame();
   renderer.tonemap_display();  // Step 3 on the device and shown in GL, as a display would do it (timed)
   phases.emplace_back("render", t.ms());
+  Image illuminance;
+  if (white) {
+    t.reset();
+    illuminance = render_illuminance(*white, o.frames, ropt);
+    progress.advance();
+    phases.emplace_back("illuminance", t.ms());
+  }
 
   t.reset();
   const Image hdr = renderer.accumulated();
@@ -144,8 +225,8 @@ void run_render(const RenderCmd& o) {
   ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
                         {"nearfield:scene", o.scene},
                         {"nearfield:content",
-                         "linear radiance in the luminaires' units: W m^-2 sr^-1 (radiometric) or cd m^-2 "
-                         "(photometric; render --stats names each luminaire's)"},
+                         "linear radiance (luminance-scaled: Y = 0.2126 R + 0.7152 G + 0.0722 B) in the units of "
+                         "nearfield:units"},
                         {"nearfield:cl_device", stats.cl_device},
                         {"nearfield:gl_renderer", stats.gl_renderer},
                         {"nearfield:frames", std::to_string(renderer.frames())},
@@ -153,12 +234,29 @@ void run_render(const RenderCmd& o) {
                         {"nearfield:render_ms", fmt::format("{:.3f}", stats.total.wall_ms)},
                         {"nearfield:date", utc_now()}};
   attrs.emplace_back("nearfield:view", radiance_view(renderer.scene().camera).format());
+  for (const auto& kv : units.radiance_attributes()) attrs.push_back(kv);
   for (const auto& kv : stats.settings) attrs.push_back(kv);
   if (is_radiance_hdr(o.out))
     write_radiance_output(outputs_tx, o.out, hdr, renderer.scene().camera);  // docs/glare.md
   else
     write_exr(outputs_tx, o.out, hdr, attrs);
   if (!o.png.empty()) write_png(outputs_tx, o.png, renderer.display_image());  // the device's 8-bit image
+  if (!o.illuminance.empty()) {
+    ImageAttributes e{{"nearfield:version", NEARFIELD_VERSION},
+                      {"nearfield:scene", o.scene},
+                      {"nearfield:frames", std::to_string(renderer.frames())},
+                      {"nearfield:date", utc_now()},
+                      {"nearfield:view", radiance_view(renderer.scene().camera).format()}};
+    for (const auto& kv : units.illuminance_attributes()) e.push_back(kv);
+    for (const auto& kv : stats.settings) e.push_back(kv);
+    write_exr(outputs_tx, o.illuminance, illuminance, e);
+  }
+  for (const auto& p : pictures) {
+    const bool lum = p.quantity == "luminance";
+    write_png(outputs_tx, p.path,
+              false_colour_output(lum ? luminance_channel(hdr) : illuminance, renderer.valid_mask(), p,
+                                  lum ? units.radiance : units.illuminance));
+  }
   progress.advance();
   progress.finish();
   phases.emplace_back("write", t.ms());
@@ -169,6 +267,8 @@ void run_render(const RenderCmd& o) {
   std::string text = render::summary(stats);
   text += fmt::format("wrote {}", o.out);
   if (!o.png.empty()) text += fmt::format(", {}", o.png);
+  if (!o.illuminance.empty()) text += fmt::format(", {}", o.illuminance);
+  for (const auto& p : pictures) text += fmt::format(", {}", p.path);
   if (!o.stats.empty()) text += fmt::format(", {}", o.stats);
   text += fmt::format(" ({:.0f} ms in all)\n", total.ms());
   if (log::level() != log::Level::quiet) std::fputs(text.c_str(), stdout);
@@ -185,6 +285,18 @@ const CommandRegistration reg("render", [](CLI::App& app) {
                 "Load and validate the scene, print the memory estimate, render and write nothing");
   cmd->add_option("--png", o.png, "Also write a tone-mapped PNG");
   cmd->add_option("--stats", o.stats, "Also write per-step times, samples and memory as JSON");
+  cmd->add_option("--illuminance", o.illuminance,
+                  "Also write the illuminance on the visible surfaces (lx for photometric scenes; direct light "
+                  "from every luminaire, the frame's visibility) as a one-channel OpenEXR (docs/photometry.md)");
+  cmd->add_option("--false-colour", o.false_colour,
+                  "QUANTITY OUT.png: a false-colour picture of luminance or illuminance with a labelled scale "
+                  "(repeatable)");
+  o.given["--scale"] =
+      cmd->add_option("--scale", o.scale, "Scale of the false-colour pictures: log or linear")->capture_default_str();
+  o.given["--range"] =
+      cmd->add_option("--range", o.range,
+                      "LO,HI: value range of the false-colour pictures (default: whole decades around the surfaces' "
+                      "values on a log scale, 0 to a round maximum on a linear one)");
   cmd->add_option("--frames", o.frames, "Progressive frames to accumulate (sequences advance per frame)")
       ->capture_default_str();
   auto add = [&](const std::string& name, auto& var, const std::string& help) {

@@ -26,6 +26,8 @@
 //   display image|A|K             what the window shows (K and A in false colour)
 //   panel on|off                  the ImGui panel
 //   section NAME on|off           open or close a panel section (panel_sections())
+//   illuminance [FRAMES]          compute the illuminance of the current view (for readout)
+//   readout X Y                   print luminance (and illuminance) at render pixel (X, Y)
 //   save PATH.exr                 the accumulated HDR image, plus PATH.png (tone-mapped)
 //   save-scene PATH.json          the current camera, luminaires and settings as a scene file
 //   screenshot PATH.png           the window as shown (panel included when it is on)
@@ -62,6 +64,9 @@ class ScriptActions {
   virtual ~ScriptActions() = default;
   virtual void save_image(const std::filesystem::path& exr) = 0;
   virtual void save_scene(const std::filesystem::path& json) = 0;
+  // `illuminance [FRAMES]` and `readout X Y` (app/viewer_readout.h); no-ops where there is no renderer.
+  virtual void illuminance(int /*frames*/) {}
+  virtual void readout(int /*x*/, int /*y*/) {}
 };
 
 // A scripted camera or luminaire motion spread over frames.

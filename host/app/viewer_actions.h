@@ -22,6 +22,8 @@ class ViewerActions {
   // `confirmed`: the user agreed to overwrite (the scene file being viewed, or an existing file).
   virtual void perform_save(const std::string& kind, const std::filesystem::path& path, bool confirmed) = 0;
   virtual void status(const std::string& text, bool error = false) = 0;
+  // Computes the illuminance of the current view for the cursor readout (app/viewer_readout.h).
+  virtual void compute_illuminance() {}
 };
 
 }  // namespace nf::app

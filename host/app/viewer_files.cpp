@@ -105,6 +105,7 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
                         {"nearfield:camera", fmt::format("position {} {} {} target {} {} {} up {} {} {} fov_y {}",
                                                          c.position.x, c.position.y, c.position.z, c.target.x,
                                                          c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg)}};
+  for (const auto& kv : units_.radiance_attributes()) attrs.push_back(kv);  // app/image_units.h
   for (const auto& kv : render::settings_attributes(renderer_->settings())) attrs.push_back(kv);
   write_exr(tx, exr, hdr, attrs);
   write_png(tx, png, renderer_->display_image());  // the device's 8-bit image, as shown

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <fmt/format.h>
 
@@ -116,6 +117,7 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
   ropt.context = window_.get();
   ropt.cl_device = o.cl_device;
   renderer_ = std::make_unique<render::Renderer>(std::move(scene), ropt);
+  units_ = image_units(renderer_->scene());
   for (std::size_t i = 0; i < renderer_->luminaire_count(); ++i)
     state_.lums.push_back(edit_of(renderer_->luminaire_transform(i), renderer_->luminaire_intensity(i)));
   state_.lums_home = state_.lums;
@@ -212,6 +214,7 @@ void Viewer::render_one() {
   if (!accumulating()) return;
   renderer_->render_frame();
   rendered_ = true;
+  readout_.frame_rendered();
   stats_.frame_rendered();
 }
 
@@ -343,9 +346,14 @@ void Viewer::display() {
     false_view_.present(0, px, 0, iw, fh);
   }
   state_.redisplay = false;
-  if (state_.panel)
-    draw_panel(state_, *this,
-               PanelView{*renderer_, stats_, opt_.scene.filename().string(), fw, fh, fast_active_, false_range_});
+  if (state_.panel) {
+    update_cursor_readout(fw, fh);
+    PanelView pv{*renderer_, stats_, opt_.scene.filename().string(), fw, fh, fast_active_, false_range_};
+    pv.readout = &cursor_;
+    pv.units = &units_;
+    pv.has_illuminance = readout_.has_illuminance(*renderer_);
+    draw_panel(state_, *this, pv);
+  }
   draw_confirm_popup(state_, *this);
   ImGui::Render();
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -359,6 +367,45 @@ void Viewer::display() {
     state_.capture.clear();
     if (state_.quit_after_capture) state_.quit = true;
   }
+}
+
+// ---------------------------------------------------------------- readout --------------------
+
+// The render pixel under the mouse (the image fills the window right of a docked panel; the
+// framebuffer may be larger than the window by ImGui's DisplayFramebufferScale).
+void Viewer::update_cursor_readout(int fw, int fh) {
+  const ImGuiIO& io = ImGui::GetIO();
+  const int px = docked_panel_width(state_, fw), iw = fw - px;
+  const double mx = io.MousePos.x * io.DisplayFramebufferScale.x, my = io.MousePos.y * io.DisplayFramebufferScale.y;
+  cursor_ = PixelReadout{};
+  if (!std::isfinite(mx) || !std::isfinite(my) || io.MousePos.x < 0.0f || iw <= 0 || fh <= 0) return;
+  const scene::Camera& c = renderer_->camera();
+  const int x = static_cast<int>(std::floor((mx - px) / iw * c.width));
+  const int y = static_cast<int>(std::floor(my / fh * c.height));
+  cursor_ = readout_.at(*renderer_, x, y);
+}
+
+void Viewer::illuminance(int frames) {
+  sync();
+  readout_.compute_illuminance(*renderer_, *window_, frames);
+  window_->make_current();
+  status(fmt::format("illuminance computed ({} frame{})", frames, frames == 1 ? "" : "s"));
+}
+
+void Viewer::compute_illuminance() {
+  try {
+    illuminance(std::clamp(renderer_->frames(), 1, 16));
+  } catch (const Error& e) {
+    window_->make_current();
+    status(e.what(), true);
+  }
+}
+
+void Viewer::readout(int x, int y) {
+  sync();
+  const PixelReadout r = readout_.at(*renderer_, x, y);
+  std::printf("readout %s\n", r.text(units_).c_str());
+  std::fflush(stdout);
 }
 
 // ---------------------------------------------------------------- entry ----------------------

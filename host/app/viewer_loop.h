@@ -20,6 +20,7 @@
 #include "app/viewer.h"
 #include "app/viewer_actions.h"
 #include "app/viewer_input.h"
+#include "app/viewer_readout.h"
 #include "app/viewer_state.h"
 #include "app/viewer_stats.h"
 #include "gl/window.h"
@@ -50,6 +51,9 @@ class Viewer final : public ViewerActions, public ScriptActions {
   // ScriptActions (scripts): bring the renderer up to date, then save; errors throw.
   void save_image(const std::filesystem::path& exr) override;
   void save_scene(const std::filesystem::path& json) override;
+  void illuminance(int frames) override;
+  void readout(int x, int y) override;
+  void compute_illuminance() override;  // the panel's button: frames as accumulated (1..16)
 
  private:
   // loop (viewer_loop.cpp)
@@ -98,6 +102,11 @@ class Viewer final : public ViewerActions, public ScriptActions {
   TonemapParams shown_tonemap_{};
   ImageDisplay false_view_;
   FalseColourResult false_range_;
+  // the photometric readout under the cursor (viewer_readout.h)
+  ImageUnits units_;
+  ViewerReadout readout_;
+  PixelReadout cursor_;
+  void update_cursor_readout(int fb_width, int fb_height);
   int exit_code_ = 0;
 };
 

@@ -92,6 +92,7 @@ struct Panel {
   void header();
   void rendering();
   void display();
+  void readout();
   void camera();
   void luminaires();
   void materials(bool open_all);
@@ -392,6 +393,18 @@ void Panel::display() {
   float gamma = static_cast<float>(s.settings.frame.tonemap.gamma);
   if (ImGui::SliderFloat("gamma", &gamma, 0.5f, 4.0f, "%.2f"))
     a.set("gamma", fmt::format("{}", std::max(gamma, 0.05f)));
+  readout();
+}
+
+// Luminance (and illuminance, once computed for this view) under the cursor (viewer_readout.h).
+void Panel::readout() {
+  if (!v.readout || !v.units) return;
+  ImGui::TextUnformatted("under the cursor:");
+  ImGui::SameLine();
+  ImGui::TextUnformatted(v.readout->inside ? v.readout->text(*v.units).c_str() : "-");
+  if (ImGui::Button(v.has_illuminance ? "recompute illuminance" : "compute illuminance")) a.compute_illuminance();
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("white-Lambert render of this view (E = pi L; docs/photometry.md); kept until the view changes");
 }
 
 void Panel::camera() {

@@ -7,6 +7,7 @@
 
 #include "app/false_colour.h"
 #include "app/viewer_actions.h"
+#include "app/viewer_readout.h"
 #include "app/viewer_state.h"
 #include "app/viewer_stats.h"
 #include "render/frame.h"
@@ -19,8 +20,11 @@ struct PanelView {
   const ViewerStats& stats;
   std::string scene_name;  // the scene file's name
   int fb_width = 0, fb_height = 0;
-  bool fast_active = false;              // fast motion has switched visibility off this frame
-  const FalseColourResult& false_range;  // the false-colour legend's range
+  bool fast_active = false;               // fast motion has switched visibility off this frame
+  const FalseColourResult& false_range;   // the false-colour legend's range
+  const PixelReadout* readout = nullptr;  // under the cursor (viewer_readout.h)
+  const ImageUnits* units = nullptr;
+  bool has_illuminance = false;  // computed for the current view
 };
 
 void draw_panel(ViewerState& s, ViewerActions& actions, const PanelView& view);
