@@ -268,7 +268,7 @@ TEST(EnvironmentHorizon, DISABLED_ProbeSmallLightsNearTheHorizon) {
       sum_want += want[i];
       sum2 += (got[i].y / want[i] - 1) * (got[i].y / want[i] - 1);
     }
-    const double mean = sum / sum_want, rms = std::sqrt(sum2 / got.size());
+    const double mean = sum / sum_want, rms = std::sqrt(sum2 / static_cast<double>(got.size()));
     std::printf("roughness %.1f: fis N = 64, total / quadrature %.4f, RMS relative error %.4f\n", rough, mean, rms);
   }
 }
