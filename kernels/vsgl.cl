@@ -292,9 +292,17 @@ __kernel void vsgl_generate(__global const float4* pyr, __global const int* off,
        below it, light that no receiver above the surface sees (the one-bounce total was 0.86 of
        the reference). Normalising each VPL's SG to its upper hemisphere, c_j = Phi R_d /
        A_h(2), A_h(lambda) = 2 pi (1 - e^{-lambda}) / lambda, multiplies its full integral by
-       A(2) / A_h(2) = 1 + e^{-2}; the cluster's lobe carries the same factor (docs/indirect.md,
-       "Lobe energy"). */
-    const float keep = lobe == 0 ? 1.0f + exp(-2.0f) : 1.0f;
+       A(2) / A_h(2) = 1 + e^{-2} (docs/indirect.md, "Lobe energy").
+       A cluster of VPLs with different normals n_j gets one lobe about xi with the fitted lambda;
+       it is normalised so that its flux above the plane of xi equals the VPLs' flux above that
+       plane. A clamped-cosine emitter of flux Phi R tilted by beta from xi sends
+       Phi R (1 + cos beta) / 2 into {xi.w > 0} (the tilted-plane form factor), linear in
+       n_j.xi, so the cluster's sum is sum Phi R (1 + xi.n_bar) / 2 with n_bar the weighted mean
+       normal, n_bar = 3/2 xi_bar (Toksvig, lambda_d = 2): (1 + 3/2 |xi_bar|) / 2. The SG puts
+       A_h(lambda) / A(lambda) = 1 / (1 + e^{-lambda}) of its integral there, so
+         keep = (1 + e^{-lambda}) (1 + 3/2 |xi_bar|) / 2,
+       which is 1 + e^{-2} for a coplanar cluster (|xi_bar| = 2/3, lambda = 2). */
+    const float keep = lobe == 0 ? (1.0f + exp(-lam)) * 0.5f * (1.0f + fmin(1.5f * len, 1.0f)) : 1.0f;
     const float3 c = fmax(pc, (float3)(0.0f)) * keep / nf_sg_integral(lam);
     if (lobe == 0) {
       g.cd_r = c.x;
