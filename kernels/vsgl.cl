@@ -12,6 +12,7 @@
    of the whole pyramid holds NF_VSGL_QUANTITIES float4 at pyr[NF_VSGL_QUANTITIES t + q]. */
 #define NF_LANES 1
 #include "common/brdf.h"
+#include "common/ggx_albedo.h"
 #include "common/kurt_asg.h"
 #include "common/material.h"
 #include "common/point_shadow.h"
@@ -25,10 +26,12 @@ NF_INLINE float nf_lum(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722
 
 /* VPL reflectances of a surface (docs/indirect.md "VPL materials"): diffuse R_d and specular R_s
    (RGB) and the GGX lobe sharpness lambda_h = 2 / alpha^2 (App. A.1). lambert: R_d = base; ggx
-   (the glTF model of common/brdf.h at normal incidence): F0 = mix(0.04, base, metallic),
-   R_s = F0, R_d = (1 - F0)(1 - metallic) base; kurt: R_d = kd of the table, no specular VPL. */
-NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt, int kurt_count, float3* rd, float3* rs,
-                               float* lambda_h) {
+   (the glTF model of common/brdf.h): F0 = mix(0.04, base, metallic), R_s = the specular lobe's
+   albedo E(mu, alpha, F0) for light arriving at cos mu = n.w' (common/ggx_albedo.h; issue 29:
+   R_s = F0 ignored the lobe's masking-shadowing loss, +10 % on a metal floor),
+   R_d = (1 - F0)(1 - metallic) base; kurt: R_d = kd of the table, no specular VPL. */
+NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt, int kurt_count, float mu, float3* rd,
+                               float3* rs, float* lambda_h) {
   const NfMaterial m = nf_material_decode(s, kurt_count); /* common/material.h */
   const float3 base = m.base;
   *rd = (float3)(0.0f);
@@ -38,7 +41,8 @@ NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt,
     *rd = base;
   } else if (m.brdf == NF_BRDF_GGX) {
     const float3 f0 = nf_f0_3(base, m.metallic);
-    *rs = f0;
+    /* the specular lobe's single-scattering albedo for light arriving at cos mu (common/ggx_albedo.h) */
+    *rs = nf_ggx_albedo(mu, m.alpha, f0);
     *rd = ((float3)(1.0f) - f0) * (1.0f - m.metallic) * base;
     const float a = m.alpha;
     *lambda_h = 2.0f / (a * a);
@@ -90,7 +94,7 @@ __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4*
     }
     float3 rd, rs;
     float lh;
-    nf_vpl_material(s, kurt, kurt_count, &rd, &rs, &lh);
+    nf_vpl_material(s, kurt, kurt_count, clamp(dot(wl, n), 0.0f, 1.0f), &rd, &rs, &lh);
     const float3 phi = fmax(e, (float3)(0.0f)) * area;
     const float3 prd = phi * rd, prs = phi * rs;
     const float wd = nf_lum(prd), ws = nf_lum(prs), w = wd + ws;
