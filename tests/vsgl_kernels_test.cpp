@@ -459,6 +459,57 @@ TEST(VsglKernels, ClusterLobeKeepsTheFluxAboveItsPlane) {
   EXPECT_NEAR(got / want, 1.0, 0.01);
 }
 
+// Probe (a measurement, not a test; docs/indirect.md, "Where the clusters' light goes"): a planar
+// cluster seen at grazing angles. 16 x 16 VPLs on a 1 x 1 m square of the plane z = 0 (normal +z,
+// flux 1/256 each, SG lobes lambda = 2 normalised to their hemisphere), 4 VSGLs (integral kernels,
+// 8 x 8 texels each, sigma = 0.14 m), shading 27 Lambert receivers 0.15-0.6 m beside the square
+// and 0.05-0.3 m above its plane, facing it. Prints the VSGLs' total over the receivers divided
+// by the sum of the 256 VPLs' point lights in double (the VSGL's small-variance limit, see
+// SingleVplMatchesItsPointLightInTheSmallVarianceLimit).
+TEST(VsglKernels, DISABLED_ProbeGrazingReceiversOfAPlanarCluster) {
+  constexpr int S = 16;
+  std::vector<glm::vec4> q(S * S * NF_VSGL_QUANTITIES, glm::vec4(0.0f));
+  const double area = 1.0 / (S * S), f = 1.0 / (S * S);
+  const double w = f;  // flux (f, f, f): luminance f
+  std::vector<glm::dvec3> ys;
+  for (int ty = 0; ty < S; ++ty)
+    for (int tx = 0; tx < S; ++tx) {
+      const std::size_t t = static_cast<std::size_t>(ty * S + tx);
+      const glm::dvec3 yj((tx + 0.5) / S - 0.5, (ty + 0.5) / S - 0.5, 0.0);
+      ys.push_back(yj);
+      q[NF_VSGL_QUANTITIES * t + 0] = glm::vec4(glm::vec3(static_cast<float>(f)), static_cast<float>(w));
+      q[NF_VSGL_QUANTITIES * t + 1] = glm::vec4(0, 0, 0, static_cast<float>(w * (glm::dot(yj, yj) + area / 6.0)));
+      q[NF_VSGL_QUANTITIES * t + 2] = glm::vec4(0, 0, static_cast<float>(w * 2.0 / 3.0), static_cast<float>(w));
+      q[NF_VSGL_QUANTITIES * t + 4] = glm::vec4(glm::vec3(w * yj), static_cast<float>(area));
+    }
+  render::VsglSettings s;
+  s.count = 4;
+  s.kernel = NF_VSGL_KERNEL_INTEGRAL;
+  const auto v = vsgl().generate(q, S, glm::dvec3(0.0), s);
+  std::vector<NfSurface> px;
+  double want = 0.0;
+  const double a2 = kPi * (1.0 - std::exp(-2.0));  // A_h(2)
+  for (double x : {0.65, 0.8, 1.1})
+    for (double z : {0.05, 0.15, 0.3})
+      for (double y : {-0.3, 0.0, 0.3}) {
+        const glm::dvec3 p(x, y, z), n = glm::normalize(glm::dvec3(-1.0, 0.0, -0.3));
+        px.push_back(surface(p, n, n, NF_BRDF_LAMBERT, glm::vec3(1.0f)));
+        for (const glm::dvec3& yj : ys) {
+          const glm::dvec3 d = yj - p;
+          const double r2 = glm::dot(d, d);
+          const glm::dvec3 xi = d / std::sqrt(r2);
+          want += f * std::exp(2.0 * (-xi.z - 1.0)) / a2 * std::max(glm::dot(n, xi), 0.0) / r2 / kPi;
+        }
+      }
+  const auto got = vsgl().shade(px, v);
+  double sum = 0.0;
+  for (const auto& g : got) {
+    ASSERT_TRUE(std::isfinite(g.y));
+    sum += g.y;
+  }
+  std::printf("grazing receivers: VSGL / VPL total %.4f\n", sum / want);
+}
+
 // No NaN/Inf anywhere for an all-zero RSM, a black one (valid texels, no light), grazing VPLs and
 // receivers, zero roughness, metallic 1, and pixels on top of a VSGL.
 TEST(VsglKernels, NoNanForEmptyBlackGrazingAndMirrorInputs) {
