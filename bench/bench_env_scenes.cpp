@@ -43,7 +43,8 @@ struct Options {
   std::string samples = "4,16,64";
   std::string roughness = "0.05,0.3,0.7";
   std::string visibility_samples = "8,16,64";
-  std::string hdris;  // comma-separated file names; "" = every .hdr/.exr in <data>/hdri
+  std::string hdris;             // comma-separated file names; "" = every .hdr/.exr in <data>/hdri
+  std::string targets, methods;  // comma-separated filters; "" = all
   int width = 160, height = 90, ref_spp = 256;
   bool helmet = true, refresh = false;
 };
@@ -139,6 +140,11 @@ double reference_noise(const nf::ref::ReferenceResult& r) {
   return r2 > 0 ? var / r2 : 0.0;
 }
 
+// Whether `name` is one of the comma-separated `list` ("" holds every name).
+bool in_list(const std::string& list, const std::string& name) {
+  return list.empty() || ("," + list + ",").find("," + name + ",") != std::string::npos;
+}
+
 struct Method {
   std::string label, glossy, kernel;
 };
@@ -205,6 +211,7 @@ void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::
     return;
   }
   for (const auto& m : methods()) {
+    if (!in_list(o.methods, m.label)) continue;
     warm_up([&](nf::scene::RenderSettings& d) {
       d.env_glossy = m.glossy;
       d.env_kernel = m.kernel;
@@ -296,6 +303,8 @@ int main(int argc, char** argv) {
   app.add_option("--width", o.width, "Image width")->check(CLI::Range(8, 4096));
   app.add_option("--height", o.height, "Image height")->check(CLI::Range(8, 4096));
   app.add_flag("!--no-helmet", o.helmet, "Leave DamagedHelmet out");
+  app.add_option("--targets", o.targets, "Scenes to run, comma-separated: sphere,plane,helmet,shadow (default: all)");
+  app.add_option("--methods", o.methods, "Glossy methods to run, comma-separated labels (default: all)");
   app.add_flag("--refresh-references", o.refresh, "Render the references even when cached");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -333,6 +342,7 @@ int main(int argc, char** argv) {
       nf::cl::Runtime rt;
       machine = nf::bench::collect_machine(rt);
     }
+    std::erase_if(targets, [&](const Target& t) { return !in_list(o.targets, t.name); });
     std::vector<Row> rows;
     std::vector<std::string> notes;
     for (std::size_t i = 0; i < targets.size(); ++i) {

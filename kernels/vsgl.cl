@@ -12,6 +12,7 @@
    of the whole pyramid holds NF_VSGL_QUANTITIES float4 at pyr[NF_VSGL_QUANTITIES t + q]. */
 #define NF_LANES 1
 #include "common/brdf.h"
+#include "common/ggx_albedo.h"
 #include "common/kurt_asg.h"
 #include "common/material.h"
 #include "common/point_shadow.h"
@@ -25,10 +26,12 @@ NF_INLINE float nf_lum(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722
 
 /* VPL reflectances of a surface (docs/indirect.md "VPL materials"): diffuse R_d and specular R_s
    (RGB) and the GGX lobe sharpness lambda_h = 2 / alpha^2 (App. A.1). lambert: R_d = base; ggx
-   (the glTF model of common/brdf.h at normal incidence): F0 = mix(0.04, base, metallic),
-   R_s = F0, R_d = (1 - F0)(1 - metallic) base; kurt: R_d = kd of the table, no specular VPL. */
-NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt, int kurt_count, float3* rd, float3* rs,
-                               float* lambda_h) {
+   (the glTF model of common/brdf.h): F0 = mix(0.04, base, metallic), R_s = the specular lobe's
+   albedo E(mu, alpha, F0) for light arriving at cos mu = n.w' (common/ggx_albedo.h; issue 29:
+   R_s = F0 ignored the lobe's masking-shadowing loss, +10 % on a metal floor),
+   R_d = (1 - F0)(1 - metallic) base; kurt: R_d = kd of the table, no specular VPL. */
+NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt, int kurt_count, float mu, float3* rd,
+                               float3* rs, float* lambda_h) {
   const NfMaterial m = nf_material_decode(s, kurt_count); /* common/material.h */
   const float3 base = m.base;
   *rd = (float3)(0.0f);
@@ -38,7 +41,8 @@ NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt,
     *rd = base;
   } else if (m.brdf == NF_BRDF_GGX) {
     const float3 f0 = nf_f0_3(base, m.metallic);
-    *rs = f0;
+    /* the specular lobe's single-scattering albedo for light arriving at cos mu (common/ggx_albedo.h) */
+    *rs = nf_ggx_albedo(mu, m.alpha, f0);
     *rd = ((float3)(1.0f) - f0) * (1.0f - m.metallic) * base;
     const float a = m.alpha;
     *lambda_h = 2.0f / (a * a);
@@ -90,7 +94,7 @@ __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4*
     }
     float3 rd, rs;
     float lh;
-    nf_vpl_material(s, kurt, kurt_count, &rd, &rs, &lh);
+    nf_vpl_material(s, kurt, kurt_count, clamp(dot(wl, n), 0.0f, 1.0f), &rd, &rs, &lh);
     const float3 phi = fmax(e, (float3)(0.0f)) * area;
     const float3 prd = phi * rd, prs = phi * rs;
     const float wd = nf_lum(prd), ws = nf_lum(prs), w = wd + ws;
@@ -292,9 +296,17 @@ __kernel void vsgl_generate(__global const float4* pyr, __global const int* off,
        below it, light that no receiver above the surface sees (the one-bounce total was 0.86 of
        the reference). Normalising each VPL's SG to its upper hemisphere, c_j = Phi R_d /
        A_h(2), A_h(lambda) = 2 pi (1 - e^{-lambda}) / lambda, multiplies its full integral by
-       A(2) / A_h(2) = 1 + e^{-2}; the cluster's lobe carries the same factor (docs/indirect.md,
-       "Lobe energy"). */
-    const float keep = lobe == 0 ? 1.0f + exp(-2.0f) : 1.0f;
+       A(2) / A_h(2) = 1 + e^{-2} (docs/indirect.md, "Lobe energy").
+       A cluster of VPLs with different normals n_j gets one lobe about xi with the fitted lambda;
+       it is normalised so that its flux above the plane of xi equals the VPLs' flux above that
+       plane. A clamped-cosine emitter of flux Phi R tilted by beta from xi sends
+       Phi R (1 + cos beta) / 2 into {xi.w > 0} (the tilted-plane form factor), linear in
+       n_j.xi, so the cluster's sum is sum Phi R (1 + xi.n_bar) / 2 with n_bar the weighted mean
+       normal, n_bar = 3/2 xi_bar (Toksvig, lambda_d = 2): (1 + 3/2 |xi_bar|) / 2. The SG puts
+       A_h(lambda) / A(lambda) = 1 / (1 + e^{-lambda}) of its integral there, so
+         keep = (1 + e^{-lambda}) (1 + 3/2 |xi_bar|) / 2,
+       which is 1 + e^{-2} for a coplanar cluster (|xi_bar| = 2/3, lambda = 2). */
+    const float keep = lobe == 0 ? (1.0f + exp(-lam)) * 0.5f * (1.0f + fmin(1.5f * len, 1.0f)) : 1.0f;
     const float3 c = fmax(pc, (float3)(0.0f)) * keep / nf_sg_integral(lam);
     if (lobe == 0) {
       g.cd_r = c.x;

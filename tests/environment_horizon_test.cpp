@@ -203,6 +203,76 @@ TEST(EnvironmentHorizon, GlossyPlane) {
   }
 }
 
+// Probe (a measurement, not a test; docs/environment.md, "The horizon cap's variance"): small,
+// very bright lights and the horizon cap. A dim map (sky 0.2, ground 0.05) with 24 one-texel lights
+// of radiance 3000 at elevations 3-40 degrees, seen by a metal surface (roughness 0.7 and 0.4) at
+// grazing views (n.v = 0.05-0.35, the silhouette of a sphere), 96 random configurations (fixed
+// seed). fis, N = 64, one frame, against the double quadrature of int f cos L per configuration
+// (4 x 4 sub-cells per texel: the lobe is smooth at these roughnesses, the lights are whole
+// texels). Prints the total over the configurations / the quadrature's total and the RMS relative
+// error per configuration. Kernel variants are measured by pointing NEARFIELD_KERNEL_DIR at an
+// edited copy of kernels/.
+TEST(EnvironmentHorizon, DISABLED_ProbeSmallLightsNearTheHorizon) {
+  constexpr int w = 256, h = 128;
+  std::vector<dvec3> lights;
+  std::uint32_t st = 12345u;
+  auto rnd = [&st] {
+    st = st * 1664525u + 1013904223u;
+    return (st >> 8) * (1.0 / 16777216.0);
+  };
+  for (int i = 0; i < 24; ++i) {
+    const double e = (3.0 + 37.0 * rnd()) * kPi / 180.0, a = 2.0 * kPi * rnd();
+    lights.push_back({std::cos(e) * std::sin(a), std::sin(e), -std::cos(e) * std::cos(a)});
+  }
+  // a light covers the texel that holds its direction
+  auto texel_of = [&](dvec3 d) {
+    const double u = std::atan2(d.x, -d.z) / (2.0 * kPi), v = std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi;
+    return std::pair{static_cast<int>((u - std::floor(u)) * w) % w, std::min(h - 1, static_cast<int>(v * h))};
+  };
+  std::vector<std::pair<int, int>> lit;
+  for (const dvec3& d : lights) lit.push_back(texel_of(d));
+  const auto map = nf::envtest::make_map(w, h, 0.0, [&](dvec3 d) {
+    const auto t = texel_of(d);
+    for (const auto& q : lit)
+      if (q == t) return dvec3(3000.0);
+    return dvec3(d.y >= 0 ? 0.2 : 0.05);
+  });
+  nf::render::EnvironmentContribution env(nf::envtest::runtime(), map);
+  for (double rough : {0.7, 0.4}) {
+    std::vector<NfSurface> surfaces;
+    std::vector<double> want;
+    for (int i = 0; i < 96; ++i) {
+      // n about the upper hemisphere, v at n.v = 0.05 .. 0.35 in a random azimuth
+      const double nz = 0.2 + 0.8 * rnd(), pa = 2.0 * kPi * rnd();
+      const dvec3 n =
+          glm::normalize(dvec3(std::sqrt(1 - nz * nz) * std::cos(pa), nz, std::sqrt(1 - nz * nz) * std::sin(pa)));
+      const dvec3 t = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
+      const dvec3 b = glm::cross(n, t);
+      const double c = 0.05 + 0.3 * rnd(), va = 2.0 * kPi * rnd(), sn = std::sqrt(1 - c * c);
+      const dvec3 v = c * n + sn * (std::cos(va) * t + std::sin(va) * b);
+      surfaces.push_back(nf::envtest::surface(n, v, NF_BRDF_GGX, rough, 1.0, dvec3(0.9)));
+      want.push_back(nf::envtest::quadrature(map, 4, [&](dvec3 l) {
+                       return nf::envtest::brdf_cos(true, n, v, l, rough, 1.0, dvec3(0.9));
+                     }).y);
+    }
+    nf::scene::RenderSettings rs;
+    rs.env_samples = 64;
+    rs.env_glossy = "fis";
+    rs.env_diffuse = "mc";
+    rs.seed = 29;
+    const auto got = nf::envtest::shade(env, surfaces, rs);
+    double sum = 0, sum_want = 0, sum2 = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(got[i].y));
+      sum += got[i].y;
+      sum_want += want[i];
+      sum2 += (got[i].y / want[i] - 1) * (got[i].y / want[i] - 1);
+    }
+    const double mean = sum / sum_want, rms = std::sqrt(sum2 / static_cast<double>(got.size()));
+    std::printf("roughness %.1f: fis N = 64, total / quadrature %.4f, RMS relative error %.4f\n", rough, mean, rms);
+  }
+}
+
 // The frame against the reference renderer: a 40 x 40 m floor seen from 0.6 m, under the band
 // map written as an EXR. Mean radiance over the pixels both see as floor; the reference's own
 // standard error of that mean (from its per-pixel variances) is printed.

@@ -261,8 +261,9 @@ TEST(VsglDirection, GlossyLobeFollowsTheMeanDirection) {
   const auto q0 = lobes(0);
   const glm::dvec3 a0 = glm::normalize(glm::dvec3(q0[3]));
   EXPECT_GT(glm::dot(a0, fallback), 1.0 - 1e-5);
-  // the diffuse part and the texel's flux do not depend on the incident direction
-  EXPECT_EQ(q0[0], q[0]);
+  // the diffuse part and the texel's flux do not depend on the incident direction (the PDF channel
+  // q0.w = Y(Phi (R_d + R_s)) does: R_s is the GGX lobe's albedo at the incident angle, issue 29)
+  EXPECT_EQ(glm::vec3(q0[0]), glm::vec3(q[0]));
   EXPECT_EQ(q0[2], q[2]);
   for (const auto& v : q)
     EXPECT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w));

@@ -3,11 +3,14 @@
 // x = 1 m (no occluder: the unshadowed case). The wall's light is the floor's bounce alone. Its
 // total over the wall's pixels, the VSGL image (frame with indirect = vsgl minus the frame without)
 // against `nearfield reference --bounces 1 --only indirect` (1024 spp, Embree shadow rays), for
-// a Lambert floor and GGX floors (dielectric and metal, roughness 0.5). Required for the Lambert
-// and the dielectric floor (mostly diffuse): within 5 % + 4.5 reference standard errors (the
-// issue's target; measured 0.994 and 0.993, before 0.876 and 0.879). The metal floor's ratio is
-// printed only (1.098 before and after: its specular lobe's fit is not corrected; docs/indirect.md).
-// False-failure rate: a 4.5 sigma excursion of the reference's mean beyond the 5 % margin, < 1e-5.
+// a Lambert floor and GGX floors (dielectric and metal, roughness 0.5). Required for every floor:
+// within 5 % + 3 reference standard errors (the issue's target; measured 0.995, 0.996 and
+// 0.984; before the hemisphere-normalised diffuse lobes 0.876 and 0.879 for the first two, and
+// 1.098 for the metal floor until the specular VPL's reflectance became the GGX lobe's albedo
+// instead of F0, kernels/common/ggx_albedo.h).
+// False-failure rate: the measured ratios are within 1.6 % of 1, so a failure needs the reference's
+// mean to move by 3.4 % + 3 sigma, i.e. > 5 sigma (se 0.95-1.5 %): < 1e-6. (3, not 4.5, sigma so that
+// the metal floor's former 1.098 fails: 0.05 + 3 x 0.0154 = 0.096.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -43,12 +46,11 @@ TEST(VsglEnergy, OneBounceTotalOnTheWall) {
     std::string floor;
     bool assert_it;
   };
-  for (const Case& c :
-       {Case{"lambert", R"({ "type": "lambert", "base_color": [1, 1, 1] })", true},
-        Case{"ggx dielectric 0.5", R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0.5 })",
-             true},
-        Case{"ggx metal 0.5", R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 1, "roughness": 0.5 })",
-             false}}) {
+  for (const Case& c : {Case{"lambert", R"({ "type": "lambert", "base_color": [1, 1, 1] })", true},
+                        Case{"ggx dielectric 0.5",
+                             R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0.5 })", true},
+                        Case{"ggx metal 0.5",
+                             R"({ "type": "ggx", "base_color": [1, 1, 1], "metallic": 1, "roughness": 0.5 })", true}}) {
     const scene::Scene sc = render_test::parse(scene(c.floor));
     ref::ReferenceSettings rs;
     rs.spp = 1024;
@@ -87,7 +89,7 @@ TEST(VsglEnergy, OneBounceTotalOnTheWall) {
     std::printf("  %-20s VSGL / reference one-bounce total on the wall: %.4f (reference se %.4f)\n", c.name, got / want,
                 se);
     if (c.assert_it) {
-      EXPECT_LT(std::abs(got / want - 1.0), 0.05 + 4.5 * se) << c.name;
+      EXPECT_LT(std::abs(got / want - 1.0), 0.05 + 3.0 * se) << c.name;
     }
   }
 }
