@@ -2,8 +2,9 @@
 # The cost of splitting a reference into parts (docs/cluster.md, "Measured"): the CPU time of
 # `nearfield reference` at once (1 thread) against the same image in N bands of rows, each part
 # in a process of its own (`--part`, as nearfield-cluster --process-per-part runs them) and all
-# parts in one `nearfield serve` process (as one Ray worker runs them). Checks that both merges
-# are the one-machine image bit for bit. CPU time (user + system) is the figure to compare on a
+# parts in one `nearfield serve` process (as one Ray worker runs them), and the whole image as one
+# part in `serve` (the same code path without a split). Checks that the merges are the
+# one-machine image bit for bit. CPU time (user + system) is the figure to compare on a
 # shared machine; wall times are printed too.
 #
 #   bench/cluster_overhead.sh [--bin BUILD/nearfield] [--spp 256] [--parts 8] [--size 320x180] [--out CSV]
@@ -45,6 +46,10 @@ for ((i = 0; i < parts; i++)); do
     "$scene" "$w" "$h" "$spp" "$a" "$w" "$((b - a))" "$tmp/s$i.nfpart" >> "$requests"
 done
 read -r serve_cpu serve_wall < <(cpu "$bin" serve < "$requests")
+printf '["-q", "reference", "%s", "--width", "%s", "--height", "%s", "--spp", "%s", "--threads", "1", "--part", "%s"]\n' \
+  "$scene" "$w" "$h" "$spp" "$tmp/whole.nfpart" > "$tmp/whole-request"
+read -r whole_cpu whole_wall < <(cpu "$bin" serve < "$tmp/whole-request")
+"$bin" -q merge "$tmp/whole.nfpart" -o "$tmp/whole.exr"
 "$bin" -q merge "${files[@]}" -o "$tmp/processes.exr"
 "$bin" -q merge "${sfiles[@]}" -o "$tmp/serve.exr"
 same() {  # the pixel data of two EXRs (nearfield writes equal pixels as equal bytes)
@@ -59,12 +64,14 @@ print("yes" if px(sys.argv[1]) == px(sys.argv[2]) else "NO")
 PY
 }
 p_same=$(same "$tmp/one.exr" "$tmp/processes.exr") s_same=$(same "$tmp/one.exr" "$tmp/serve.exr")
+w_same=$(same "$tmp/one.exr" "$tmp/whole.exr")
 load=$(cut -d' ' -f1-3 /proc/loadavg)
 pct() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%+.1f", 100 * (a - b) / b }'; }
 table="run,parts,cpu_s,wall_s,overhead_cpu_pct,bit_identical
 one machine (1 thread),1,$one_cpu,$one_wall,0,yes
 a process per part,$parts,$proc_cpu,$proc_wall,$(pct "$proc_cpu" "$one_cpu"),$p_same
-one nearfield serve,$parts,$serve_cpu,$serve_wall,$(pct "$serve_cpu" "$one_cpu"),$s_same"
+one nearfield serve,$parts,$serve_cpu,$serve_wall,$(pct "$serve_cpu" "$one_cpu"),$s_same
+the whole image as one part in serve,1,$whole_cpu,$whole_wall,$(pct "$whole_cpu" "$one_cpu"),$w_same"
 echo "# ${w}x${h}, $spp spp, default scene; $(nproc) CPUs, load average $load; $(date -u +%FT%TZ)"
 echo "$table"
 if [ -n "$out" ]; then

@@ -115,7 +115,8 @@ TEST(RenderParts, FrameSplitsMergeToTheOneMachineBits) {
   const nf::Image dev = f.render("device.exr", "");
   double worst = 0.0;
   for (std::size_t i = 0; i < one.pixels.size(); ++i)
-    worst = std::max(worst, std::abs(double(one.pixels[i]) - dev.pixels[i]) / (std::abs(double(dev.pixels[i])) + 1e-30));
+    worst =
+        std::max(worst, std::abs(double(one.pixels[i]) - dev.pixels[i]) / (std::abs(double(dev.pixels[i])) + 1e-30));
   EXPECT_LT(worst, 1e-6);
 }
 

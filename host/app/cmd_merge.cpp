@@ -112,7 +112,8 @@ void run_merge_cmd(const MergeCmd& o) {
 
 const CommandRegistration reg("merge", [](CLI::App& app) {
   static MergeCmd o;
-  auto* cmd = app.add_subcommand("merge", "Combine the parts of a reference or render into its image (docs/cluster.md)");
+  auto* cmd =
+      app.add_subcommand("merge", "Combine the parts of a reference or render into its image (docs/cluster.md)");
   cmd->add_option("parts", o.parts, "Part files (.nfpart) written by reference --part or render --part")->required();
   cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance), or .nfpart: the merge as one part")
       ->required();

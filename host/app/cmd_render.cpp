@@ -25,8 +25,8 @@
 #include "app/command.h"
 #include "app/output_checks.h"
 #include "app/radiance_output.h"
-#include "app/render_parts.h"
 #include "app/render_estimate.h"
+#include "app/render_parts.h"
 #include "cl/runtime.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
@@ -108,10 +108,11 @@ nlohmann::json part_header(const RenderCmd& o, const scene::Scene& scene, const 
 
 void check_part_options(const RenderCmd& o) {
   if (!o.tile.empty())
-    fail("render --tile: not supported: the real-time kernels' per-pixel results depend on the whole frame's "
-         "launch (surface order, roulette blocks and lanes are indexed by the pixel's place in the launch), so a "
-         "tile would not reproduce the one-machine pixels; split render by frames (--frames-range), or use "
-         "nearfield reference --tile (docs/cluster.md)");
+    fail(
+        "render --tile: not supported: the real-time kernels' per-pixel results depend on the whole frame's "
+        "launch (surface order, roulette blocks and lanes are indexed by the pixel's place in the launch), so a "
+        "tile would not reproduce the one-machine pixels; split render by frames (--frames-range), or use "
+        "nearfield reference --tile (docs/cluster.md)");
   if (!o.frames_range.empty() && o.part.empty()) fail("render --frames-range needs --part OUT.nfpart");
   if (o.part.empty()) return;
   check_output_extension(o.part, ".nfpart", "--part");

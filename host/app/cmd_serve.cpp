@@ -67,9 +67,10 @@ void run_serve() {
 }
 
 const CommandRegistration reg("serve", [](CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "serve", "Run reference/render command lines read from stdin (JSON arrays), one process for many parts "
-               "(nearfield-cluster's workers, docs/cluster.md)");
+  auto* cmd =
+      app.add_subcommand("serve",
+                         "Run reference/render command lines read from stdin (JSON arrays), one process for many parts "
+                         "(nearfield-cluster's workers, docs/cluster.md)");
   cmd->callback([] { run_serve(); });
 });
 

@@ -56,7 +56,8 @@ CommandResult run_command_line(const std::vector<std::string>& args, bool to_std
   } catch (const CLI::ParseError& e) {
     const auto rest = app.remaining();
     if (!rest.empty() && app.get_subcommands().empty())
-      return report(2, fmt::format("nearfield: unknown subcommand '{}'\nRun with --help for the list.\n", rest.front()));
+      return report(2,
+                    fmt::format("nearfield: unknown subcommand '{}'\nRun with --help for the list.\n", rest.front()));
     if (to_stderr) return {app.exit(e), ""};
     return {e.get_exit_code(), fmt::format("nearfield: {}\n", e.what())};
   } catch (const std::bad_alloc&) {
