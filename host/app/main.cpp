@@ -31,8 +31,15 @@ GlobalOptions& global_options() {
 
 namespace nf::app {
 
+namespace {
+std::string& program_name() {  // argv[0], for CLI11's usage lines
+  static std::string name = "nearfield";
+  return name;
+}
+}  // namespace
+
 CommandResult run_command_line(const std::vector<std::string>& args, bool to_stderr) {
-  CLI::App app{"nearfield: renderer for scenes lit by measured near-field (light-field) luminaires"};
+  CLI::App app{"nearfield: renderer for scenes lit by measured near-field (light-field) luminaires", program_name()};
   app.set_version_flag("--version", std::string("nearfield ") + NEARFIELD_VERSION);
   app.require_subcommand(1);
   auto& g = global_options();
@@ -71,6 +78,7 @@ CommandResult run_command_line(const std::vector<std::string>& args, bool to_std
 }  // namespace nf::app
 
 int main(int argc, char** argv) {
+  if (argc > 0) nf::app::program_name() = argv[0];
   std::vector<std::string> args(argv + 1, argv + argc);
   return nf::app::run_command_line(args, true).exit_code;
 }
