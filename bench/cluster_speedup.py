@@ -39,11 +39,9 @@ def main():
             if r.returncode != 0:
                 sys.exit(f"cluster_speedup: {r.stderr.strip()}")
             parts = [float(s) for s in re.findall(r"done on \S+ in ([0-9.]+) s", r.stderr)]
-            first = re.search(r"to run", r.stderr)
             m = re.search(r"in ([0-9.]+) s; wrote", r.stdout)
             ray_and_parts = float(m.group(1)) if m else float("nan")
             rows.append((cpus, wall, ray_and_parts, len(parts) / ray_and_parts, sum(parts), min(parts), max(parts)))
-            del first
     load = open("/proc/loadavg").read().split()[:3]
     lines = [f"# {o.size}, {o.spp} spp, {o.parts} parts, default scene; local Ray; {os.cpu_count()} CPUs, "
              f"load average {' '.join(load)} at the end; {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}",
