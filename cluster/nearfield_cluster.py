@@ -159,6 +159,7 @@ def maybe_inject_fault(index, proc):
     fail = os.environ.get(FAULT_FAIL)
     if fail is not None and int(fail) == index:
         proc.kill()
+        proc.wait()  # reaped: this worker's next part sees a dead `serve` and starts another
         raise ClusterError(f"worker {worker_name()}: failed on purpose ({FAULT_FAIL})")
 
 
@@ -236,9 +237,16 @@ def run_part(index, binary, scene, inputs, args, tile, samples, threads, bundle=
             args = [*args, "--threads", str(threads)]
         cmd = part_command(command, binary, scene, args, tile, samples, out)
         if serve:
+            request = json.dumps(cmd[1:]) + "\n"
             proc = server(binary, threads)
-            proc.stdin.write(json.dumps(cmd[1:]) + "\n")
-            proc.stdin.flush()
+            try:
+                proc.stdin.write(request)
+                proc.stdin.flush()
+            except BrokenPipeError:  # it died since its last part: another one
+                proc.wait()
+                proc = server(binary, threads)
+                proc.stdin.write(request)
+                proc.stdin.flush()
             maybe_inject_fault(index, proc)
             code, err = served(proc)
         else:
