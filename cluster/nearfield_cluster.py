@@ -1,11 +1,14 @@
-"""nearfield-cluster: `nearfield reference` split into parts that run as Ray tasks (docs/cluster.md).
+"""nearfield-cluster: `nearfield reference` and `render` split into parts that run as Ray tasks,
+and the bench sweep's targets as Ray tasks (docs/cluster.md).
 
-The driver checks the scene and the options with a one-pixel part on this machine (a bad scene
-fails here, with the scene's own error, before anything is submitted), splits the image into
-`--parts` parts (bands of rows, or sample ranges), runs every part that is not already in the
-cache as a Ray task (`nearfield reference ... --tile --samples --part`), stores each finished part
-in the cache under a content hash, merges them with `nearfield merge` and moves the outputs into
-place together. The merged image is bit for bit the one `nearfield reference -o` writes.
+The driver checks the scene and the options with a small part on this machine (a bad scene
+fails here, with the scene's own error, before anything is submitted), splits the job into
+`--parts` parts (bands of rows or sample ranges of a reference; frame ranges of a render), runs
+every part that is not already in the cache as a Ray task (`nearfield reference ... --tile
+--samples --part`, `nearfield render ... --frames-range --part`), stores each finished part in the
+cache under a content hash, merges them with `nearfield merge` and moves the outputs into place
+together. The merged image is bit for bit the one `nearfield reference -o` (or `nearfield render
+--exact-sums -o`) writes. `sweep` runs bench_sweep once per target (cluster/sweep.py).
 """
 
 import argparse
@@ -81,10 +84,18 @@ def read_part_header(path):
         return json.loads(f.readline())
 
 
-def preflight(binary, scene, args, workdir):
-    """One pixel, one sample on this machine: checks scene and options, returns the part header."""
+def part_command(command, binary, scene, args, tile, samples, out):
+    """The `nearfield` command line of a part: a reference's tile and samples, a render's frames."""
+    if command == "render":
+        return [binary, "-q", "render", scene, *args, "--frames-range", samples, "--part", out]
+    return [binary, "-q", "reference", scene, *args, "--tile", tile, "--samples", samples, "--part", out]
+
+
+def preflight(binary, scene, args, workdir, command="reference"):
+    """A small part on this machine (a reference's pixel and sample; a render's first frame):
+    checks scene and options, returns the part header."""
     out = os.path.join(workdir, "preflight.nfpart")
-    cmd = [binary, "-q", "reference", scene, *args, "--tile", "0,0,1,1", "--samples", "0,1", "--part", out]
+    cmd = part_command(command, binary, scene, args, "0,0,1,1", "0,1", out)
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise ClusterError(r.stderr.strip() or f"{binary} exited with {r.returncode}")
@@ -92,7 +103,8 @@ def preflight(binary, scene, args, workdir):
 
 
 def split(width, height, spp, parts, mode):
-    """(tile, samples) strings of the parts: bands of rows, or sample ranges of the whole image."""
+    """(tile, samples) strings of the parts: bands of rows, or sample (render: frame) ranges of the
+    whole image."""
     if mode == "rows":
         n = min(parts, height)
         bounds = [height * i // n for i in range(n + 1)]
@@ -147,6 +159,7 @@ def maybe_inject_fault(index, proc):
     fail = os.environ.get(FAULT_FAIL)
     if fail is not None and int(fail) == index:
         proc.kill()
+        proc.wait()  # reaped: this worker's next part sees a dead `serve` and starts another
         raise ClusterError(f"worker {worker_name()}: failed on purpose ({FAULT_FAIL})")
 
 
@@ -166,9 +179,52 @@ def unpack_bundle(bundle):
     return root
 
 
-def run_part(index, binary, scene, inputs, args, tile, samples, threads, bundle=None):
+SERVE_MARK = "nearfield-serve "
+
+
+def pocl_env(threads):
+    """PoCL's CPU threads limited to the CPUs Ray reserved for the task (PoCL 3: the first name;
+    later versions: the second)."""
+    return {**os.environ, "POCL_MAX_PTHREAD_COUNT": str(threads), "POCL_CPU_MAX_CU_COUNT": str(threads)}
+
+
+def server(binary, threads):
+    """This Ray worker process's `nearfield serve` (docs/cluster.md, "Per-part cost"), started on
+    its first part and kept for the next ones; a new one when the last one died. Kept on `sys`: the
+    task's functions arrive pickled by value, with fresh module globals each time."""
+    servers = getattr(sys, "_nearfield_cluster_servers", None)
+    if servers is None:
+        servers = {}
+        sys._nearfield_cluster_servers = servers
+    proc = servers.get((binary, threads))
+    if proc is None or proc.poll() is not None:
+        log = tempfile.TemporaryFile()
+        proc = subprocess.Popen([binary, "serve"], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=log,
+                                text=True, env=pocl_env(threads))
+        proc.log = log
+        servers[(binary, threads)] = proc
+    return proc
+
+
+def served(proc):
+    """The answer of `nearfield serve` to the last request: (exit code, error)."""
+    while True:
+        line = proc.stdout.readline()
+        if not line:
+            proc.log.seek(0)
+            tail = proc.log.read()[-2000:].decode(errors="replace").strip()
+            raise ClusterError(f"worker {worker_name()}: nearfield serve exited with {proc.wait()}: {tail}")
+        if line.startswith(SERVE_MARK):
+            answer = json.loads(line[len(SERVE_MARK):])
+            return answer["exit_code"], answer["error"].strip()
+
+
+def run_part(index, binary, scene, inputs, args, tile, samples, threads, bundle=None, command="reference",
+             serve=True):
     """Runs one part with the binary; returns (the part file's bytes, worker, seconds). With a
-    bundle, binary, scene and inputs are paths inside it."""
+    bundle, binary, scene and inputs are paths inside it. A render's OpenCL (PoCL) threads are
+    limited to `threads`, the CPUs Ray reserved for the task. `serve`: in this worker's `nearfield
+    serve` process; else in a process of its own."""
     start = time.time()
     if bundle is not None:
         root = unpack_bundle(bundle)
@@ -177,13 +233,30 @@ def run_part(index, binary, scene, inputs, args, tile, samples, threads, bundle=
     check_worker_files(binary, scene, inputs)
     with tempfile.TemporaryDirectory(prefix="nfpart-") as tmp:
         out = os.path.join(tmp, "part.nfpart")
-        cmd = [binary, "-q", "reference", scene, *args, "--threads", str(threads),
-               "--tile", tile, "--samples", samples, "--part", out]
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        maybe_inject_fault(index, proc)
-        _, err = proc.communicate()
-        if proc.returncode != 0:
-            raise ClusterError(f"worker {worker_name()}: {err.strip() or 'exit ' + str(proc.returncode)}")
+        if command != "render":
+            args = [*args, "--threads", str(threads)]
+        cmd = part_command(command, binary, scene, args, tile, samples, out)
+        if serve:
+            request = json.dumps(cmd[1:]) + "\n"
+            proc = server(binary, threads)
+            try:
+                proc.stdin.write(request)
+                proc.stdin.flush()
+            except BrokenPipeError:  # it died since its last part: another one
+                proc.wait()
+                proc = server(binary, threads)
+                proc.stdin.write(request)
+                proc.stdin.flush()
+            maybe_inject_fault(index, proc)
+            code, err = served(proc)
+        else:
+            proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                    env=pocl_env(threads))
+            maybe_inject_fault(index, proc)
+            _, err = proc.communicate()
+            code, err = proc.returncode, err.strip()
+        if code != 0:
+            raise ClusterError(f"worker {worker_name()}: {err or 'exit ' + str(code)}")
         with open(out, "rb") as f:
             return f.read(), worker_name(), time.time() - start
 
@@ -272,7 +345,9 @@ def run_parts(ray, todo, opts, binary, scene, inputs, args, progress, on_done):
     # Workers do not have this module on their path: send run_part's code with the task.
     ray.cloudpickle.register_pickle_by_value(sys.modules[__name__])
     task = ray.remote(run_part).options(num_cpus=opts.threads, max_retries=opts.retries, runtime_env=runtime_env)
-    pending = {task.remote(i, binary, scene, inputs, args, t, s, opts.threads, bundle): i for i, t, s in todo}
+    serve = not opts.process_per_part
+    pending = {task.remote(i, binary, scene, inputs, args, t, s, opts.threads, bundle, opts.command, serve): i
+               for i, t, s in todo}
     failures = []
     while pending:
         ready, _ = ray.wait(list(pending), num_returns=1)
@@ -289,7 +364,7 @@ def run_parts(ray, todo, opts, binary, scene, inputs, args, progress, on_done):
 
 
 def todo_part(todo, index):
-    return next(f"tile {t}, samples {s}" for i, t, s in todo if i == index)
+    return next(f"tile {t}, samples {s}" if t else f"frames {s}" for i, t, s in todo if i == index)
 
 
 def commit_outputs(binary, part_files, opts, summary):
@@ -317,7 +392,16 @@ def commit_outputs(binary, part_files, opts, summary):
         shutil.rmtree(tmp, ignore_errors=True)
 
 
-def reference(opts):
+def job_args(opts):
+    """The options of the wrapped command that decide the image: reference's declared ones, or
+    --frames and every option given for `nearfield render` (passed through unchanged)."""
+    if opts.command == "render":
+        return ["--frames", str(opts.frames), *opts.render_args]
+    return reference_args(opts)
+
+
+def run_job(opts):
+    """`reference` or `render`: parts on Ray, cached, merged and committed."""
     for flag, path, ext in (("-o", opts.out, ".exr"), ("--png", opts.png, ".png"), ("--stats", opts.stats, ".json")):
         if path and not path.lower().endswith(ext):
             raise ClusterError(f"{flag} {path}: the file name must end in {ext}")
@@ -328,14 +412,18 @@ def reference(opts):
     check_address(opts.address)
     binary = find_binary()
     scene = os.path.abspath(opts.scene)
-    args = reference_args(opts)
+    args = job_args(opts)
+    if opts.command == "render":
+        opts.split = "frames"
     cache = os.path.abspath(opts.cache or os.path.join(os.path.expanduser("~"), ".cache", "nearfield-cluster"))
     os.makedirs(cache, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="nearfield-cluster-") as work:
-        header = preflight(binary, opts.scene, args, work)
+        header = preflight(binary, opts.scene, args, work, opts.command)
     inputs = [p for p in header.get("inputs", []) if os.path.abspath(p) != scene]
     binary_hash = sha256_file(binary)
     parts = split(header["width"], header["height"], header["spp"], opts.parts, opts.split)
+    if opts.command == "render":
+        parts = [(None, s) for _, s in parts]
     files = {}
     todo = []
     for i, (tile, samples) in enumerate(parts):
@@ -372,36 +460,68 @@ def reference(opts):
     return summary
 
 
-def parser():
-    p = argparse.ArgumentParser(prog="nearfield-cluster", description=__doc__.splitlines()[0])
-    sub = p.add_subparsers(dest="command", required=True)
-    r = sub.add_parser("reference", help="a reference render in parts on Ray")
-    r.add_argument("scene")
-    r.add_argument("-o", "--out", required=True, help="output OpenEXR")
-    r.add_argument("--png", help="also a tone-mapped PNG")
-    r.add_argument("--stats", help="also the merge's JSON stats, with the cluster's")
-    for flag, typ, help_text in PASSTHROUGH:
-        r.add_argument(flag, type=typ, help=help_text)
-    r.add_argument("--jitter", action="store_true", help="jitter samples inside each pixel")
-    r.add_argument("--threads", type=int, default=1, help="threads (and Ray CPUs) per part (default 1)")
-    r.add_argument("--parts", type=int, default=8, help="number of parts (default 8)")
-    r.add_argument("--split", choices=("rows", "samples"), default="rows", help="bands of rows or sample ranges")
+def add_ray_options(r):
+    """The options of every subcommand about Ray and the cache."""
     r.add_argument("--address", help="auto or HOST:PORT of a Ray cluster (default: a local Ray)")
     r.add_argument("--num-cpus", type=int, help="local Ray's CPUs (default: all)")
     r.add_argument("--ship", choices=("shared", "copy"),
                    help="shared: binary and scene at the same paths on every worker (default without "
                         "--address); copy: sent through Ray's object store (default with --address)")
     r.add_argument("--retries", type=int, default=3, help="Ray retries of a part whose worker died")
+    r.add_argument("--process-per-part", action="store_true",
+                   help="run every part in a nearfield process of its own (default: one `nearfield serve` "
+                        "process per Ray worker runs its parts)")
     r.add_argument("--cache", help="finished parts (default ~/.cache/nearfield-cluster)")
     r.add_argument("--ray-temp-dir", help="local Ray's session folder (default Ray's)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
+
+
+def add_output_options(r):
+    r.add_argument("scene")
+    r.add_argument("-o", "--out", required=True, help="output OpenEXR")
+    r.add_argument("--png", help="also a tone-mapped PNG")
+    r.add_argument("--stats", help="also the merge's JSON stats, with the cluster's")
+    r.add_argument("--parts", type=int, default=8, help="number of parts (default 8)")
+
+
+def parser():
+    p = argparse.ArgumentParser(prog="nearfield-cluster", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("reference", help="a reference render in parts on Ray")
+    add_output_options(r)
+    for flag, typ, help_text in PASSTHROUGH:
+        r.add_argument(flag, type=typ, help=help_text)
+    r.add_argument("--jitter", action="store_true", help="jitter samples inside each pixel")
+    r.add_argument("--threads", type=int, default=1, help="threads (and Ray CPUs) per part (default 1)")
+    r.add_argument("--split", choices=("rows", "samples"), default="rows", help="bands of rows or sample ranges")
+    add_ray_options(r)
+    d = sub.add_parser("render", allow_abbrev=False, help="a progressive render in parts (frame ranges) on Ray; other options "
+                                      "are passed to nearfield render (its settings overrides)")
+    add_output_options(d)
+    d.add_argument("--frames", type=int, default=1, help="progressive frames of the whole render (default 1)")
+    d.add_argument("--threads", type=int, default=1, help="OpenCL (PoCL) threads and Ray CPUs per part (default 1)")
+    add_ray_options(d)
+    import sweep  # noqa: PLC0415 - cluster/sweep.py, beside this file
+
+    sweep.add_parser(sub, add_ray_options)
     return p
 
 
 def main(argv=None):
-    opts = parser().parse_args(argv)
+    p = parser()
+    opts, extra = p.parse_known_args(argv)
+    if opts.command == "render":
+        opts.render_args = extra
+    elif opts.command == "sweep":
+        opts.sweep_args = extra
+    elif extra:
+        p.error(f"unrecognized arguments: {' '.join(extra)}")
     try:
-        return reference(opts)
+        if opts.command == "sweep":
+            import sweep  # noqa: PLC0415
+
+            return sweep.run(opts)
+        return run_job(opts)
     except ClusterError as e:
         print(f"nearfield-cluster: {e}", file=sys.stderr)
         raise SystemExit(1) from None

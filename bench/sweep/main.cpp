@@ -4,8 +4,10 @@
 //   bench_sweep [--quick] [--out DIR] [--cache DIR] [--luminaires bike,car1] [--studies spp,kmax]
 //               [--no-scene] [--scene FILE] [--scene-size 320x180] [--res 128]
 //               [--reference-frames N] [--max-spp N] [--refresh-references] [--cl-device SPEC] [-q|-v]
+//               [--print-plan]
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "bench/sweep/plan.h"
@@ -29,7 +31,7 @@ std::vector<std::string> split(const std::string& s) {
 int main(int argc, char** argv) {
   using namespace nf;
   CLI::App app{"nearfield speed/accuracy sweep (bench/README.md): CSV tables for bench/plot_report.py"};
-  bool quick = false, no_scene = false, refresh = false, quiet = false, verbose = false;
+  bool quick = false, no_scene = false, refresh = false, quiet = false, verbose = false, print_plan = false;
   std::string out = std::string(NEARFIELD_BENCH_DIR) + "/results", cache, luminaires, studies, device;
   std::string scene = std::string(NEARFIELD_SOURCE_DIR) + "/scenes/default.json", scene_size;
   int res = 0, ref_frames = 0, max_spp = 0;
@@ -51,6 +53,9 @@ int main(int argc, char** argv) {
   app.add_option("--cl-device", device, "OpenCL device (P:D, gpu, cpu or a name)");
   app.add_flag("-q,--quiet", quiet, "no progress or per-point lines");
   app.add_flag("-v,--verbose", verbose, "debug output");
+  app.add_flag("--print-plan", print_plan,
+               "print the plan's targets and point counts as JSON and run nothing (cluster/nearfield-cluster sweep "
+               "splits the sweep by target, docs/cluster.md)");
   CLI11_PARSE(app, argc, argv);
   log::set_level(quiet ? log::Level::quiet : verbose ? log::Level::debug : log::Level::info);
   try {
@@ -70,6 +75,18 @@ int main(int argc, char** argv) {
       po.scene_height = std::stoi(scene_size.substr(x + 1));
     }
     const bench::Plan plan = bench::make_plan(po);
+    if (print_plan) {
+      nlohmann::json j;
+      j["mode"] = plan.mode;
+      j["closeups"] = plan.closeups;
+      j["scene"] = plan.scene;
+      j["points"] = plan.points.size();
+      nlohmann::json per = nlohmann::json::object();
+      for (const auto& p : plan.points) per[p.target] = per.value(p.target, 0) + 1;
+      j["points_per_target"] = per;
+      fmt::print("{}\n", j.dump());
+      return 0;
+    }
     bench::RunOptions ro;
     ro.out_dir = out;
     ro.cache_dir = cache.empty() ? std::filesystem::path(out) / "cache" : std::filesystem::path(cache);

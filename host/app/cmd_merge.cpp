@@ -1,6 +1,7 @@
 // nearfield merge PARTS... -o OUT.exr|OUT.nfpart [--png OUT.png] [--stats STATS.json]
 // Combines the parts of a reference render (`reference --part`, docs/cluster.md) into exactly the
-// float32 image `reference -o` writes for the same scene and settings. The parts must be of one
+// float32 image `reference -o` writes for the same scene and settings, or the frame ranges of a
+// `render --part` into the image of `render --exact-sums`. The parts must be of one
 // render (same scene content, settings, seed, size) and cover every pixel's samples exactly once.
 // `-o OUT.nfpart` writes the merge as one whole-image part instead (its exact double sums).
 #include <cstdio>
@@ -42,11 +43,14 @@ std::vector<std::uint8_t> valid_mask(const std::vector<std::uint8_t>& kinds) {
 
 ImageAttributes attributes(const MergedReference& m) {
   const auto& h = m.header;
+  const bool render = h.value("renderer", "reference") == "render";
   ImageAttributes a{{"nearfield:version", NEARFIELD_VERSION},
                     {"nearfield:scene", h.value("scene", "")},
                     {"nearfield:content",
-                     "linear radiance in the luminaires' units: W m^-2 sr^-1 (radiometric) or cd m^-2 "
-                     "(photometric): CPU reference, merged from parts"},
+                     std::string("linear radiance in the luminaires' units: W m^-2 sr^-1 (radiometric) or cd m^-2 "
+                                 "(photometric): ") +
+                         (render ? "nearfield render (exact sums of its frames), merged from parts"
+                                 : "CPU reference, merged from parts")},
                     {"nearfield:reference_content_key", h.value("content_key", "")},
                     {"nearfield:samples", std::to_string(m.stats.samples)},
                     {"nearfield:rays", std::to_string(m.stats.rays())},
@@ -108,8 +112,9 @@ void run_merge_cmd(const MergeCmd& o) {
 
 const CommandRegistration reg("merge", [](CLI::App& app) {
   static MergeCmd o;
-  auto* cmd = app.add_subcommand("merge", "Combine the parts of a reference render into its image (docs/cluster.md)");
-  cmd->add_option("parts", o.parts, "Part files (.nfpart) written by reference --part")->required();
+  auto* cmd =
+      app.add_subcommand("merge", "Combine the parts of a reference or render into its image (docs/cluster.md)");
+  cmd->add_option("parts", o.parts, "Part files (.nfpart) written by reference --part or render --part")->required();
   cmd->add_option("-o,--out", o.out, "Output OpenEXR file (linear radiance), or .nfpart: the merge as one part")
       ->required();
   cmd->add_option("--png", o.png, "Also write a tone-mapped PNG (the parts' tone mapping)");

@@ -189,6 +189,7 @@ void run_reference_cmd(const ReferenceCmd& o) {
 
 const CommandRegistration reg("reference", [](CLI::App& app) {
   static ReferenceCmd o;
+  o = ReferenceCmd{};  // a fresh parse (nearfield serve runs many) starts from the defaults
   auto* cmd = app.add_subcommand("reference", "CPU reference renderer: exact visibility, environment, one bounce");
   cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
   cmd->add_option("-o,--out", o.out,

@@ -1,12 +1,15 @@
-// nearfield render SCENE -o OUT.exr [--png OUT.png] [--stats STATS.json] [--illuminance E.exr]
+// nearfield render SCENE -o OUT.exr [--png OUT.png] [--stats STATS.json] [--exact-sums] [--illuminance E.exr]
 //                  [--false-colour luminance|illuminance OUT.png [--scale log|linear] [--range LO,HI]] [overrides]
+// nearfield render SCENE --part OUT.nfpart [--frames N] [--frames-range first,count] [overrides]
 // Renders a scene headless (docs/rendering.md, README.md): linear radiance to OpenEXR with every setting in
 // its metadata and its units (cd/m2 for photometric scenes, docs/photometry.md), optionally a
 // tone-mapped PNG, a stats JSON (docs/rendering.md), the illuminance on the visible surfaces and
 // false-colour pictures of luminance or illuminance with a labelled scale. Outputs are
 // written to temporary files and moved into place together at the end, so a failure leaves no
 // output behind and never a partial file; an output that would replace the scene or one of its
-// input files is refused before any work.
+// input files is refused before any work. `--part` writes the exact sums of a range of the frames
+// (app/render_parts.h, docs/cluster.md) for `nearfield merge`; `--exact-sums` makes the EXR the
+// same sums' mean, which is what a merge of parts gives, bit for bit.
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -32,6 +35,7 @@
 #include "app/photometric_images.h"
 #include "app/radiance_output.h"
 #include "app/render_estimate.h"
+#include "app/render_parts.h"
 #include "cl/runtime.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
@@ -44,10 +48,13 @@
 #include "gl/context.h"
 #include "luminaire/io.h"
 #include "luminaire/memory_estimate.h"
+#include "reference/cache_key.h"
+#include "reference/part_file.h"
 #include "render/environment_contribution.h"
 #include "render/frame.h"
 #include "render/settings.h"
 #include "render/stats.h"
+#include "scene/referenced_files.h"
 #include "scene/scene.h"
 #include "scene/settings.h"
 
@@ -60,6 +67,8 @@ struct RenderCmd {
   std::string scene, out, png, stats, illuminance;
   std::vector<std::pair<std::string, std::string>> false_colour;  // --false-colour QUANTITY PATH, repeatable
   std::string scale = "log", range;
+  std::string part, frames_range, tile;  // render parts (docs/cluster.md)
+  bool exact_sums = false;
   int width = 0, height = 0, frames = 1;
   std::map<std::string, std::string> settings;  // declared setting name -> its --option text (scene/settings.h)
   std::map<std::string, CLI::Option*> given;    // option name -> its CLI11 option
@@ -135,14 +144,86 @@ Image false_colour_output(const Image& values, const std::vector<std::uint8_t>& 
   return false_colour_picture(false_colour(values, opt), p.quantity, unit.empty() ? "no units" : unit);
 }
 
+// The part's header: what `merge` compares (reference/part_file.h, app/reference_parts.h).
+nlohmann::json part_header(const RenderCmd& o, const scene::Scene& scene, const std::string& content_key,
+                           const nlohmann::json& settings, double load_ms) {
+  nlohmann::json h{{"renderer", "render"},
+                   {"content_key", content_key},
+                   {"nearfield_version", NEARFIELD_VERSION},
+                   {"source_hash", ref::reference_source_hash()},
+                   {"scene", o.scene},
+                   {"width", scene.camera.width},
+                   {"height", scene.camera.height},
+                   {"spp", o.frames},
+                   {"settings", settings},
+                   {"tonemap", {{"exposure", scene.render.tonemap.exposure}, {"gamma", scene.render.tonemap.gamma}}},
+                   {"load_ms", load_ms}};
+  nlohmann::json inputs = nlohmann::json::array();
+  if (!scene.file.empty())
+    for (const auto& f : scene::referenced_files(scene.file)) inputs.push_back(f.string());
+  h["inputs"] = inputs;
+  return h;
+}
+
+void check_part_options(const RenderCmd& o) {
+  if (!o.tile.empty())
+    fail(
+        "render --tile: not supported: the real-time kernels' per-pixel results depend on the whole frame's "
+        "launch (surface order, roulette blocks and lanes are indexed by the pixel's place in the launch), so a "
+        "tile would not reproduce the one-machine pixels; split render by frames (--frames-range), or use "
+        "nearfield reference --tile (docs/cluster.md)");
+  if (!o.frames_range.empty() && o.part.empty()) fail("render --frames-range needs --part OUT.nfpart");
+  if (o.part.empty()) return;
+  check_output_extension(o.part, ".nfpart", "--part");
+  if (!o.out.empty() || !o.png.empty() || !o.illuminance.empty() || !o.false_colour.empty() || o.dry_run)
+    fail(
+        "render --part writes a part only: -o, --png, --illuminance, --false-colour and --dry-run are nearfield "
+        "merge's or a whole render's (docs/cluster.md)");
+}
+
+void run_render_part(const RenderCmd& o) {
+  Timer total;
+  scene::Scene scene = scene::load_scene(o.scene);
+  check_output_files(o.scene, {{"--part", o.part}});
+  apply_overrides(o, scene);
+  const render::FrameSettings base = render::frame_settings(scene.render);
+  const ref::ImageRegion range = parse_frame_range(o.frames_range, scene.camera.width, scene.camera.height, o.frames);
+  const std::string key = ref::content_key(scene, ref::ReferenceSettings{});
+  cl::Runtime runtime(global_options().cl_device);
+  check_render_memory(o.scene, estimate_render(scene), runtime.info());
+  AtomicFile file(o.part);  // a missing folder fails before rendering
+  const scene::Scene kept = scene;
+  Progress progress("render part", static_cast<std::size_t>(range.sample_count) + 1);
+  render::RendererOptions ropt;
+  ropt.runtime = &runtime;
+  Timer setup;
+  render::Renderer renderer(std::move(scene), ropt);
+  const double load_ms = setup.ms();
+  progress.advance();
+  ref::ReferencePart part = render_frame_sums(renderer, base, range, o.frames, [&progress] { progress.advance(); });
+  progress.finish();
+  part.stats.build_ms = load_ms;
+  const nlohmann::json settings = render_part_settings(base, runtime.info().name, o.frames);
+  ref::write_part(file.temp_path(), part_header(o, kept, key, settings, load_ms), part);
+  file.commit();
+  if (log::level() != log::Level::quiet)
+    std::fputs(fmt::format("render part: frames {},{} of {}: {:.1f} s rendering, {:.1f} s in all; wrote {}\n",
+                           range.first_sample, range.sample_count, o.frames, part.stats.render_ms / 1000.0,
+                           total.ms() / 1000.0, o.part)
+                   .c_str(),
+               stdout);
+}
+
 void run_render(const RenderCmd& o) {
   Timer total;
+  if (o.frames < 1) fail(fmt::format("--frames must be >= 1, got {}", o.frames));
+  check_part_options(o);
+  if (!o.part.empty()) return run_render_part(o);
   if (o.out.empty() && !o.dry_run) fail("render: -o OUT.exr is required (or --dry-run)");
   if (!o.out.empty()) check_output_extensions(o.out, {".exr", ".hdr"}, "-o");
   if (!o.png.empty()) check_output_extension(o.png, ".png", "--png");
   if (!o.stats.empty()) check_output_extension(o.stats, ".json", "--stats");
   if (!o.illuminance.empty()) check_output_extension(o.illuminance, ".exr", "--illuminance");
-  if (o.frames < 1) fail(fmt::format("--frames must be >= 1, got {}", o.frames));
   const std::vector<FalseColourRequest> pictures = false_colour_requests(o);
   std::vector<std::pair<std::string, std::string>> outputs;
   if (!o.out.empty()) outputs.emplace_back("-o", o.out);
@@ -208,7 +289,13 @@ void run_render(const RenderCmd& o) {
   phases.emplace_back("setup", t.ms());
 
   t.reset();
-  for (int f = 0; f < o.frames; ++f) renderer.render_frame();
+  ref::ReferencePart sums;  // --exact-sums: the frames' exact sums, as the parts hold them
+  if (o.exact_sums)
+    sums = render_frame_sums(renderer, renderer.settings(),
+                             ref::ImageRegion::whole(renderer.camera().width, renderer.camera().height, o.frames),
+                             o.frames);
+  else
+    for (int f = 0; f < o.frames; ++f) renderer.render_frame();
   renderer.tonemap_display();  // Step 3 on the device and shown in GL, as a display would do it (timed)
   phases.emplace_back("render", t.ms());
   Image illuminance;
@@ -220,7 +307,7 @@ void run_render(const RenderCmd& o) {
   }
 
   t.reset();
-  const Image hdr = renderer.accumulated();
+  const Image hdr = o.exact_sums ? finish_frame_sums(sums, o.frames) : renderer.accumulated();
   render::RenderStats stats = renderer.stats();
   ImageAttributes attrs{{"nearfield:version", NEARFIELD_VERSION},
                         {"nearfield:scene", o.scene},
@@ -235,6 +322,10 @@ void run_render(const RenderCmd& o) {
                         {"nearfield:date", utc_now()}};
   attrs.emplace_back("nearfield:view", radiance_view(renderer.scene().camera).format());
   for (const auto& kv : units.radiance_attributes()) attrs.push_back(kv);
+  attrs.emplace_back("nearfield:accumulation",
+                     o.exact_sums ? "exact: per-pixel double sums of the frames over a fixed binary tree "
+                                    "(docs/cluster.md), as nearfield merge of render parts"
+                                  : "compensated float sums on the device");
   for (const auto& kv : stats.settings) attrs.push_back(kv);
   if (is_radiance_hdr(o.out))
     write_radiance_output(outputs_tx, o.out, hdr, renderer.scene().camera);  // docs/glare.md
@@ -276,6 +367,7 @@ void run_render(const RenderCmd& o) {
 
 const CommandRegistration reg("render", [](CLI::App& app) {
   static RenderCmd o;
+  o = RenderCmd{};  // a fresh parse (nearfield serve runs many) starts from the defaults
   auto* cmd = app.add_subcommand("render", "Render a scene headless to OpenEXR (+ PNG, stats JSON)");
   cmd->add_option("scene", o.scene, "Scene file (.json)")->required();
   cmd->add_option("-o,--out", o.out,
@@ -305,6 +397,15 @@ const CommandRegistration reg("render", [](CLI::App& app) {
   // one override per declared setting (scene/settings.cpp), validated like the scene file
   for (const auto& decl : scene::settings_table())
     add(decl.cli_name(), o.settings[decl.name], fmt::format("{} ({})", decl.doc, decl.range_text()));
+  cmd->add_flag("--exact-sums", o.exact_sums,
+                "Accumulate the frames in double on the host over a fixed tree (one read-back per frame): the "
+                "image nearfield merge makes of render --part files, bit for bit (docs/cluster.md)");
+  cmd->add_option("--part", o.part,
+                  "Write the exact per-pixel sums of the frames (--frames-range) to this .nfpart for nearfield merge "
+                  "(docs/cluster.md)");
+  cmd->add_option("--frames-range", o.frames_range,
+                  "With --part: the frames first,count of the --frames (default: all)");
+  cmd->add_option("--tile", o.tile, "Not supported for render (the reason is printed; docs/cluster.md)");
   add("--width", o.width, "Image width (alone: keeps the scene's aspect ratio)");
   add("--height", o.height, "Image height (alone: keeps the scene's aspect ratio)");
   cmd->callback([] { run_render(o); });

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace nf::app {
 
@@ -20,5 +21,14 @@ struct GlobalOptions {
   bool quiet = false;
 };
 GlobalOptions& global_options();
+
+// Parses and runs one command line (without the program name) with a fresh CLI11 app: what main()
+// does, and what `nearfield serve` does per request. `to_stderr`: print errors there (main);
+// else only return them. A command's option values are reset by its registration.
+struct CommandResult {
+  int exit_code = 0;
+  std::string message;  // the error, as main() prints it ("" on success)
+};
+CommandResult run_command_line(const std::vector<std::string>& args, bool to_stderr);
 
 }  // namespace nf::app

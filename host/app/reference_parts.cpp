@@ -41,7 +41,8 @@ std::vector<int> parse_ints(const std::string& text, std::size_t n, const std::s
 }
 
 // The key fields two parts of one render share; a difference is named in the error.
-const char* const kSharedFields[] = {"width", "height", "spp", "settings", "tonemap", "content_key"};
+// "renderer": "reference" (reference --part) or "render" (render --part; absent in older parts).
+const char* const kSharedFields[] = {"renderer", "width", "height", "spp", "settings", "tonemap", "content_key"};
 
 nlohmann::json field_of(const nlohmann::json& j, const std::string& key) {
   return j.contains(key) ? j.at(key) : nlohmann::json();
@@ -170,6 +171,7 @@ void write_reference_part(const scene::Scene& scene, const std::string& scene_na
   nlohmann::json settings = nlohmann::json::object();
   for (const auto& [k, v] : set.attributes()) settings[k] = v;
   nlohmann::json header{
+      {"renderer", "reference"},
       {"content_key", run.content_key},
       {"nearfield_version", NEARFIELD_VERSION},
       {"source_hash", ref::reference_source_hash()},

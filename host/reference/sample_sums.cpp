@@ -53,4 +53,25 @@ SampleSums PairwiseSums::result() const {
   return s;
 }
 
+void ImagePairwiseSums::push(int level, std::vector<double> v) {
+  if (v.size() != n_ * kSumChannels)
+    fail(fmt::format("ImagePairwiseSums: {} values pushed, expected {}", v.size(), n_ * kSumChannels));
+  stack_.push_back({level, std::move(v)});
+  while (stack_.size() >= 2 && stack_[stack_.size() - 2].level == stack_.back().level) {
+    Entry right = std::move(stack_.back());
+    stack_.pop_back();
+    Entry& left = stack_.back();
+    for (std::size_t i = 0; i < left.v.size(); ++i) left.v[i] = left.v[i] + right.v[i];
+    ++left.level;
+  }
+}
+
+std::vector<double> ImagePairwiseSums::result() const {
+  if (stack_.empty()) return std::vector<double>(n_ * kSumChannels, 0.0);
+  std::vector<double> s = stack_.back().v;
+  for (std::size_t i = stack_.size() - 1; i-- > 0;)
+    for (std::size_t k = 0; k < s.size(); ++k) s[k] = stack_[i].v[k] + s[k];
+  return s;
+}
+
 }  // namespace nf::ref

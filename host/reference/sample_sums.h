@@ -11,6 +11,7 @@
 // all parts in sample order with the same pairwise rule (PairwiseSums), which reproduces the
 // tree's every addition: the same additions in the same order, so the same bits.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -44,6 +45,27 @@ class PairwiseSums {
     int level;
     SampleSums v;
   };
+  std::vector<Entry> stack_;
+};
+
+// PairwiseSums for every pixel of an image at once (the progressive frames of `nearfield render
+// --part` / `--exact-sums`, docs/cluster.md): every pixel receives the same sequence of levels, so
+// one stack of levels holds an array of n pixels x kSumChannels per entry; each addition is the
+// same left + right of PairwiseSums, pixel by pixel, so the bits are those of n PairwiseSums.
+class ImagePairwiseSums {
+ public:
+  explicit ImagePairwiseSums(std::size_t pixels) : n_(pixels) {}
+  // `v`: n pixels x kSumChannels (consumed).
+  void push(int level, std::vector<double> v);
+  std::vector<double> result() const;  // n x kSumChannels (zeros when empty)
+  void clear() { stack_.clear(); }
+
+ private:
+  struct Entry {
+    int level;
+    std::vector<double> v;
+  };
+  std::size_t n_;
   std::vector<Entry> stack_;
 };
 

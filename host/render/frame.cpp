@@ -156,6 +156,11 @@ void Renderer::set_settings(const FrameSettings& s) {
   if (changes_image) reset();
 }
 
+void Renderer::set_frame_offset(std::uint32_t offset) {
+  frame_offset_ = offset;
+  reset();
+}
+
 void Renderer::set_camera(const scene::Camera& c) {
   check_camera(c);
   if (same_camera(c, camera_)) return;
@@ -434,7 +439,7 @@ const StepTimes& Renderer::render_frame() {
                        surfaces_buf_,
                        count,
                        settings_,
-                       settings_.sampling.frame + static_cast<std::uint32_t>(frames_),
+                       settings_.sampling.frame + frame_offset_ + static_cast<std::uint32_t>(frames_),
                        ls,
                        &camera_,
                        &step0_->scene_gpu(),

@@ -109,6 +109,10 @@ class Renderer {
   // the accumulation. Returns this frame's times.
   const StepTimes& render_frame();
   int frames() const { return frames_; }
+  // Frame indices start at settings().sampling.frame + offset (render parts, docs/cluster.md:
+  // frames [offset, offset + count) of a longer render; what the contributions prepare keeps
+  // sampling.frame). Restarts the accumulation.
+  void set_frame_offset(std::uint32_t offset);
 
   // ---- images (rows from the top, width x height of the camera) ------------------------------
   // Linear RGB radiance (W m^-2 sr^-1, or the luminaires' units): the mean of the accumulated
@@ -212,6 +216,7 @@ class Renderer {
   bool cl_vis_dirty_ = false;
 
   int frames_ = 0;
+  std::uint32_t frame_offset_ = 0;  // set_frame_offset
   // The frame and its accumulation on the device; the luminaire pixels' radiance for its display.
   std::unique_ptr<DeviceFrame> dframe_;
   std::vector<glm::vec4> view_radiance_;

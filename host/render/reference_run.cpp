@@ -1,6 +1,7 @@
 #include "render/reference_run.h"
 
 #include <memory>
+#include <mutex>
 
 #include <fmt/format.h>
 
@@ -15,13 +16,33 @@ namespace nf::render {
 
 namespace {
 
+// The scene's luminaires, and the last scene's kept for the next call with the same content
+// (scene text, the contents of its files, camera; reference/cache_key.h) and load options:
+// `nearfield serve` renders many parts of one scene in one process (docs/cluster.md, "Per-part
+// cost"). Generating and precomputing is deterministic, so the reuse changes no bit.
+std::shared_ptr<const LuminaireSet> scene_luminaires(const scene::Scene& scene, const std::string& name,
+                                                     const LuminaireLoadOptions& load) {
+  static std::mutex mutex;
+  static std::string last_key;
+  static std::shared_ptr<const LuminaireSet> last;
+  const std::string key = fmt::format("{} {} {}", ref::content_key(scene, ref::ReferenceSettings{}),
+                                      load.preset_resolution_scale, load.threads);
+  std::lock_guard<std::mutex> lock(mutex);
+  if (last && key == last_key) return last;
+  last.reset();  // one set at a time
+  last = std::make_shared<const LuminaireSet>(load_luminaires(scene.luminaires, name, load));
+  last_key = key;
+  return last;
+}
+
 // Loads the scene's luminaires and environment and calls render(lights, environment); returns the
 // loading time in ms.
 template <typename Render>
 double with_lights(const scene::Scene& scene, const LuminaireLoadOptions& load, Render render) {
   Timer t;
   const std::string name = scene.file.empty() ? std::string("scene") : scene.file.string();
-  const LuminaireSet set = load_luminaires(scene.luminaires, name, load);
+  const std::shared_ptr<const LuminaireSet> kept = scene_luminaires(scene, name, load);
+  const LuminaireSet& set = *kept;
   std::vector<ref::LightFieldLight> lights;
   for (std::size_t i = 0; i < scene.luminaires.size(); ++i) {
     const LuminaireSource& src = set.sources[set.source_of[i]];

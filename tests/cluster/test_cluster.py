@@ -2,6 +2,10 @@
 
 - a reference split into bands of rows and into sample ranges (one bounce) merges to the bits of
   `nearfield reference -o` on one machine;
+- a render (luminaire, environment map and far-field light) split into frame ranges merges to the
+  bits of `nearfield render --exact-sums -o`;
+- a sweep split by target gives the points and references of bench_sweep on one machine (all but
+  the timing columns), and a rerun takes every target from the cache;
 - a worker killed in the middle of a part (fault injection) is retried, the image unchanged;
 - after a run that failed in one part, a rerun computes that part alone (the others are cached);
 - a bad scene fails fast with the scene's own error and leaves no output; an unreachable
@@ -10,6 +14,7 @@
 Usage: python test_cluster.py NEARFIELD_BIN. Exits 77 (skipped) when Ray is not installed.
 """
 
+import csv
 import os
 import socket
 import struct
@@ -38,6 +43,30 @@ SCENE = """{
   "luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.8, 0], "rotate": [90, 0, 0] } } ]
 }"""
 SETTINGS = ["--spp", "6", "--seed", "4", "--bounces", "1"]
+# The render test's scene: three contributions (luminaire, environment map, far-field light).
+RENDER_SCENE = """{
+  "radiometric_to_photometric": 683,
+  "camera": { "position": [0.3, 1.6, 1.9], "target": [0, 0, 0], "fov_y": 60, "resolution": [24, 16] },
+  "objects": [ { "type": "plane", "size": [4, 4] },
+               { "type": "box", "size": [0.4, 0.4, 0.4], "transform": { "translate": [0, 0.2, 0] } } ],
+  "luminaires": [ { "preset": "panel", "transform": { "translate": [0.3, 0.8, 0], "rotate": [90, 0, 0] } } ],
+  "environment": { "file": "sky.hdr" },
+  "farfield_lights": [ { "file": "down.ies", "transform": { "translate": [-0.6, 1.5, 0.2], "rotate": [90, 0, 0] } } ]
+}"""
+IES = ("IESNA:LM-63-2002\n[TEST] test_cluster\nTILT=NONE\n1 -1 1.0 7 3 1 2 0 0 0\n1.0 1.0 0\n"
+       "0 15 30 45 60 75 90\n0 90 180\n" + "300 280 240 180 110 40 0\n" * 3)
+# Columns of points.csv that do not depend on timing (the images' errors, the plan's settings).
+SWEEP_COLUMNS = ("study", "target", "method", "sampler", "K", "frames", "spp", "samples", "delta_e", "rel_mse",
+                 "ref_key")
+
+
+def write_sky(path, width=8, height=4):
+    """A small Radiance .hdr (uncompressed RGBE scanlines) with a gradient."""
+    with open(path, "wb") as f:
+        f.write(f"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n".encode())
+        for y in range(height):
+            for x in range(width):
+                f.write(bytes([60 + 20 * x, 80 + 10 * y, 120, 126]))
 
 
 def exr_pixels(path):
@@ -118,6 +147,42 @@ class ClusterTest(unittest.TestCase):
         self.assertEqual(exr_pixels(out), exr_pixels(self.one))
         summary, _ = self.cluster("resume", "--parts", "4", cache=cache)
         self.assertEqual((summary["computed"], summary["cached"]), (0, 4))
+
+    def test_render_frame_ranges_merge_to_one_machine_bits(self):
+        scene = os.path.join(self.dir, "render.json")
+        with open(scene, "w") as f:
+            f.write(RENDER_SCENE)
+        with open(os.path.join(self.dir, "down.ies"), "w") as f:
+            f.write(IES)
+        write_sky(os.path.join(self.dir, "sky.hdr"))
+        one = os.path.join(self.dir, "render-one.exr")
+        subprocess.run([BIN, "-q", "render", scene, "--frames", "3", "--exact-sums", "-o", one], check=True)
+        out = os.path.join(self.dir, "render.exr")
+        summary = nc.main(["render", scene, "--frames", "3", "-o", out, "--parts", "2", "-q",
+                           "--cache", os.path.join(self.dir, "render-cache")])
+        self.assertEqual(summary["computed"], 2)
+        self.assertEqual(exr_pixels(out), exr_pixels(one))
+
+    def test_sweep_by_target_equals_one_machine(self):
+        bench = os.path.join(os.path.dirname(BIN), "bench", "bench_sweep")
+        if not os.path.isfile(bench):
+            self.skipTest(f"{bench} is not built")
+        args = ["--quick", "--no-scene", "--luminaires", "car1,bike", "--studies", "sampler", "--res", "16"]
+        one = os.path.join(self.dir, "sweep-one")
+        subprocess.run([bench, "-q", *args, "--out", one], check=True)
+        out = os.path.join(self.dir, "sweep")
+        cache = os.path.join(self.dir, "sweep-cache")
+        summary = nc.main(["sweep", *args, "--out", out, "--cache", cache, "-q"])
+        self.assertEqual((summary["targets"], summary["computed"]), (2, 2))
+
+        def rows(folder):
+            with open(os.path.join(folder, "points.csv")) as f:
+                return [tuple(r[c] for c in SWEEP_COLUMNS) for r in csv.DictReader(f)]
+
+        self.assertGreater(len(rows(one)), 2)
+        self.assertEqual(rows(out), rows(one))
+        summary = nc.main(["sweep", *args, "--out", out, "--cache", cache, "-q"])
+        self.assertEqual((summary["computed"], summary["cached"]), (0, 2))
 
     def test_missing_file_on_a_worker_names_worker_and_file(self):
         missing = os.path.join(self.dir, "nowhere", "nearfield")
