@@ -170,6 +170,34 @@ TEST(GlareDirect, UniformSquareClosedForm) {
   }
 }
 
+// Road glare of the direct mode: the veiling luminance L_v = sum 10 L cos(theta) dOmega / theta^2
+// (theta in degrees from the line of sight, CIE 140) of the uniform square seen 4 m away, the line
+// of sight 20 degrees off its centre, against the test's own double quadrature over the square
+// (400 x 400 midpoints; both midpoint rules err O(h^2), below 1e-5 here: tolerance 1e-4), and
+// TI = 65 L_v / L_av^0.8 for L_av = 1.
+TEST(GlareDirect, RoadVeilingAgainstQuadrature) {
+  const auto dir = nf::testing::temp_dir("glare_direct_road");
+  const double k = 50.0, L = 100.0 * k, h = 5.0, d = 4.0, sigma = 20.0 * kPi / 180.0;
+  const glm::dvec3 eye(0, h - d, 0), f(std::sin(sigma), std::cos(sigma), 0.0);
+  const fs::path scene = glare_scene(dir, "s", 32, eye, {0, h, 0}, k);
+  auto r = run_nearfield(fmt::format("glare '{}' --eye 0,{},0 --look {},{},0 --up 0,0,-1 --json --road --lav 1",
+                                     scene.string(), eye.y, f.x, eye.y + f.y));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  double lv = 0.0;
+  const int m = 400;
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) {
+      const glm::dvec3 q(-0.1 + 0.2 * (a + 0.5) / m, h, -0.1 + 0.2 * (b + 0.5) / m), v = q - eye;
+      const double dist = glm::length(v), domega = (v.y / dist) * (0.04 / (m * m)) / (dist * dist);
+      const double c = glm::dot(v / dist, f), theta = std::acos(c) * 180.0 / kPi;
+      lv += 10.0 * L * c * domega / (theta * theta);
+    }
+  EXPECT_NEAR(j["road"]["veiling_luminance_cd_m2"].get<double>(), lv, 1e-4 * lv);
+  EXPECT_NEAR(j["road"]["ti_percent"].get<double>(), 65.0 * lv, 1e-4 * 65.0 * lv);
+  EXPECT_NEAR(j["sources"][0]["angle_from_line_of_sight_deg"].get<double>(), 20.0, 0.01);
+}
+
 // The direct mode against the image mode on a fisheye that `render` makes of the same scene
 // (256 x 256; the panel 0.6 m above the eye and 0.6 m ahead, ~14 degrees across). The image
 // classifies whole pixels by their centres, so the solid angle and the eye illuminance differ by

@@ -30,9 +30,13 @@ bool inside(const lum::Rect& r, glm::dvec2 p) {
 struct Patches {
   double l_omega = 0.0, omega = 0.0, e = 0.0, veiling = 0.0, e_all = 0.0, e_below = 0.0;
   glm::dvec3 dir{0.0};
+  // CIE 140 sums the veiling luminance over the luminaires, all of their light: it counts the
+  // parts below the threshold too (the image mode, which cannot tell a luminaire from a lit
+  // surface, counts source pixels only).
   void add(double L, double domega, glm::dvec3 w, double cosine, double threshold) {
     const double e_patch = L * cosine * domega;
     e_all += e_patch;
+    veiling += veiling_of_pixel(L, domega, cosine);
     if (!(L > threshold)) {
       e_below += e_patch;
       return;
@@ -40,7 +44,6 @@ struct Patches {
     l_omega += L * domega;
     omega += domega;
     e += e_patch;
-    veiling += veiling_of_pixel(L, domega, cosine);
     dir += w * domega;
   }
 };
@@ -52,7 +55,7 @@ void finish(const Patches& p, const RadianceView& view, DirectSource& d) {
   d.glare.luminance = p.l_omega / p.omega;
   d.glare.solid_angle = p.omega;
   d.glare.eye_illuminance = p.e;
-  d.glare.veiling = p.veiling;
+  d.glare.veiling = p.veiling;  // all of the luminaire's light (Patches::add)
   d.glare.direction = glm::normalize(p.dir);
   position_angles(view, d.glare.direction, d.glare);
 }
@@ -164,7 +167,7 @@ DirectResult evaluate_direct(const scene::Scene& scene, const render::LuminaireS
              (d.glare.position_index * d.glare.position_index);
     r.eye_illuminance += p.e_all;
     r.below_threshold_illuminance += p.e_below;
-    r.veiling_luminance += d.seen ? d.glare.veiling : 0.0;
+    r.veiling_luminance += p.veiling;
     r.sources.push_back(d);
   }
   for (const scene::FarfieldLightRef& f : scene.farfield_lights) {
@@ -198,7 +201,7 @@ DirectResult evaluate_direct(const scene::Scene& scene, const render::LuminaireS
     }
     r.eye_illuminance += p.e_all;
     r.below_threshold_illuminance += p.e_below;
-    r.veiling_luminance += d.seen ? d.glare.veiling : 0.0;
+    r.veiling_luminance += p.veiling;
     r.sources.push_back(d);
   }
   if (o.lb && sum > 0.0) r.ugr = 8.0 * std::log10(0.25 / *o.lb * sum);

@@ -56,7 +56,8 @@ RadianceView direct_view(const DirectOptions& o);
 //   d omega = cos(theta_s) dA / r^2,  cos(theta_s) = e_z / r,  r = |s - e|,
 //   omega = sum d omega over L > threshold,  L_mean = sum L d omega / omega,
 //   E = sum L cos(sigma) d omega  (sigma from the line of sight, front hemisphere only),
-//   L_v = sum 10 L cos(sigma) d omega / sigma_deg^2 over 1.5 <= sigma <= 60 degrees (CIE 140).
+//   L_v = sum 10 L cos(sigma) d omega / sigma_deg^2 over 1.5 <= sigma <= 60 degrees (CIE 140),
+//   over all of the luminaire's light, below the threshold too (CIE 140 sums over luminaires).
 // `farfield`: instead the luminaire's own far field (luminaire/farfield.h) from its photometric
 // centre through its emitting area A on S: I = I_far(w), A_p = A w_z, L = I / A_p, omega = A_p / r^2.
 // Far-field lights of the scene: I(C, gamma) from the table (reference/farfield_light.h), the
