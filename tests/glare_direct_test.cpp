@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/glare.h"
+#include "app/orbit_camera.h"
 #include "core/image_io.h"
 #include "support/testing.h"
 
@@ -124,6 +126,49 @@ TEST(FisheyeRender, NonSquareRefusedNamingTheSetting) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(dir / "a.exr"));
+}
+
+// The viewer's orbit camera keeps a fisheye scene camera a fisheye, square (the largest square
+// of the image area), with the scene's position bit for bit; a perspective one stays as it was.
+TEST(FisheyeView, OrbitCameraKeepsTheFisheyeSquare) {
+  nf::scene::Camera c;
+  c.projection = nf::scene::Camera::Projection::fisheye;
+  c.position = {0.3, 1.2, 2.0};
+  c.target = {0.3, 1.2, 1.0};
+  const nf::app::OrbitCamera o(c);
+  EXPECT_TRUE(o.fisheye());
+  const nf::scene::Camera k = o.camera(500, 300);
+  EXPECT_EQ(k.projection, nf::scene::Camera::Projection::fisheye);
+  EXPECT_EQ(k.width, 300);
+  EXPECT_EQ(k.height, 300);
+  EXPECT_EQ(k.position, c.position);
+  const nf::app::OrbitCamera p{nf::scene::Camera{}};
+  EXPECT_FALSE(p.fisheye());
+  EXPECT_EQ(p.camera(500, 300).width, 500);
+}
+
+// `nearfield view` of a fisheye scene under a real window (Xvfb): the square image centred in the
+// image area, black outside its 180-degree circle (the corner of the area) and lit inside (the
+// floor below the centre). Window 900 x 500: the docked panel leaves the area x 400..900.
+TEST(FisheyeView, WindowShowsTheFisheye) {
+  const char* display = std::getenv("DISPLAY");
+  if (!display || !*display)
+    GTEST_SKIP() << "DISPLAY is not set: window tests need an X server (xvfb-run -a ctest -R FisheyeView)";
+  const auto dir = nf::testing::temp_dir("fisheye_view");
+  const fs::path scene = glare_scene(dir, "scene", 64, {0, 1.0, 0.6}, {0, 1.6, 0}, 10), png = dir / "shot.png";
+  auto r = run_nearfield(
+      fmt::format("view '{}' --frames 2 --window 900x500 --screenshot '{}'", scene.string(), png.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nf::Image img = nf::read_image(png);
+  ASSERT_EQ(img.width, 900);
+  ASSERT_EQ(img.height, 500);
+  const auto at = [&](int x, int y) {
+    const float* p = &img.pixels[(static_cast<std::size_t>(y) * img.width + x) * img.channels];
+    return p[0] + p[1] + p[2];
+  };
+  EXPECT_EQ(at(410, 10), 0.0f);   // the area's corner: outside the circle
+  EXPECT_EQ(at(890, 490), 0.0f);  // the opposite corner
+  EXPECT_GT(at(650, 420), 0.1f);  // the lit floor below the centre
 }
 
 // Closed form: a uniform Lambertian rectangle 2a x 2b of luminance L seen on its axis from
