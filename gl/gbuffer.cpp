@@ -3,6 +3,7 @@
 #include <epoxy/gl.h>
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -95,6 +96,28 @@ std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>
     out[o] = s;
   }
   return out;
+}
+
+void GBuffer::write_surfaces(const std::vector<NfSurface>& surfaces) {
+  const int w = width(), h = height();
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (surfaces.size() != n) fail(fmt::format("G-buffer is {}x{} but {} surfaces were given", w, h, surfaces.size()));
+  std::vector<float> pos(4 * n), nrm(4 * n), mat(4 * n);
+  for (std::size_t o = 0; o < n; ++o) {
+    const NfSurface& s = surfaces[o];
+    if (!s.valid) continue;
+    // GL row h - 1 - y holds output row y.
+    const std::size_t x = o % static_cast<std::size_t>(w), y = o / static_cast<std::size_t>(w);
+    const std::size_t i = 4 * ((static_cast<std::size_t>(h) - 1 - y) * static_cast<std::size_t>(w) + x);
+    const float p[4] = {s.px, s.py, s.pz, 1.0f}, q[4] = {s.nx, s.ny, s.nz, s.metallic},
+                m[4] = {s.base_r, s.base_g, s.base_b, s.roughness};
+    std::copy_n(p, 4, &pos[i]);
+    std::copy_n(q, 4, &nrm[i]);
+    std::copy_n(m, 4, &mat[i]);
+  }
+  const std::vector<float>* data[3] = {&pos, &nrm, &mat};
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  for (int k = 0; k < 3; ++k) glTextureSubImage2D(fb_.texture(k), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, data[k]->data());
 }
 
 std::vector<MemoryItem> GBuffer::memory() const {

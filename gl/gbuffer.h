@@ -38,6 +38,12 @@ class GBuffer {
   // roughness 1; kurt surfaces base = world tangent, metallic = material index (kernels/shared/surface.h).
   std::vector<NfSurface> read_surfaces(const std::vector<scene::Material>& materials,
                                        const scene::Camera& camera) const;
+  // Writes records made elsewhere (the fisheye camera's ray-cast G-buffer, render/ray_surface.h)
+  // into the targets instead of rasterising, so that the passes reading the G-buffer (shadow-map
+  // visibility) see them: position w = 1 for a valid record (the material index is not in the
+  // record; nothing downstream of the visibility passes reads it), normal w = metallic, material
+  // = base, roughness. `surfaces` has width x height records, row 0 at the top.
+  void write_surfaces(const std::vector<NfSurface>& surfaces);
 
   int width() const { return fb_.width(); }
   int height() const { return fb_.height(); }

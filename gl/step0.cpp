@@ -24,18 +24,29 @@ void Step0::set_materials(const scene::Geometry& geometry) {
   materials_ = geometry.materials;
 }
 
-void Step0::run(const scene::Camera& camera) {
+void Step0::run(const scene::Camera& camera) { run_impl(camera, nullptr); }
+
+void Step0::run(const scene::Camera& camera, std::vector<NfSurface> surfaces) { run_impl(camera, &surfaces); }
+
+void Step0::run_impl(const scene::Camera& camera, std::vector<NfSurface>* given) {
   timings_ = {};
   maps_rendered_ = false;
   if (!gbuffer_ || gbuffer_->width() != camera.width || gbuffer_->height() != camera.height)
     gbuffer_ = std::make_unique<GBuffer>(camera.width, camera.height);
   Timer t;
-  gbuffer_->render(*scene_, camera);
-  glFinish();
-  timings_.gbuffer_ms = t.ms();
-  t.reset();
-  surfaces_ = gbuffer_->read_surfaces(materials_, camera);
-  timings_.gbuffer_readback_ms = t.ms();
+  if (given) {
+    gbuffer_->write_surfaces(*given);
+    glFinish();
+    timings_.gbuffer_ms = t.ms();
+    surfaces_ = std::move(*given);
+  } else {
+    gbuffer_->render(*scene_, camera);
+    glFinish();
+    timings_.gbuffer_ms = t.ms();
+    t.reset();
+    surfaces_ = gbuffer_->read_surfaces(materials_, camera);
+    timings_.gbuffer_readback_ms = t.ms();
+  }
   if (!gl_visibility_)
     for (auto& v : visibility_) v.clear();
   if (!shadow_maps_valid_ && !shadow_maps_.empty()) {

@@ -35,6 +35,10 @@ class Step0 {
   // the shadow maps if invalid, the visibility bitmasks (unless the GL visibility pass is off),
   // and reads everything back.
   void run(const scene::Camera& camera);
+  // The same with the camera's surfaces given (the fisheye camera's ray-cast G-buffer,
+  // render/ray_surface.h): they are written into the G-buffer's targets instead of rasterising,
+  // and everything after (shadow maps, visibility, readback) runs as above.
+  void run(const scene::Camera& camera, std::vector<NfSurface> surfaces);
   // Off: run() leaves visibility() empty and the caller computes the bitmasks from the maps
   // (render/cl_shadow_visibility.h, the `visibility_pass` setting). On by default.
   void set_gl_visibility(bool on) { gl_visibility_ = on; }
@@ -70,6 +74,8 @@ class Step0 {
   std::vector<NfSurface> surfaces_;
   std::vector<std::vector<std::uint32_t>> visibility_;
   Step0Timings timings_;
+
+  void run_impl(const scene::Camera& camera, std::vector<NfSurface>* given);
 };
 
 }  // namespace nf::gl

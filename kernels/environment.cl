@@ -531,7 +531,18 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
     const int i = p % cam_wh.x, j = p / cam_wh.x;
     const float nx = 2.0f * ((float)i + 0.5f) / (float)cam_wh.x - 1.0f;
     const float ny = 1.0f - 2.0f * ((float)j + 0.5f) / (float)cam_wh.y;
-    const float3 d = normalize(cam_f.xyz + nx * cam_r.xyz + ny * cam_u.xyz);
+    float3 d = normalize(cam_f.xyz + nx * cam_r.xyz + ny * cam_u.xyz);
+    if (cam_f.w > 0.5f) {
+      /* angular fisheye (scene::Camera::fisheye_ray; cam_r, cam_u unit): theta = pi/2 |(nx, ny)|,
+         black outside the 180-degree circle (Camera::inside) */
+      const float a = M_PI_2_F * nx, b = M_PI_2_F * ny, th = sqrt(a * a + b * b);
+      if (th > M_PI_2_F) {
+        out[p] = (float4)(0.0f);
+        return;
+      }
+      const float k = th > 1e-6f ? sin(th) / th : 1.0f;
+      d = normalize(cos(th) * cam_f.xyz + k * (a * cam_r.xyz + b * cam_u.xyz));
+    }
     out[p] = (float4)(env_l0(&m, d), 0.0f);
 #else
     out[p] = (float4)(0.0f);

@@ -95,6 +95,9 @@ void apply_overrides(const RenderCmd& o, scene::Scene& s) {
     c.height = o.height;
     c.width = std::max(1, static_cast<int>(std::lround(o.height * aspect)));
   }
+  if (c.projection == scene::Camera::Projection::fisheye && c.width != c.height)
+    fail(fmt::format("--width/--height: a fisheye camera (camera.projection) needs a square image, got {}x{}", c.width,
+                     c.height));
 }
 
 struct FalseColourRequest {

@@ -120,24 +120,6 @@ void merge_components(const Field& f, std::vector<int>& labels, int count, doubl
   }
 }
 
-// sigma: angle from the line of sight; tau: angle between the vertical plane through the line of
-// sight and the plane through it and the source (atan2 of the source's horizontal and vertical
-// offsets in the image plane: tan tau = T / H, tan sigma = sqrt(H^2 + T^2) / R, CIE 117 fig. 4.2).
-void position_angles(const RadianceView& v, const glm::dvec3& d, GlareSource& s) {
-  const double x = glm::dot(d, v.right()), y = glm::dot(d, v.up()), z = glm::dot(d, v.forward());
-  s.sigma_deg = std::atan2(std::hypot(x, y), z) * kDeg;
-  s.tau_deg = std::atan2(std::abs(x), y) * kDeg;
-  s.position_index = guth_position_index(s.sigma_deg, s.tau_deg, y < 0.0);
-}
-
-// CIE 140 veiling luminance of one pixel, L_v = 10 E / theta^2 (theta in degrees), for
-// 1.5 <= theta <= 60 degrees (the formula's range); E = L cos(theta) dOmega at the eye.
-double veiling_of_pixel(double luminance, double omega, double cosine) {
-  const double theta = std::acos(std::clamp(cosine, -1.0, 1.0)) * kDeg;
-  if (theta < 1.5 || theta > 60.0) return 0.0;
-  return 10.0 * luminance * cosine * omega / (theta * theta);
-}
-
 // The road region for L_av without --lav: pixels 0.54..1.43 degrees below the horizontal (the road
 // 60..160 m ahead seen from 1.5 m, CIE 140's field) and within 3 degrees of the view's azimuth.
 bool in_road_region(const RadianceView& v, const glm::dvec3& d) {
@@ -183,6 +165,24 @@ double guth_position_index(double sigma_deg, double tau_deg, bool below) {
   const double a = (35.2 - 0.31889 * t - 1.22 * std::exp(-2.0 * t / 9.0)) * 1e-3;
   const double b = (21.0 + 0.26667 * t - 0.002963 * t * t) * 1e-5;
   return std::exp(a * s + b * s * s);
+}
+
+// sigma: angle from the line of sight; tau: angle between the vertical plane through the line of
+// sight and the plane through it and the source (atan2 of the source's horizontal and vertical
+// offsets in the image plane: tan tau = T / H, tan sigma = sqrt(H^2 + T^2) / R, CIE 117 fig. 4.2).
+void position_angles(const RadianceView& v, const glm::dvec3& d, GlareSource& s) {
+  const double x = glm::dot(d, v.right()), y = glm::dot(d, v.up()), z = glm::dot(d, v.forward());
+  s.sigma_deg = std::atan2(std::hypot(x, y), z) * kDeg;
+  s.tau_deg = std::atan2(std::abs(x), y) * kDeg;
+  s.position_index = guth_position_index(s.sigma_deg, s.tau_deg, y < 0.0);
+}
+
+// CIE 140 veiling luminance of one pixel, L_v = 10 E / theta^2 (theta in degrees), for
+// 1.5 <= theta <= 60 degrees (the formula's range); E = L cos(theta) dOmega at the eye.
+double veiling_of_pixel(double luminance, double omega, double cosine) {
+  const double theta = std::acos(std::clamp(cosine, -1.0, 1.0)) * kDeg;
+  if (theta < 1.5 || theta > 60.0) return 0.0;
+  return 10.0 * luminance * cosine * omega / (theta * theta);
 }
 
 LuminanceImage load_luminance_image(const std::filesystem::path& path) {

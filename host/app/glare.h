@@ -65,6 +65,14 @@ struct GlareResult {
 // sigma, tau in degrees; below the line of sight tau = 90 (Iwata & Osterhaus 2010, as evalglare).
 double guth_position_index(double sigma_deg, double tau_deg, bool below);
 
+// A source's position angles from its unit direction d in view v: sigma (from the line of sight),
+// tau (0 above, 90 beside, 180 below) and Guth's p (CIE 117 fig. 4.2).
+void position_angles(const RadianceView& v, const glm::dvec3& d, GlareSource& s);
+
+// CIE 140 veiling luminance of a patch of luminance L, solid angle omega and cosine to the line of
+// sight: 10 E / theta^2, E = L cos omega, theta in degrees, 0 outside 1.5..60 degrees.
+double veiling_of_pixel(double luminance, double omega, double cosine);
+
 GlareResult evaluate_glare(const LuminanceImage& image, const GlareOptions& options);
 
 // `nearfield glare --json` output.

@@ -35,6 +35,7 @@ OrbitCamera::OrbitCamera(const scene::Camera& camera) {
   x_axis_ = glm::cross(up_, z_axis_);
   fov_y_deg_ = camera.fov_y_deg;
   near_ = camera.near;
+  projection_ = camera.projection;
   look_at(camera.position, camera.target);
 }
 
@@ -102,6 +103,8 @@ scene::Camera OrbitCamera::camera(int width, int height) const {
   c.width = width;
   c.height = height;
   c.near = near_;
+  c.projection = projection_;
+  if (fisheye()) c.width = c.height = std::max(1, std::min(width, height));  // square, the largest that fits
   return c;
 }
 

@@ -53,12 +53,15 @@ class OrbitCamera {
   double yaw() const { return yaw_deg_; }
   double pitch() const { return pitch_deg_; }
   double fov() const { return fov_y_deg_; }
+  // A fisheye scene camera stays a fisheye (docs/glare.md): camera(w, h) is then square, min(w, h).
+  bool fisheye() const { return projection_ == scene::Camera::Projection::fisheye; }
 
  private:
   glm::dvec3 up_{0, 1, 0}, x_axis_{1, 0, 0}, z_axis_{0, 0, 1};  // orthonormal, right-handed
   glm::dvec3 target_{0.0};
   double distance_ = 1.0, yaw_deg_ = 0.0, pitch_deg_ = 0.0;
   double fov_y_deg_ = 45.0, near_ = 0.01;
+  scene::Camera::Projection projection_ = scene::Camera::Projection::perspective;
   // The eye exactly as look_at() received it, until the orbit changes: an untouched camera
   // reproduces its scene file's position bit for bit (saved views, comparisons with `render`).
   bool exact_ = false;

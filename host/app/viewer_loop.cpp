@@ -329,12 +329,21 @@ void Viewer::display() {
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glViewport(0, 0, fw, fh);
-  const int px = docked_panel_width(state_, fw), iw = fw - px;  // the image beside a docked panel
+  int px = docked_panel_width(state_, fw), iw = fw - px;  // the image beside a docked panel
+  int py = 0, ih = fh;
+  if (state_.orbit.fisheye()) {  // the square fisheye centred in the image's area
+    const int side = std::min(iw, fh);
+    px += (iw - side) / 2;
+    py = (fh - side) / 2;
+    iw = ih = side;
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);  // black beside it
+    glClear(GL_COLOR_BUFFER_BIT);
+  }
   if (state_.display == DisplayMode::image) {
-    tonemapper_->present(0, px, 0, iw, fh);
+    tonemapper_->present(0, px, py, iw, ih);
   } else if (state_.display == DisplayMode::vsgl) {
     if (rendered_ || state_.redisplay || false_view_.empty()) false_view_.upload(vsgl_view_image(*renderer_));
-    false_view_.present(0, px, 0, iw, fh);
+    false_view_.present(0, px, py, iw, ih);
   } else {
     if (rendered_ || state_.redisplay || false_view_.empty()) {
       const Image values = state_.display == DisplayMode::a ? renderer_->a_image() : renderer_->k_image();
@@ -343,7 +352,7 @@ void Viewer::display() {
       false_range_ = false_colour(values, fo);
       false_view_.upload(false_range_.image);
     }
-    false_view_.present(0, px, 0, iw, fh);
+    false_view_.present(0, px, py, iw, ih);
   }
   state_.redisplay = false;
   if (state_.panel) {

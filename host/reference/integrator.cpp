@@ -106,6 +106,11 @@ class Tracer {
   void trace_camera(int x, int y, Rng& rng, Counters& c) {
     const scene::Camera& cam = scene_.camera;
     const double jx = set_.jitter ? rng.next() : 0.5, jy = set_.jitter ? rng.next() : 0.5;
+    if (!cam.inside(x + jx, y + jy)) {  // outside a fisheye's 180-degree circle: black, no ray
+      view_.kind = 0;
+      view_.radiance = dvec3(0.0);
+      return;
+    }
     const scene::Camera::Ray ray = cam.ray(x + jx, y + jy);
     // near: a plane for the perspective camera, a sphere for the fisheye (whose rays reach 90
     // degrees and beyond from the view direction).

@@ -574,14 +574,17 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
     out_bytes_ = n * sizeof(cl_float4);
   }
   const auto& d = in.settings.declared;
-  // camera: forward, right tan(fov_x / 2), up tan(fov_y / 2) (scene::Camera::ray)
+  // camera: forward, right tan(fov_x / 2), up tan(fov_y / 2) (scene::Camera::ray); the fisheye:
+  // forward with w = 1, unit right and up (the kernel maps the pixel as Camera::fisheye_ray does)
   cl_float4 cf{{0, 0, -1, 0}}, cr{{1, 0, 0, 0}}, cu{{0, 1, 0, 0}};
   cl_int2 wh{{1, 1}};
   if (in.camera) {
     const scene::Camera& c = *in.camera;
-    const double ty = c.tan_half_fov_y(), tx = ty * c.aspect();
+    const bool fisheye = c.projection == scene::Camera::Projection::fisheye;
+    const double ty = fisheye ? 1.0 : c.tan_half_fov_y(), tx = fisheye ? 1.0 : ty * c.aspect();
     const glm::dvec3 fw = c.forward(), rt = c.right() * tx, up = c.true_up() * ty;
-    cf = cl_float4{{static_cast<float>(fw.x), static_cast<float>(fw.y), static_cast<float>(fw.z), 0}};
+    cf = cl_float4{
+        {static_cast<float>(fw.x), static_cast<float>(fw.y), static_cast<float>(fw.z), fisheye ? 1.0f : 0.0f}};
     cr = cl_float4{{static_cast<float>(rt.x), static_cast<float>(rt.y), static_cast<float>(rt.z), 0}};
     cu = cl_float4{{static_cast<float>(up.x), static_cast<float>(up.y), static_cast<float>(up.z), 0}};
     wh = cl_int2{{c.width, c.height}};

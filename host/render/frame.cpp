@@ -19,6 +19,7 @@
 #include "render/cl_shadow_visibility.h"
 #include "render/contributions.h"
 #include "render/luminaire_contribution.h"
+#include "render/ray_surface.h"
 #include "render/sampler.h"
 #include "scene/material_json.h"
 
@@ -34,10 +35,12 @@ bool same_camera(const scene::Camera& a, const scene::Camera& b) {
 void check_camera(const scene::Camera& c) {
   if (c.width < 1 || c.height < 1 || c.width > 16384 || c.height > 16384)
     fail(fmt::format("camera: resolution must be 1..16384 per side, got {}x{}", c.width, c.height));
-  if (c.projection == scene::Camera::Projection::fisheye)
-    fail(
-        "camera: projection \"fisheye\" is rendered by nearfield reference only so far (render and view draw "
-        "perspective cameras; docs/glare.md)");
+  if (c.projection == scene::Camera::Projection::fisheye) {
+    if (c.width != c.height)
+      fail(fmt::format("camera.resolution: a fisheye camera (camera.projection) needs a square image, got {}x{}",
+                       c.width, c.height));
+    return;  // 180 degrees: fov_y does not apply
+  }
   if (!(c.fov_y_deg > 0.0 && c.fov_y_deg <= 179.0))
     fail(fmt::format("camera: fov_y must be in (0, 179], got {}", c.fov_y_deg));
 }
@@ -255,9 +258,20 @@ void Renderer::run_step0(StepTimes& t) {
     for (std::size_t i = 0; i < instances_.size(); ++i) step0_->shadow_maps(i)->set_to_world(instances_[i].to_world);
     step0_->invalidate_shadow_maps();
   }
-  step0_->run(camera_);
+  double cast_ms = 0.0;
+  if (camera_.projection == scene::Camera::Projection::fisheye) {
+    // The fisheye G-buffer is ray-cast (render/ray_surface.h: a rasteriser draws straight edges,
+    // which a fisheye bends); the shadow maps and visibility passes read it as usual.
+    Timer cast;
+    if (!rays_) rays_ = std::make_unique<ref::RayScene>(scene_.geometry);
+    std::vector<NfSurface> surf = ray_cast_surfaces(scene_.geometry, *rays_, camera_);
+    cast_ms = cast.ms();
+    step0_->run(camera_, std::move(surf));
+  } else {
+    step0_->run(camera_);
+  }
   const gl::Step0Timings& s = step0_->timings();
-  t.gbuffer_ms += s.gbuffer_ms;
+  t.gbuffer_ms += s.gbuffer_ms + cast_ms;
   t.gbuffer_readback_ms += s.gbuffer_readback_ms;
   t.shadow_maps_ms += s.shadow_maps_ms;
   t.visibility_ms += s.visibility_ms;

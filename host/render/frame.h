@@ -28,6 +28,7 @@
 #include "gl/context.h"
 #include "gl/scene_gpu.h"
 #include "kernels/shared/surface.h"
+#include "reference/ray_scene.h"
 #include "render/contribution.h"
 #include "render/device_frame.h"
 #include "render/device_luminaire.h"
@@ -195,6 +196,7 @@ class Renderer {
   FrameSettings settings_;
   scene::Camera camera_;
   std::unique_ptr<gl::Step0> step0_;
+  std::unique_ptr<ref::RayScene> rays_;  // the fisheye camera's ray-cast G-buffer (built on first use)
   std::vector<std::unique_ptr<Contribution>> contributions_;  // render/contributions.cpp
   LuminaireContribution* luminaires_ = nullptr;               // the light-field one, if built
   std::vector<ContributionFrame> contribution_frames_;        // the last frame's, per contribution

@@ -19,6 +19,7 @@
 #include "luminaire/geometry.h"
 #include "reference/surface_point.h"
 #include "render/kurt_table.h"
+#include "render/ray_surface.h"
 
 namespace nf::render {
 namespace {
@@ -83,42 +84,6 @@ bool blocked_by_casters(const ref::RayScene& rays, const scene::Geometry& g, glm
     tmin = h.t + 1e-7 * std::max(1.0, h.t);
   }
   return false;
-}
-
-NfSurface make_surface(const scene::Geometry& g, const ref::SurfacePoint& sp, glm::dvec3 dir) {
-  NfSurface s{};
-  const scene::Instance& inst = g.instances[static_cast<std::size_t>(sp.instance)];
-  const int id = inst.material;
-  const scene::Material& mat = g.materials[static_cast<std::size_t>(id)];
-  s.px = static_cast<float>(sp.p.x);
-  s.py = static_cast<float>(sp.p.y);
-  s.pz = static_cast<float>(sp.p.z);
-  s.valid = 1;
-  s.nx = static_cast<float>(sp.ns.x);
-  s.ny = static_cast<float>(sp.ns.y);
-  s.nz = static_cast<float>(sp.ns.z);
-  s.vx = static_cast<float>(-dir.x);  // towards the map's centre, the "viewer"
-  s.vy = static_cast<float>(-dir.y);
-  s.vz = static_cast<float>(-dir.z);
-  // As gl/gbuffer.h reads the G-buffer: lambert metallic 0, roughness 1; ggx roughness with
-  // alpha = roughness^2 (the kernels clamp alpha to >= 1e-3, as surface_point does).
-  const bool ggx = mat.kind == scene::MaterialKind::ggx;
-  s.brdf = ggx ? NF_BRDF_GGX : NF_BRDF_LAMBERT;
-  s.base_r = static_cast<float>(sp.material.base.x);
-  s.base_g = static_cast<float>(sp.material.base.y);
-  s.base_b = static_cast<float>(sp.material.base.z);
-  s.roughness = ggx ? static_cast<float>(std::sqrt(std::max(sp.material.alpha, 0.0))) : 1.0f;
-  s.metallic = ggx ? static_cast<float>(sp.material.metallic) : 0.0f;
-  if (mat.kind == scene::MaterialKind::kurt) {  // base = world tangent, metallic = table index
-    const glm::dvec3 t = glm::dmat3(inst.to_world) * glm::dvec3(mat.tangent);
-    s.brdf = NF_BRDF_KURT;
-    s.base_r = static_cast<float>(t.x);
-    s.base_g = static_cast<float>(t.y);
-    s.base_b = static_cast<float>(t.z);
-    s.roughness = 1.0f;
-    s.metallic = static_cast<float>(id);
-  }
-  return s;
 }
 
 }  // namespace
@@ -214,7 +179,7 @@ ref::EnvironmentMap LocalEnvironmentMap::build(const FrameInputs& in, const ref:
         if (far) direct[i] = far->eval(dir);
         continue;
       }
-      surf[i] = make_surface(geometry_, ref::surface_point(geometry_, rays, hit, dir), dir);
+      surf[i] = surface_record(geometry_, ref::surface_point(geometry_, rays, hit, dir), dir);
     }
   const ::cl::Buffer buf = upload_surfaces(rt_, surf);
   times.rays_ms = timer.ms();

@@ -31,7 +31,7 @@ class LocalEnvironmentMap {
 
   const scene::LocalEnvironment& spec() const { return spec_; }
   // The Kurt table of the texels' shading (the geometry given to the constructor holds the
-  // materials themselves, see make_surface in local_environment.cpp).
+  // materials themselves, see surface_record in render/ray_surface.h).
   void set_materials(const std::vector<scene::Material>& materials);
   // The area-weighted centroid of the object's triangles (world) and the largest distance from it
   // to a vertex: the map is exact at the centre, its parallax error grows with the radius.

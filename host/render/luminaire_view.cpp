@@ -67,6 +67,7 @@ LuminaireView see_luminaires(const scene::Camera& camera, const std::vector<NfSu
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+      if (!camera.pixel_inside(x, y)) continue;  // outside a fisheye's image circle
       const scene::Camera::Ray ray = camera.pixel_ray(x, y);
       double nearest = std::numeric_limits<double>::infinity();
       if (p < surfaces.size() && surfaces[p].valid)

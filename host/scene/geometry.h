@@ -152,7 +152,8 @@ struct Camera {
   }
   // Angular fisheye: (a, b) = pi (x/w - 1/2, 1/2 - y/h), theta = |(a, b)| from the view direction,
   // direction cos(theta) forward + sin(theta)/theta (a right + b up). The corners (theta up to
-  // 127 degrees) look behind the camera, as Radiance's -vta does.
+  // 127 degrees) would look behind the camera, as Radiance's -vta does; the renderers leave them
+  // black (inside()).
   Ray fisheye_ray(double x, double y) const {
     constexpr double kPi = 3.14159265358979323846;
     const double a = kPi * (x / width - 0.5), b = kPi * (0.5 - y / height), theta = std::hypot(a, b);
@@ -162,6 +163,15 @@ struct Camera {
   }
   // The ray through the centre of pixel (i, j).
   Ray pixel_ray(int i, int j) const { return ray(i + 0.5, j + 0.5); }
+  // Whether continuous pixel coordinates (x, y) lie in the image the camera shows: always for the
+  // perspective camera; for the fisheye only inside the 180-degree image circle (theta <= 90
+  // degrees). `render` and `reference` leave the corners outside it black (docs/glare.md).
+  bool inside(double x, double y) const {
+    if (projection != Projection::fisheye) return true;
+    constexpr double kPi = 3.14159265358979323846;
+    return std::hypot(kPi * (x / width - 0.5), kPi * (0.5 - y / height)) <= 0.5 * kPi;
+  }
+  bool pixel_inside(int i, int j) const { return inside(i + 0.5, j + 0.5); }
 };
 
 }  // namespace nf::scene

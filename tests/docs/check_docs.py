@@ -27,7 +27,8 @@ fence, one per comment:
   <!-- docs-test: timeout SECONDS -->     time limit of the block (default 60)
 
 Default overrides, for every run `nearfield` command (documented in docs/testing.md): `render`
-and `reference` get --width 64 --height 36 (replacing the values written), --spp at most 2 and
+and `reference` get --width 64 --height 36 (replacing the values written; 64 x 64 when the
+command writes a square --width N --height N, which a fisheye camera needs), --spp at most 2 and
 --frames at most 1; `view` gets --window 160x90. A command that a directive cannot make fast
 enough must be marked `skip` with its reason: an unmarked block that fails, fails the test.
 
@@ -275,7 +276,15 @@ def fast_overrides(line, extra_args):
         if not w or w[0] != "nearfield":
             return cmd
         sub = w[1] if len(w) > 1 else ""
+        # A square image stays square (a fisheye camera refuses others): --width N --height N
+        # written as equal values get 64 x 64.
+        mw = re.search(r"(?<![\w-])--width[ =](\d+)", cmd)
+        mh = re.search(r"(?<![\w-])--height[ =](\d+)", cmd)
+        square = mw and mh and mw.group(1) == mh.group(1)
         for opt, val in FAST.get(sub, []):
+            if square and opt == "--height":
+                val = "64"
+
             m = re.search(r"(?<![\w-])" + re.escape(opt) + r"[ =](\S+)", cmd)
             if m:
                 cur = m.group(1)
