@@ -19,25 +19,16 @@
 #include "app/false_colour.h"
 #include "core/image_io.h"
 #include "scene/scene.h"
+#include "support/cli_helpers.h"
 #include "support/testing.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using nf::testing::q;
 using nf::testing::run_nearfield;
+using nf::testing::write;
 constexpr double kPi = 3.14159265358979323846;
-
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p;
-}
-
-std::string q(const fs::path& p) {
-  std::string s(1, '\'');
-  s.append(p.string()).push_back('\'');
-  return s;
-}
 
 std::map<std::string, std::string> as_map(const nf::ImageAttributes& a) { return {a.begin(), a.end()}; }
 

@@ -53,6 +53,7 @@ TEST(ProbeGrid, CellCentresAndNormal) {
   const GridSummary sum = summarize({2.0, 4.0, 6.0});
   EXPECT_DOUBLE_EQ(sum.mean, 4.0);
   EXPECT_DOUBLE_EQ(sum.uniformity, 0.5);
+  EXPECT_DOUBLE_EQ(sum.min_max, 2.0 / 6.0);
   EXPECT_THROW(parse_grid("0,0,0;1,0,0;2,0,0", "--grid"), nf::Error);  // parallel edges
   EXPECT_THROW(parse_grid("0,0,0;1,0,0;0,1", "--grid"), nf::Error);    // 8 numbers
   EXPECT_THROW(parse_grid("0,0,0;1,0,0;0,1,x", "--grid"), nf::Error);

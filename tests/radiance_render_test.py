@@ -50,7 +50,6 @@ import zlib
 
 import numpy as np
 
-SKIP = 77
 EFFICACY = 179.0
 TOL_PIX = 1e-3
 TOL_REGION = 5e-4
@@ -58,6 +57,7 @@ FLOOR_LX = 1e-6
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import radiance_typec_test as typec  # noqa: E402  (the synthetic asymmetric table)
+from radiance_support import SKIP, radiance_bindir  # noqa: E402
 
 W, H = 160, 120
 LIGHT = (0.3, 2.2, -0.2)
@@ -179,14 +179,8 @@ def main():
     ap.add_argument("--shared", required=True, help="../shared/data (unused)")
     ap.add_argument("--keep", help="keep the work files in this folder")
     args = ap.parse_args()
-    try:
-        import pyradiance  # noqa: F401
-    except ImportError:
-        print("SKIPPED: pyradiance is not installed in this Python environment (scripts/setup_python.sh)")
-        return SKIP
-    bindir = pathlib.Path(pyradiance.__file__).parent / "bin"
-    if not (bindir / "rtrace").exists():
-        print(f"SKIPPED: pyradiance has no rtrace in {bindir}")
+    bindir = radiance_bindir("rtrace")
+    if bindir is None:
         return SKIP
 
     tmp = tempfile.TemporaryDirectory()

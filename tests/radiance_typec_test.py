@@ -42,7 +42,8 @@ import subprocess
 import sys
 import tempfile
 
-SKIP = 77
+from radiance_support import SKIP, radiance_bindir  # tests/radiance_support.py
+
 EFFICACY = 179.0  # lm/W, Radiance's WHTEFFICACY
 TOL_REL = 5e-4
 
@@ -161,14 +162,8 @@ def main():
     ap.add_argument("--nearfield", required=True)
     ap.add_argument("--shared", required=True, help="../shared/data")
     args = ap.parse_args()
-    try:
-        import pyradiance  # noqa: F401  (the wheel ships Radiance's binaries)
-    except ImportError:
-        print("SKIPPED: pyradiance is not installed in this Python environment (scripts/setup_python.sh)")
-        return SKIP
-    bindir = pathlib.Path(pyradiance.__file__).parent / "bin"
-    if not (bindir / "ies2rad").exists():
-        print(f"SKIPPED: pyradiance has no ies2rad in {bindir}")
+    bindir = radiance_bindir("ies2rad")
+    if bindir is None:
         return SKIP
 
     pts = points()

@@ -16,12 +16,15 @@
 
 #include "core/image_io.h"
 #include "reference/sample_sums.h"
+#include "support/cli_helpers.h"
 #include "support/testing.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using nf::testing::q;
 using nf::testing::run_nearfield;
+using nf::testing::write;
 
 // A lit floor and a box (shadows, and light that bounces off the box and the floor).
 const char* kScene = R"({
@@ -30,14 +33,6 @@ const char* kScene = R"({
                { "type": "box", "size": [0.4, 0.4, 0.4], "transform": { "translate": [0, 0.2, 0] } } ],
   "luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.8, 0], "rotate": [90, 0, 0] } } ]
 })";
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p;
-}
 
 // Bit patterns, so that -0 vs +0 and NaN payloads count as differences.
 std::vector<std::uint32_t> bits(const nf::Image& img) {

@@ -11,12 +11,16 @@
 #include <nlohmann/json.hpp>
 
 #include "core/image_io.h"
+#include "support/cli_helpers.h"
 #include "support/testing.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using nf::testing::expect_only;
+using nf::testing::q;
 using nf::testing::run_nearfield;
+using nf::testing::write;
 
 const char* kScene = R"({
   "camera": { "position": [0.3, 1.6, 1.9], "target": [0, 0, 0], "fov_y": 60, "resolution": [32, 20] },
@@ -24,22 +28,6 @@ const char* kScene = R"({
                { "type": "box", "size": [0.2, 0.2, 0.2], "transform": { "translate": [0, 0.2, 0] } } ],
   "luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } } ]
 })";
-
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p;
-}
-
-std::string q(const fs::path& p) {
-  std::string s(1, '\'');
-  s.append(p.string()).push_back('\'');
-  return s;
-}
-
-void expect_only(const fs::path& dir, const std::set<std::string>& names) {
-  for (const auto& e : fs::directory_iterator(dir)) EXPECT_TRUE(names.count(e.path().filename().string())) << e.path();
-}
 
 TEST(ReferenceCli, WritesExrPngAndStats) {
   const auto dir = nf::testing::temp_dir("refcli_out");

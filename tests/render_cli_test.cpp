@@ -13,12 +13,16 @@
 #include <nlohmann/json.hpp>
 
 #include "core/image_io.h"
+#include "support/cli_helpers.h"
 #include "support/testing.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using nf::testing::expect_only;
+using nf::testing::q;
 using nf::testing::run_nearfield;
+using nf::testing::write;
 
 const char* kScene = R"({
   "camera": { "position": [0.3, 1.6, 1.9], "target": [0, 0, 0], "fov_y": 60, "resolution": [640, 400] },
@@ -27,23 +31,6 @@ const char* kScene = R"({
   "luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.5, 0], "rotate": [90, 0, 0] } } ],
   "render": { "spp": 16 }
 })";
-
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p;
-}
-
-std::string q(const fs::path& p) {
-  std::string s(1, '\'');
-  s.append(p.string()).push_back('\'');
-  return s;
-}
-
-// Nothing but the given files in `dir` (no outputs, no temporaries).
-void expect_only(const fs::path& dir, std::set<std::string> names) {
-  for (const auto& e : fs::directory_iterator(dir)) EXPECT_TRUE(names.count(e.path().filename().string())) << e.path();
-}
 
 TEST(RenderCli, WritesExrPngAndStatsWithSettingsInTheMetadata) {
   const auto dir = nf::testing::temp_dir("render_ok");

@@ -1,8 +1,9 @@
 #pragma once
-// Text drawn into RGB images (legends of false-colour pictures): a 5 x 7 pixel font of digits,
-// lower-case letters, some capitals and the signs units and numbers need (. , - + / ( ) : = ^ %
-// < >), each glyph pixel drawn as scale x scale image pixels, advancing 6 glyph pixels per
-// character. Characters without a glyph are drawn as an outlined box, so a missing one shows.
+// Text drawn into RGB images (the legends of false-colour pictures, the labels of calculation-grid
+// pictures, app/grid_picture.h): a 5 x 7 pixel font of digits, lower- and upper-case letters and
+// the signs units, numbers and names need (. , ; : - + / ( ) [ ] = ^ % < > _ ! ? ' * #), each glyph
+// pixel drawn as scale x scale image pixels, advancing 6 glyph pixels per character. Characters
+// without a glyph are drawn as an outlined box, so a missing one shows.
 #include <string>
 
 #include <glm/vec3.hpp>

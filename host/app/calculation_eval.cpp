@@ -25,6 +25,7 @@
 #include "render/device_luminaire.h"
 #include "render/luminaire_cache.h"
 #include "render/probe.h"
+#include "render/reference_lights.h"
 #include "render/sampler.h"
 
 namespace nf::app {
@@ -149,17 +150,12 @@ class ReferenceLightFields {
  public:
   ReferenceLightFields(const scene::Scene& scene, const render::LuminaireSet& set, const ref::RayScene& rays,
                        const std::vector<scene::CalculationPoint>& pts, const CalcOptions& o)
-      : rays_(rays), pts_(pts), spp_(o.spp), seed_(o.seed), eps_(2e-5 * rays.scale()) {
-    for (std::size_t i = 0; i < scene.luminaires.size(); ++i) {
-      const auto& src = set.sources[set.source_of[i]];
-      ref::LightFieldLight l;
-      l.luminaire = &src.luminaire;
-      l.precomputed = &src.precomputed;
-      l.to_world = scene.luminaires[i].to_world;
-      l.intensity = scene.luminaires[i].intensity;
-      l.prepare();
-      lights_.push_back(l);
-    }
+      : lights_(render::reference_lights(scene, set)),
+        rays_(rays),
+        pts_(pts),
+        spp_(o.spp),
+        seed_(o.seed),
+        eps_(2e-5 * rays.scale()) {
     tables_.resize(pts.size() * lights_.size());
     parallel_for(pts.size(), [&](std::size_t i) {
       for (std::size_t m = 0; m < lights_.size(); ++m)
@@ -188,12 +184,12 @@ class ReferenceLightFields {
   }
 
  private:
+  std::vector<ref::LightFieldLight> lights_;
   const ref::RayScene& rays_;
   const std::vector<scene::CalculationPoint>& pts_;
   int spp_;
   std::uint32_t seed_;
   double eps_;
-  std::vector<ref::LightFieldLight> lights_;
   std::vector<ref::LightTable> tables_;
 };
 

@@ -2,126 +2,15 @@
 
 #include <fmt/format.h>
 #include <algorithm>
-#include <array>
-#include <cctype>
 #include <cmath>
 
 #include <glm/vec3.hpp>
 
+#include "app/bitmap_text.h"
 #include "app/false_colour.h"
 
 namespace nf::app {
 namespace {
-
-using Glyph = std::array<const char*, 5>;
-
-Glyph glyph(char c) {
-  switch (c) {
-    case '0':
-      return {"###", "#.#", "#.#", "#.#", "###"};
-    case '1':
-      return {".#.", "##.", ".#.", ".#.", "###"};
-    case '2':
-      return {"###", "..#", "###", "#..", "###"};
-    case '3':
-      return {"###", "..#", "###", "..#", "###"};
-    case '4':
-      return {"#.#", "#.#", "###", "..#", "..#"};
-    case '5':
-      return {"###", "#..", "###", "..#", "###"};
-    case '6':
-      return {"###", "#..", "###", "#.#", "###"};
-    case '7':
-      return {"###", "..#", "..#", "..#", "..#"};
-    case '8':
-      return {"###", "#.#", "###", "#.#", "###"};
-    case '9':
-      return {"###", "#.#", "###", "..#", "###"};
-    case '.':
-      return {"...", "...", "...", "...", ".#."};
-    case ',':
-      return {"...", "...", "...", ".#.", "#.."};
-    case '-':
-      return {"...", "...", "###", "...", "..."};
-    case '+':
-      return {"...", ".#.", "###", ".#.", "..."};
-    case '=':
-      return {"...", "###", "...", "###", "..."};
-    case '(':
-      return {".#.", "#..", "#..", "#..", ".#."};
-    case ')':
-      return {".#.", "..#", "..#", "..#", ".#."};
-    case ':':
-      return {"...", ".#.", "...", ".#.", "..."};
-    case '/':
-      return {"..#", "..#", ".#.", "#..", "#.."};
-    case '_':
-      return {"...", "...", "...", "...", "###"};
-    case '%':
-      return {"#.#", "..#", ".#.", "#..", "#.#"};
-    case 'E':
-      return {"###", "#..", "###", "#..", "###"};
-    case 'U':
-      return {"#.#", "#.#", "#.#", "#.#", "###"};
-    case 'a':
-      return {"...", ".##", "#.#", "#.#", ".##"};
-    case 'b':
-      return {"#..", "#..", "##.", "#.#", "##."};
-    case 'c':
-      return {"...", ".##", "#..", "#..", ".##"};
-    case 'd':
-      return {"..#", "..#", ".##", "#.#", ".##"};
-    case 'e':
-      return {"...", "###", "###", "#..", "###"};
-    case 'f':
-      return {".##", "#..", "##.", "#..", "#.."};
-    case 'g':
-      return {"...", ".##", "#.#", ".##", "##."};
-    case 'h':
-      return {"#..", "#..", "##.", "#.#", "#.#"};
-    case 'i':
-      return {".#.", "...", ".#.", ".#.", ".#."};
-    case 'j':
-      return {"..#", "...", "..#", "..#", "##."};
-    case 'k':
-      return {"#..", "#.#", "##.", "##.", "#.#"};
-    case 'l':
-      return {"#..", "#..", "#..", "#..", "##."};
-    case 'm':
-      return {"...", "###", "###", "#.#", "#.#"};
-    case 'n':
-      return {"...", "##.", "#.#", "#.#", "#.#"};
-    case 'o':
-      return {"...", ".#.", "#.#", "#.#", ".#."};
-    case 'p':
-      return {"...", "##.", "#.#", "##.", "#.."};
-    case 'q':
-      return {"...", ".##", "#.#", ".##", "..#"};
-    case 'r':
-      return {"...", "#.#", "##.", "#..", "#.."};
-    case 's':
-      return {"...", ".##", ".#.", "..#", "##."};
-    case 't':
-      return {".#.", "###", ".#.", ".#.", ".##"};
-    case 'u':
-      return {"...", "#.#", "#.#", "#.#", "###"};
-    case 'v':
-      return {"...", "#.#", "#.#", "#.#", ".#."};
-    case 'w':
-      return {"...", "#.#", "#.#", "###", "###"};
-    case 'x':
-      return {"...", "#.#", ".#.", "#.#", "..."};
-    case 'y':
-      return {"...", "#.#", ".##", "..#", "##."};
-    case 'z':
-      return {"...", "###", ".#.", "#..", "###"};
-    default:
-      break;
-  }
-  if (std::isupper(static_cast<unsigned char>(c)))
-    return glyph(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
-  return {"...", "...", "...", "...", "..."};
-}
 
 void put(Image& img, int x, int y, glm::vec3 c) {
   if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
@@ -160,18 +49,6 @@ std::string tick(double v, double step) {
 
 }  // namespace
 
-void draw_text(Image& img, int x, int y, const std::string& s, float r, float g, float b, int scale) {
-  for (const char ch : s) {
-    const Glyph gl = glyph(ch);
-    for (int row = 0; row < 5; ++row)
-      for (int col = 0; col < 3; ++col)
-        if (gl[static_cast<std::size_t>(row)][col] == '#')
-          for (int a = 0; a < scale; ++a)
-            for (int c = 0; c < scale; ++c) put(img, x + col * scale + a, y + row * scale + c, {r, g, b});
-    x += 4 * scale;
-  }
-}
-
 std::string axis_name(glm::dvec3 d) {
   const double len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
   if (len > 0.0) d /= len;
@@ -179,10 +56,6 @@ std::string axis_name(glm::dvec3 d) {
   for (int k = 0; k < 3; ++k)
     if (std::fabs(std::fabs(d[k]) - 1.0) < 1e-9) return fmt::format("{}{}", d[k] > 0 ? "+" : "-", names[k]);
   return fmt::format("({:.2f},{:.2f},{:.2f})", d.x, d.y, d.z);
-}
-
-int text_width(const std::string& s, int scale) {
-  return s.empty() ? 0 : static_cast<int>(s.size()) * 4 * scale - scale;
 }
 
 std::vector<double> isoline_levels(double hi) {
@@ -200,6 +73,17 @@ Image grid_picture(const GridPictureInput& in) {
   // (and the shorter side at least 160 px, up to 1600 px for the longer one).
   double ppm = std::min(std::max(480.0 / std::max(lu, lv), 160.0 / std::min(lu, lv)), 1600.0 / std::max(lu, lv));
   ppm = std::max(ppm, 3.0 / std::min(lu / nu, lv / nv));
+  // The longest value a cell shows; the map grows by up to 1.5 times (the label font's 6 px a
+  // character over 4 px of the former 3 x 5 font) where that lets every cell hold its value at
+  // scale 1.
+  std::string longest;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv); ++k) {
+    const double v = k < in.values.size() && std::isfinite(in.values[k]) ? in.values[k] : 0.0;
+    if (const std::string s = number(v); s.size() > longest.size()) longest = s;
+  }
+  const TextStyle small{1, glm::vec3(1.0f)};
+  const double need = std::max((text_width(longest, small) + 4) / (lu / nu), (text_height(small) + 3) / (lv / nv));
+  if (need > ppm && need <= 1.5 * ppm) ppm = need;
   ppm = std::min(ppm, 2400.0 / std::max(lu, lv));
   const int map_w = std::max(1, static_cast<int>(std::lround(lu * ppm)));
   const int map_h = std::max(1, static_cast<int>(std::lround(lv * ppm)));
@@ -209,19 +93,27 @@ Image grid_picture(const GridPictureInput& in) {
   const std::vector<double> levels = isoline_levels(hi);
   std::vector<std::string> legend_labels{number(0.0), number(hi)};
   for (const double l : levels) legend_labels.push_back(number(l));
+  // Labels in app/bitmap_text.h's font; th: a line's height in pixels.
+  const TextStyle label{2, glm::vec3(0.9f)};
+  const int th = text_height(label);
   int label_w = 0;
-  for (const auto& s : legend_labels) label_w = std::max(label_w, text_width(s));
+  for (const auto& s : legend_labels) label_w = std::max(label_w, text_width(s, label));
   const std::string unit_label = "E (" + in.unit + ")";
   // v tick labels
   const double v_step = nice_step(lv / 6.0), u_step = nice_step(lu / std::max(2.0, std::min(8.0, map_w / 60.0)));
   int v_label_w = 0;
   for (double t = 0.0; t <= lv * (1.0 + 1e-9); t += v_step)
-    v_label_w = std::max(v_label_w, text_width(tick(t, v_step)));
-  const int left = std::max(v_label_w + 14, text_width(in.v_axis) + 4), top = 34 + (in.title.empty() ? 0 : 16);
+    v_label_w = std::max(v_label_w, text_width(tick(t, v_step), label));
+  // Rows from the top: the title (at y = 4), the v axis' and the legend's unit (at axis_y), the map.
+  const int axis_y = 6 + (in.title.empty() ? 0 : th + 8), top = axis_y + th + 18;
+  const int left = std::max(v_label_w + 14, text_width(in.v_axis, label) + 4);
   const int bar_x = left + map_w + 22, bar_w = 18;
-  const int right = bar_x + bar_w + 8 + std::max(label_w, text_width(unit_label) - bar_w - 8) + 8;
-  const int width = std::max({right, left + text_width(in.title) + 8, left + map_w + 8});
-  const int height = top + std::max(map_h, 120) + 40;
+  const int right = bar_x + bar_w + 8 + std::max(label_w, text_width(unit_label, label) - bar_w - 8) + 8;
+  const int width = std::max({right, left + text_width(in.title, label) + 8, left + map_w + 8});
+  // Below the map: the u ticks' labels (clear of the lowest v label, centred on the map's edge),
+  // then the u axis' name.
+  const int u_tick_y = th / 2 + 2, u_axis_y = u_tick_y + th + 7;
+  const int height = top + std::max(map_h, 120) + u_axis_y + th + 6;
   Image img(width, height, 3);
   std::fill(img.pixels.begin(), img.pixels.end(), 0.12f);  // dark grey background
   const auto value = [&](int i, int j) {
@@ -261,9 +153,11 @@ Image grid_picture(const GridPictureInput& in) {
     }
   // Values in the cells that can hold them (dark text on light colours, light on dark).
   const double cw = map_w / static_cast<double>(nu), ch = map_h / static_cast<double>(nv);
-  int longest = 0;
-  for (int k = 0; k < nu * nv; ++k) longest = std::max(longest, text_width(number(value(k % nu, k / nu)), 1));
-  const int scale = cw >= 2 * longest + 6 && ch >= 14 ? 2 : (cw >= longest + 4 && ch >= 8 ? 1 : 0);
+  const auto fits = [&](int scale, int pad_w, int pad_h) {
+    const TextStyle st{scale, glm::vec3(1.0f)};
+    return cw >= text_width(longest, st) + pad_w && ch >= text_height(st) + pad_h;
+  };
+  const int scale = fits(2, 6, 4) ? 2 : (fits(1, 4, 3) ? 1 : 0);
   if (scale > 0)
     for (int j = 0; j < nv; ++j)
       for (int i = 0; i < nu; ++i) {
@@ -271,9 +165,10 @@ Image grid_picture(const GridPictureInput& in) {
         const std::string s = number(v);
         const glm::vec3 c = colour(v);
         const float ink = 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b > 0.45f ? 0.0f : 1.0f;
-        const int x = left + static_cast<int>((i + 0.5) * cw) - text_width(s, scale) / 2;
-        const int y = top + static_cast<int>((nv - j - 0.5) * ch) - 5 * scale / 2;
-        draw_text(img, x, y, s, ink, ink, ink, scale);
+        const TextStyle st{scale, glm::vec3(ink)};
+        const int x = left + static_cast<int>((i + 0.5) * cw) - text_width(s, st) / 2;
+        const int y = top + static_cast<int>((nv - j - 0.5) * ch) - text_height(st) / 2;
+        draw_text(img, x, y, s, st);
       }
   // Frame and axes.
   const glm::vec3 grey(0.75f);
@@ -289,38 +184,40 @@ Image grid_picture(const GridPictureInput& in) {
     const int x = left + static_cast<int>(std::lround(t * ppm));
     for (int k = 1; k <= 4; ++k) put(img, std::min(x, left + map_w), top + map_h + k, grey);
     const std::string s = tick(t, u_step);
-    draw_text(img, std::min(x - text_width(s) / 2, width - text_width(s) - 1), top + map_h + 7, s, 0.9f, 0.9f, 0.9f);
+    const int w = text_width(s, label);
+    draw_text(img, std::min(x - w / 2, width - w - 1), top + map_h + u_tick_y, s, label);
   }
-  draw_text(img, left + map_w / 2 - text_width(in.u_axis) / 2, top + map_h + 24, in.u_axis, 0.9f, 0.9f, 0.9f);
+  draw_text(img, left + map_w / 2 - text_width(in.u_axis, label) / 2, top + map_h + u_axis_y, in.u_axis, label);
   for (double t = 0.0; t <= lv * (1.0 + 1e-9); t += v_step) {
     const int y = top + map_h - static_cast<int>(std::lround(t * ppm));
     for (int k = 1; k <= 4; ++k) put(img, left - 1 - k, std::max(y, top), grey);
     const std::string s = tick(t, v_step);
-    draw_text(img, left - 8 - text_width(s), std::clamp(y - 5, top - 5, top + map_h - 5), s, 0.9f, 0.9f, 0.9f);
+    draw_text(img, left - 8 - text_width(s, label), std::clamp(y - th / 2, top - th / 2, top + map_h - th / 2), s,
+              label);
   }
-  draw_text(img, 2, top - 28, in.v_axis, 0.9f, 0.9f, 0.9f);
-  if (!in.title.empty()) draw_text(img, left, 4, in.title, 1.0f, 1.0f, 1.0f);
+  draw_text(img, 2, axis_y, in.v_axis, label);
+  if (!in.title.empty()) draw_text(img, left, 4, in.title, TextStyle{label.scale, glm::vec3(1.0f)});
   // Legend: the ramp from 0 (bottom) to the maximum (top), labelled at 0, the isolines and the maximum.
   for (int y = 0; y < map_h; ++y) {
     const double t = 1.0 - (y + 0.5) / map_h;
     for (int x = 0; x < bar_w; ++x) put(img, bar_x + x, top + y, colour_map(t));
   }
-  // Labels at least 12 px apart: 0 and the maximum first, then the isolines that fit between.
+  // Labels at least a line apart: 0 and the maximum first, then the isolines that fit between.
   std::vector<int> used;
   const auto legend_tick = [&](double v, bool line) {
     const int y = top + static_cast<int>(std::lround((1.0 - (hi > 0.0 ? v / hi : 0.0)) * (map_h - 1)));
     if (line)
       for (int x = 0; x < bar_w; ++x) put(img, bar_x + x, y, glm::vec3(0.05f));
     for (const int u : used)
-      if (std::abs(u - y) < 12) return;
+      if (std::abs(u - y) < th + 2) return;
     used.push_back(y);
     for (int x = -3; x < 0; ++x) put(img, bar_x + x, y, glm::vec3(0.9f));
-    draw_text(img, bar_x + bar_w + 6, std::clamp(y - 5, 0, height - 10), number(v), 0.9f, 0.9f, 0.9f);
+    draw_text(img, bar_x + bar_w + 6, std::clamp(y - th / 2, 0, height - th), number(v), label);
   };
   legend_tick(0.0, false);
   if (hi > 0.0) legend_tick(hi, false);
   for (const double l : levels) legend_tick(l, true);
-  draw_text(img, std::min(bar_x, width - text_width(unit_label) - 2), top - 28, unit_label, 0.9f, 0.9f, 0.9f);
+  draw_text(img, std::min(bar_x, width - text_width(unit_label, label) - 2), axis_y, unit_label, label);
   return img;
 }
 

@@ -4,7 +4,7 @@
 // the normal u x v towards the viewer), each point's cell in the colour of its value on a linear
 // scale from 0 to the maximum (app/false_colour.h's ramp; 0 is black), isolines at round values
 // (bilinear between the points), the value written in each cell when the cells are large enough,
-// axes in metres along u and v, and a legend with the unit.
+// axes in metres along u and v, and a legend with the unit; text in app/bitmap_text.h's font.
 #include <string>
 #include <vector>
 
@@ -27,10 +27,6 @@ struct GridPictureInput {
 std::vector<double> isoline_levels(double hi);
 
 Image grid_picture(const GridPictureInput& in);
-
-// Text in the pictures' 3 x 5 pixel font at `scale` (letters, digits, + - . , : ( ) / = _ %).
-void draw_text(Image& img, int x, int y, const std::string& s, float r, float g, float b, int scale = 2);
-int text_width(const std::string& s, int scale = 2);
 
 // The world axis of a direction when it is one ("+x", "-z"), else its unit vector "(0.71,0.00,0.71)".
 std::string axis_name(glm::dvec3 d);

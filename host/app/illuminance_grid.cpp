@@ -82,6 +82,7 @@ GridSummary summarize(const std::vector<double>& e) {
   }
   s.mean = sum / static_cast<double>(e.size());
   s.uniformity = s.mean > 0.0 ? s.min / s.mean : 0.0;
+  s.min_max = s.max > 0.0 ? s.min / s.max : 0.0;
   return s;
 }
 

@@ -29,18 +29,20 @@ GridSpec parse_grid(const std::string& text, const std::string& where);
 double en12464_spacing(double d);
 
 struct GridPoints {
-  int nu = 0, nv = 0;                       // points along u and v: round(|u| / p), at least 1
-  std::vector<ref::Probe> points;           // row-major, v outer: point (i, j) at index j * nu + i
-  std::vector<glm::dvec2> uv;               // metres along u and v of each point (cell centres)
-  double spacing = 0.0;                     // the p used
-  double spacing_u = 0.0, spacing_v = 0.0;  // the cells' sides: |u| / nu, |v| / nv
+  int nu = 0, nv = 0;                                     // points along u and v: round(|u| / p), at least 1
+  std::vector<ref::Probe> points;                         // row-major, v outer: point (i, j) at index j * nu + i
+  std::vector<glm::dvec2> uv;                             // metres along u and v of each point (cell centres)
+  double spacing = 0.0;                                   // the p used
+  double spacing_u = 0.0, spacing_v = 0.0;                // the cells' sides: |u| / nu, |v| / nv
   glm::dvec3 u_dir{1.0, 0.0, 0.0}, v_dir{0.0, 1.0, 0.0};  // the edges' directions (picture axes)
 };
 GridPoints grid_points(const GridSpec& spec);
 
+// The figures of a grid's or a calculation surface's values (`probe --grid`, `probe SCENE`).
 struct GridSummary {
   double mean = 0.0, min = 0.0, max = 0.0;
   double uniformity = 0.0;  // U0 = min / mean (0 when the mean is 0)
+  double min_max = 0.0;     // min / max (0 when the maximum is 0)
 };
 GridSummary summarize(const std::vector<double>& e);
 

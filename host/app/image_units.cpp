@@ -23,31 +23,20 @@ ImageUnits image_units(const scene::Scene& scene) {
   return u;
 }
 
-std::string ImageUnits::radiance_text() const {
-  switch (kind) {
-    case Kind::photometric:
-      return "cd/m2 (photometric)";
-    case Kind::radiometric:
-      return "W m-2 sr-1 (radiometric)";
-    case Kind::none:
-      break;
-  }
-  return environment ? "the environment map's (no light sources)" : "none (no light sources)";
-}
-
-std::string ImageUnits::illuminance_text() const {
-  switch (kind) {
-    case Kind::photometric:
-      return "lx (photometric)";
-    case Kind::radiometric:
-      return "W m-2 (radiometric)";
-    case Kind::none:
-      break;
-  }
-  return "none (no light sources)";
-}
-
 namespace {
+
+// "UNIT (photometric)" or "UNIT (radiometric)"; `none` without light sources.
+std::string unit_text(ImageUnits::Kind kind, const std::string& unit, const char* none) {
+  switch (kind) {
+    case ImageUnits::Kind::photometric:
+      return unit + " (photometric)";
+    case ImageUnits::Kind::radiometric:
+      return unit + " (radiometric)";
+    case ImageUnits::Kind::none:
+      break;
+  }
+  return none;
+}
 
 void common(const ImageUnits& u, ImageAttributes& a) {
   a.emplace_back("nearfield:radiometric_to_photometric",
@@ -60,6 +49,13 @@ void common(const ImageUnits& u, ImageAttributes& a) {
 }
 
 }  // namespace
+
+std::string ImageUnits::radiance_text() const {
+  return unit_text(kind, radiance,
+                   environment ? "the environment map's (no light sources)" : "none (no light sources)");
+}
+
+std::string ImageUnits::illuminance_text() const { return unit_text(kind, illuminance, "none (no light sources)"); }
 
 ImageAttributes ImageUnits::radiance_attributes() const {
   ImageAttributes a{{"nearfield:units", radiance_text()}};

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/grid_picture.h"
+#include "app/illuminance_grid.h"
 #include "app/output_checks.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -29,22 +30,6 @@ bool is_scene_file(const std::string& file) {
   } catch (const Error&) {
     return false;  // the luminaire reader reports what is wrong with it
   }
-}
-
-SurfaceSummary summarize_surface(const std::vector<double>& e) {
-  SurfaceSummary s;
-  if (e.empty()) return s;
-  double sum = 0.0;
-  s.min = s.max = e[0];
-  for (const double x : e) {
-    sum += x;
-    s.min = std::min(s.min, x);
-    s.max = std::max(s.max, x);
-  }
-  s.mean = sum / static_cast<double>(e.size());
-  s.u0 = s.mean > 0.0 ? s.min / s.mean : 0.0;
-  s.min_max = s.max > 0.0 ? s.min / s.max : 0.0;
-  return s;
 }
 
 namespace {
@@ -90,7 +75,7 @@ void run_probe_scene(const ProbeSceneOptions& o) {
     std::vector<double> e = r.e[s], se = r.se[s];
     for (auto& v : e) v *= c.maintenance_factor;
     for (auto& v : se) v *= c.maintenance_factor;
-    const SurfaceSummary sum = summarize_surface(e);
+    const GridSummary sum = summarize(e);  // maintained values
     BatchEstimate noise;
     noise.mean = e;
     noise.se = se;
@@ -101,7 +86,7 @@ void run_probe_scene(const ProbeSceneOptions& o) {
     console += fmt::format(
         "surface '{}' ({}, maintenance factor {:.3g}): E_m {:.4g} {}, E_min {:.4g}, E_max {:.4g}, "
         "U0 = E_min/E_m {:.3f}, E_min/E_max {:.3f}",
-        c.name, grid, c.maintenance_factor, sum.mean, unit, sum.min, sum.max, sum.u0, sum.min_max);
+        c.name, grid, c.maintenance_factor, sum.mean, unit, sum.min, sum.max, sum.uniformity, sum.min_max);
     if (r.noise == CalcResult::Noise::adaptive)
       console += fmt::format("; estimated relative SE per point worst {:.2g} %, RMS {:.2g} %", 100.0 * noise.worst_rel,
                              100.0 * noise.rms_rel);
@@ -115,7 +100,7 @@ void run_probe_scene(const ProbeSceneOptions& o) {
     js["E_m"] = sum.mean;
     js["E_min"] = sum.min;
     js["E_max"] = sum.max;
-    js["U0"] = sum.u0;
+    js["U0"] = sum.uniformity;
     js["E_min_over_E_max"] = sum.min_max;
     if (r.noise == CalcResult::Noise::adaptive) {
       js["worst_relative_se"] = noise.worst_rel;
@@ -142,7 +127,7 @@ void run_probe_scene(const ProbeSceneOptions& o) {
         in.unit = unit;
         in.title = fmt::format("{}: E_m {} {}, U0 {:.2f}, MF {:.2g}", c.name,
                                sum.mean >= 100.0 ? fmt::format("{:.0f}", sum.mean) : fmt::format("{:.3g}", sum.mean),
-                               unit, sum.u0, c.maintenance_factor);
+                               unit, sum.uniformity, c.maintenance_factor);
         in.u_axis = fmt::format("u = {} (m)", axis_name(c.u));
         in.v_axis = fmt::format("v = {} (m)", axis_name(c.v));
         write_png(tx, dir / (c.name + ".png"), grid_picture(in));

@@ -18,12 +18,4 @@ struct ProbeSceneOptions {
 };
 void run_probe_scene(const ProbeSceneOptions& o);
 
-// Per-surface figures (maintained values: the maintenance factor applied).
-struct SurfaceSummary {
-  double mean = 0.0, min = 0.0, max = 0.0;
-  double u0 = 0.0;       // E_min / E_m (0 when E_m is 0)
-  double min_max = 0.0;  // E_min / E_max (0 when E_max is 0)
-};
-SurfaceSummary summarize_surface(const std::vector<double>& e);
-
 }  // namespace nf::app

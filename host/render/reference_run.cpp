@@ -11,6 +11,7 @@
 #include "core/log.h"
 #include "core/timer.h"
 #include "reference/cache_key.h"
+#include "render/reference_lights.h"
 
 namespace nf::render {
 
@@ -43,17 +44,7 @@ double with_lights(const scene::Scene& scene, const LuminaireLoadOptions& load, 
   const std::string name = scene.file.empty() ? std::string("scene") : scene.file.string();
   const std::shared_ptr<const LuminaireSet> kept = scene_luminaires(scene, name, load);
   const LuminaireSet& set = *kept;
-  std::vector<ref::LightFieldLight> lights;
-  for (std::size_t i = 0; i < scene.luminaires.size(); ++i) {
-    const LuminaireSource& src = set.sources[set.source_of[i]];
-    ref::LightFieldLight l;
-    l.luminaire = &src.luminaire;
-    l.precomputed = &src.precomputed;
-    l.to_world = scene.luminaires[i].to_world;
-    l.intensity = scene.luminaires[i].intensity;
-    l.prepare();
-    lights.push_back(l);
-  }
+  const std::vector<ref::LightFieldLight> lights = reference_lights(scene, set);
   std::unique_ptr<ref::EnvironmentMap> env;
   if (scene.environment) {
     try {
