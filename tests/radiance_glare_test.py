@@ -17,6 +17,11 @@ room, seen as a 180-degree angular fisheye (Radiance -vta -vh 180 -vv 180), SIZE
     radiance_render_test.py). The same room as polygons (`plastic`, no specular part), then
     `rpict -vta ... -ab 0`.
 
+Why a light field on nearfield's side: `render` draws a scene's `farfield_lights` as point
+sources, which light the room but do not appear in the picture (measured: the same IES file as a
+far-field light gives UGR 0, no source above 2000 cd/m^2). The panel preset is the luminaire whose
+far field through its opening is this IES file exactly (a uniform Lambertian square).
+
 Inter-reflections: none on either side. nearfield `render` draws direct light only (no bounce,
 docs/glare.md "An office"); rpict runs with -ab 0 and -av 0 0 0 (no ambient). Area sources: rpict
 -ds 0.02 -dj 0 (the polygon subdivided for shadow rays), nearfield's light-field estimator; the lit
@@ -147,7 +152,8 @@ def rpict(bindir, env, work, side, name, length=None):
     out = work / f"{name}.hdr"
     with open(out, "wb") as f:
         subprocess.run([str(bindir / "rpict"), "-vta", "-vp", *map(str, EYE), "-vd", *map(str, d), "-vu", "0", "1", "0",
-                        "-vh", "180", "-vv", "180", "-x", str(SIZE), "-y", str(SIZE), "-pa", "0", "-pj", "0", "-ps", "1",
+                        "-vh", "180", "-vv", "180", "-x", str(SIZE), "-y", str(SIZE), "-pa", "0", "-pj", "0",
+                        "-ps", "1",
                         "-ab", "0", "-av", "0", "0", "0", "-ds", "0.02", "-dj", "0", "-dt", "0", "-dc", "1", "-lr", "1",
                         str(octree)], check=True, env=env, cwd=work, stdout=f)
     return out
@@ -230,7 +236,8 @@ def main():
               f"nearfield glare UGR {n['ugr']:.3f} (background {n['background_luminance_cd_m2']:.4g} cd/m2, "
               f"L_v {n['road']['veiling_luminance_cd_m2']:.4g} cd/m2)")
         for s in n["sources"]:
-            print(f"    nearfield glare source: L {s['luminance_cd_m2']:.5g} cd/m2, omega {s['solid_angle_sr']:.5g} sr, "
+            print(f"    nearfield glare source: L {s['luminance_cd_m2']:.5g} cd/m2, "
+                  f"omega {s['solid_angle_sr']:.5g} sr, "
                   f"sigma {s['angle_from_line_of_sight_deg']:.2f} deg, p {s['position_index']:.3f}, {s['pixels']} px")
         for s in egd[k][1]:
             print(f"    evalglare source:       L {s['l_s']:.5g} cd/m2, omega {s['omega_s']:.5g} sr, "
