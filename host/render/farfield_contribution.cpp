@@ -144,7 +144,7 @@ void FarfieldContribution::update_visibility(const FrameInputs& in, Contribution
 }
 
 void FarfieldContribution::prepare(const FrameInputs&) {
-  if (!shade_()) shade_ = rt_.kernel("farfield.cl", "farfield_shade");
+  if (!shade_) shade_ = FarfieldShadeKernel(rt_, "farfield.cl", "farfield_shade");
 }
 
 // One launch of farfield_shade over every surface (kernels/farfield.cl has the formula).
@@ -159,23 +159,9 @@ ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<g
              "far-field output buffer");
     out_bytes_ = output_bytes(n);
   }
-  cl::call(
-      [&] {
-        int a = 0;
-        shade_.setArg(a++, in.surfaces);
-        shade_.setArg(a++, in.count);
-        shade_.setArg(a++, lights_buf_);
-        shade_.setArg(a++, static_cast<cl_int>(lights_.size()));
-        shade_.setArg(a++, angles_);
-        shade_.setArg(a++, cd_);
-        shade_.setArg(a++, kurt_);
-        shade_.setArg(a++, kurt_count_);
-        shade_.setArg(a++, vis_);
-        shade_.setArg(a++, vis_used_ ? 1 : 0);
-        shade_.setArg(a++, out_);
-      },
-      "far-field kernel arguments");
-  const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(n));
+  shade_.bind(in.surfaces, in.count, lights_buf_, static_cast<cl_int>(lights_.size()), angles_, cd_, kurt_,
+              kurt_count_, vis_, vis_used_ ? 1 : 0, out_);
+  const ::cl::Event ev = rt_.launch(shade_.get(), ::cl::NDRange(n));
   cl::call([&] { ev.wait(); }, "far-field kernel");
   f.step2_ms = cl::Runtime::event_ms(ev);
   f.wall_ms = wall.ms();
