@@ -70,15 +70,15 @@ class DeviceFrame {
   std::size_t lum_capacity_ = 0;
   // kernels/frame.cl's kernels, arguments in the kernel's order (cl/typed_kernel.h)
   using Buf = ::cl::Buffer;
-  cl::TypedKernel<Buf, Buf, cl_int> add_;                                     // frame_add(frame, src, n)
-  cl::TypedKernel<Buf, Buf, Buf, cl_int> accumulate_;                         // frame_accumulate(sum, comp, frame, n)
-  mutable cl::TypedKernel<Buf, Buf, Buf, cl_float, cl_int, Buf> mean_;        // frame_mean_partial(sum, comp,
-                                                                              //   surfaces, inv_frames, n, partial)
-  cl::TypedKernel<Buf, cl_int, Buf> sum_partial_;                             // frame_sum_partial(values, n, partial)
-  cl::TypedKernel<Buf, Buf, cl_float, Buf, cl_int, Buf> display_k_;           // frame_display(sum, comp,
-                                                                              //   inv_frames, thresholds, n, out)
-  cl::TypedKernel<Buf, Buf, cl_int, Buf, Buf> display_lum_;                   // frame_display_luminaires(pixel,
-                                                                              //   radiance, m, thresholds, out)
+  cl::TypedKernel<Buf, Buf, cl_int> add_;                               // frame_add(frame, src, n)
+  cl::TypedKernel<Buf, Buf, Buf, cl_int> accumulate_;                   // frame_accumulate(sum, comp, frame, n)
+  mutable cl::TypedKernel<Buf, Buf, Buf, cl_float, cl_int, Buf> mean_;  // frame_mean_partial(sum, comp,
+                                                                        //   surfaces, inv_frames, n, partial)
+  cl::TypedKernel<Buf, cl_int, Buf> sum_partial_;                       // frame_sum_partial(values, n, partial)
+  cl::TypedKernel<Buf, Buf, cl_float, Buf, cl_int, Buf> display_k_;     // frame_display(sum, comp,
+                                                                        //   inv_frames, thresholds, n, out)
+  cl::TypedKernel<Buf, Buf, cl_int, Buf, Buf> display_lum_;             // frame_display_luminaires(pixel,
+                                                                        //   radiance, m, thresholds, out)
 };
 
 }  // namespace nf::render

@@ -440,8 +440,16 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     ls.declared.env_background = "hide";
     for (auto& l : locals_) {
       if (!l->any) continue;
-      const FrameInputs local{in.rt,   l->masked,   in.count,        ls,      in.frame,      in.lights, in.camera,
-                              nullptr, in.geometry, in.view_version, nullptr, in.host_lights};
+      const FrameInputs local{.rt = in.rt,
+                              .surfaces = l->masked,
+                              .count = in.count,
+                              .settings = ls,
+                              .frame = in.frame,
+                              .lights = in.lights,
+                              .camera = in.camera,
+                              .geometry = in.geometry,
+                              .view_version = in.view_version,
+                              .host_lights = in.host_lights};
       ContributionFrame lf;
       l->env->prepare(local);
       const std::vector<glm::vec4> lrgb = l->env->shade(local, lf);
@@ -452,8 +460,7 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     }
   }
   Timer readback;
-  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
-  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  add_radiance(radiance, rgb);
   f.readback_ms += readback.ms();
   return f;
 }
@@ -475,8 +482,14 @@ void EnvironmentContribution::update_locals(const FrameInputs& in, ContributionF
       ts.declared.env_visibility = "none";
       ts.declared.env_background = "hide";
       const LocalEnvironmentMap::FarShade far_shade = [&](const ::cl::Buffer& buf, int count, std::uint32_t frame) {
-        const FrameInputs t{in.rt,   buf,     count,       ts, frame,   in.lights,
-                            nullptr, nullptr, in.geometry, 0,  nullptr, in.host_lights};
+        const FrameInputs t{.rt = in.rt,
+                            .surfaces = buf,
+                            .count = count,
+                            .settings = ts,
+                            .frame = frame,
+                            .lights = in.lights,
+                            .geometry = in.geometry,
+                            .host_lights = in.host_lights};
         ContributionFrame tf;
         return shade(t, tf);
       };
@@ -560,20 +573,16 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
   shade_.bind(in.surfaces, in.count, pyr_, lv_, levels(),
               cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}}, sh_buf_,
               rows_, cols_, puv_, d.env_samples, static_cast<float>(resolved_k(d.env_k, filter_)),
-              static_cast<cl_uint>(in.frame), static_cast<cl_uint>(d.seed), cf, cr, cu, wh, out_,
-              par ? ppyr_ : pyr_, par ? plv_ : lv_, par ? paraboloid_levels() : levels(), kurt_, kurt_count_,
-              *vis.coeffs, *vis.lsh, regular ? rpat_ : pyr_, regular ? rlob_ : pyr_,
-              static_cast<float>(d.env_regular_eps),
+              static_cast<cl_uint>(in.frame), static_cast<cl_uint>(d.seed), cf, cr, cu, wh, out_, par ? ppyr_ : pyr_,
+              par ? plv_ : lv_, par ? paraboloid_levels() : levels(), kurt_, kurt_count_, *vis.coeffs, *vis.lsh,
+              regular ? rpat_ : pyr_, regular ? rlob_ : pyr_, static_cast<float>(d.env_regular_eps),
               static_cast<float>(d.env_k > 0.0 ? d.env_k : 1.0));  // regular: no per-filter K
   const ::cl::Event ev = rt_.launch(shade_.get(), ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
   cl::call([&] { ev.wait(); }, "environment kernel");
   f.step2_ms += cl::Runtime::event_ms(ev);
   f.wall_ms += wall.ms();
   Timer readback;
-  std::vector<glm::vec4> rgb(static_cast<std::size_t>(in.count));
-  if (in.count > 0)
-    cl::call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
-             "reading the environment radiance");
+  std::vector<glm::vec4> rgb = read_radiance(rt_, out_, in.count, "reading the environment radiance");
   f.samples += static_cast<std::uint64_t>(in.count) * static_cast<std::uint64_t>(d.env_samples);
   f.readback_ms += readback.ms();
   return rgb;

@@ -13,7 +13,6 @@
 #include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
-#include "core/invariant.h"
 #include "core/timer.h"
 #include "kernels/shared/surface_order.h"
 
@@ -280,7 +279,8 @@ std::size_t Sampler::cache_bytes() const {
   return b;
 }
 
-int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const std::string& key, int count, int images, bool enabled) {
+int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const std::string& key, int count, int images,
+                        bool enabled) {
   const int stride = cache_stride(count);
   if (cache_.size() <= i) cache_.resize(i + 1);
   PixelCache& c = cache_[i];

@@ -384,10 +384,7 @@ ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::
   f.step2_ms = shade_timer.ms();
   f.wall_ms = wall.ms();
   Timer readback;
-  const auto rgb =
-      download<glm::vec4>(rt_, out_, static_cast<std::size_t>(std::max(in.count, 0)), 0, "reading the VSGL radiance");
-  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
-  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  add_radiance(radiance, read_radiance(rt_, out_, in.count, "reading the VSGL radiance"));
   f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) * vsgls_.size();
   f.readback_ms = readback.ms();
   return f;
