@@ -73,7 +73,8 @@ std::vector<NfSurface> sphere_points(int count, double roughness) {
 std::vector<glm::vec4> shade(nf::cl::Runtime& rt, nf::render::EnvironmentContribution& env, const ::cl::Buffer& buf,
                              int count, const nf::scene::RenderSettings& rs, std::uint32_t frame) {
   const nf::render::FrameSettings fs = nf::render::frame_settings(rs);
-  const nf::render::FrameInputs in{rt, buf, count, fs, frame, {}, nullptr};
+  const nf::render::FrameInputs in{
+      .rt = rt, .surfaces = buf, .count = count, .settings = fs, .frame = frame, .lights = {}};
   std::vector<glm::vec4> out;
   env.add(in, out);
   return out;

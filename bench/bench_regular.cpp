@@ -84,7 +84,8 @@ nf::render::ContributionFrame shade(nf::cl::Runtime& rt, nf::render::Environment
                                     const ::cl::Buffer& buf, int count, const nf::scene::RenderSettings& rs,
                                     std::uint32_t frame, std::vector<glm::vec4>& out) {
   const nf::render::FrameSettings fs = nf::render::frame_settings(rs);
-  const nf::render::FrameInputs in{rt, buf, count, fs, frame, {}, nullptr};
+  const nf::render::FrameInputs in{
+      .rt = rt, .surfaces = buf, .count = count, .settings = fs, .frame = frame, .lights = {}};
   out.clear();
   return env.add(in, out);
 }

@@ -59,7 +59,12 @@ inline std::vector<glm::vec4> shade(render::EnvironmentContribution& env, const 
                                     const scene::RenderSettings& rs, std::uint32_t frame = 0) {
   const render::FrameSettings fs = render::frame_settings(rs);
   const ::cl::Buffer buf = render::upload_surfaces(runtime(), surfaces);
-  const render::FrameInputs in{runtime(), buf, static_cast<int>(surfaces.size()), fs, frame, {}, nullptr};
+  const render::FrameInputs in{.rt = runtime(),
+                               .surfaces = buf,
+                               .count = static_cast<int>(surfaces.size()),
+                               .settings = fs,
+                               .frame = frame,
+                               .lights = {}};
   std::vector<glm::vec4> out;
   env.add(in, out);
   return out;

@@ -7,6 +7,7 @@
 
 #include "app/command.h"
 #include "cl/runtime.h"
+#include "cl/typed_kernel.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/log.h"
@@ -37,13 +38,10 @@ void run_pattern(const PatternOptions& o) {
   const std::size_t bytes = img.pixels.size() * sizeof(float);
   ::cl::Buffer in(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, img.pixels.data());
   ::cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, bytes);
-  ::cl::Kernel k = rt.kernel("pattern.cl", "pattern_shade");
-  k.setArg(0, in);
-  k.setArg(1, out);
-  k.setArg(2, o.gain);
-  k.setArg(3, o.gamma);
-  k.setArg(4, count);
-  ::cl::Event ev = rt.launch(k, ::cl::NDRange(static_cast<std::size_t>(count)));
+  // pattern_shade(in, out, gain, gamma, count)
+  cl::TypedKernel<::cl::Buffer, ::cl::Buffer, cl_float, cl_float, cl_int> k(rt, "pattern.cl", "pattern_shade");
+  k.bind(in, out, o.gain, o.gamma, count);
+  ::cl::Event ev = rt.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(count)));
   Image shaded(o.width, o.height, 4);
   rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, bytes, shaded.pixels.data());
   const double cl_ms = cl::Runtime::event_ms(ev);

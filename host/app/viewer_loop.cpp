@@ -308,7 +308,7 @@ namespace {
 // The VSGL debug view of instance 0 (its VSGLs are the first vsgls().size() / instances()), or
 // one black pixel when the frame has no VSGL contribution or no instance.
 Image vsgl_view_image(const render::Renderer& r) {
-  auto* c = dynamic_cast<render::VsglContribution*>(r.contribution("indirect"));
+  auto* c = r.find<render::VsglContribution>();
   if (!c || c->instances() == 0 || c->vsgls().empty()) return Image(1, 1, 3);
   const std::vector<glm::vec4> e = c->read_irradiance(0);
   const int size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(e.size()))));

@@ -43,7 +43,7 @@ double ClShadowVisibility::run(const ::cl::Buffer& surfaces, int count, const gl
           out_bytes = bytes;
         }
         if (count <= 0 || words <= 0) return;
-        if (!kernel_()) kernel_ = rt_.kernel("shadow_visibility.cl", "shadow_visibility", options(rt_));
+        if (!kernel_) kernel_ = {rt_, "shadow_visibility.cl", "shadow_visibility", options(rt_)};
         const auto& spec = maps.spec();
         const glm::dmat4 to_local = glm::inverse(spec.to_world);
         cl_float16 m{};
@@ -53,21 +53,10 @@ double ClShadowVisibility::run(const ::cl::Buffer& surfaces, int count, const gl
                                  static_cast<float>(spec.frustum.bottom), static_cast<float>(spec.frustum.top)}};
         const cl_float4 bias{{static_cast<float>(spec.bias.constant), static_cast<float>(spec.bias.depth_texels),
                               static_cast<float>(spec.bias.normal_texels), 0.0f}};
-        cl_uint a = 0;
-        kernel_.setArg(a++, surfaces);
-        kernel_.setArg(a++, count);
-        kernel_.setArg(a++, maps_);
-        kernel_.setArg(a++, lights_);
-        kernel_.setArg(a++, m);
-        kernel_.setArg(a++, maps.cells());
-        kernel_.setArg(a++, words);
-        kernel_.setArg(a++, spec.size);
-        kernel_.setArg(a++, frustum);
-        kernel_.setArg(a++, static_cast<float>(spec.frustum.near));
-        kernel_.setArg(a++, bias);
-        kernel_.setArg(a++, out);
+        kernel_.bind(surfaces, count, maps_, lights_, m, maps.cells(), words, spec.size, frustum,
+                     static_cast<float>(spec.frustum.near), bias, out);
         const int lanes = ClShadowVisibility::lanes(rt_);
-        ::cl::Event e = rt_.launch(kernel_, ::cl::NDRange(static_cast<std::size_t>((count + lanes - 1) / lanes)));
+        ::cl::Event e = rt_.launch(kernel_.get(), ::cl::NDRange(static_cast<std::size_t>((count + lanes - 1) / lanes)));
         e.wait();
         ms = cl::Runtime::event_ms(e);
       },

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cl/runtime.h"
+#include "cl/typed_kernel.h"
 
 namespace nf::gl {
 class ShadowMaps;
@@ -38,7 +39,11 @@ class ClShadowVisibility {
   cl::Runtime& rt_;
   ::cl::Buffer maps_, lights_;
   std::size_t maps_bytes_ = 0, lights_bytes_ = 0;
-  ::cl::Kernel kernel_;
+  // shadow_visibility(surfaces, count, maps, lights, world_to_local, cells, words, map_size, frustum, near_z,
+  //                   bias, vis)
+  cl::TypedKernel<::cl::Buffer, cl_int, ::cl::Buffer, ::cl::Buffer, cl_float16, cl_int, cl_int, cl_int, cl_float4,
+                  cl_float, cl_float4, ::cl::Buffer>
+      kernel_;
 };
 
 }  // namespace nf::render

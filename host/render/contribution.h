@@ -82,6 +82,12 @@ struct ContributionFrame {
   std::vector<std::pair<std::string, double>> parts_ms;
 };
 
+// The one summation of Contribution::add: radiance[p] += rgb[p] for every p of rgb; radiance
+// grows (with zeros) when rgb is longer.
+void add_radiance(std::vector<glm::vec4>& radiance, const std::vector<glm::vec4>& rgb);
+// A contribution's float4 output of `count` surfaces, read back from the device (blocking).
+std::vector<glm::vec4> read_radiance(cl::Runtime& rt, const ::cl::Buffer& out, int count, const std::string& what);
+
 class Contribution {
  public:
   virtual ~Contribution() = default;

@@ -21,44 +21,27 @@ DeviceFrame::DeviceFrame(cl::Runtime& rt) : rt_(rt) {}
 void DeviceFrame::build() {
   cl::call(
       [&] {
-        if (!add_()) add_ = rt_.kernel("frame.cl", "frame_add");
-        if (!accumulate_()) accumulate_ = rt_.kernel("frame.cl", "frame_accumulate");
-        if (!mean_()) mean_ = rt_.kernel("frame.cl", "frame_mean_partial");
-        if (!sum_partial_()) sum_partial_ = rt_.kernel("frame.cl", "frame_sum_partial");
-        if (!display_k_()) display_k_ = rt_.kernel("frame.cl", "frame_display");
-        if (!display_lum_()) display_lum_ = rt_.kernel("frame.cl", "frame_display_luminaires");
+        if (!add_) add_ = {rt_, "frame.cl", "frame_add"};
+        if (!accumulate_) accumulate_ = {rt_, "frame.cl", "frame_accumulate"};
+        if (!mean_) mean_ = {rt_, "frame.cl", "frame_mean_partial"};
+        if (!sum_partial_) sum_partial_ = {rt_, "frame.cl", "frame_sum_partial"};
+        if (!display_k_) display_k_ = {rt_, "frame.cl", "frame_display"};
+        if (!display_lum_) display_lum_ = {rt_, "frame.cl", "frame_display_luminaires"};
         if (n_ == 0) return;
         // One launch of each at this size (PoCL compiles a kernel for its work-group size at the
         // first launch), so that no frame's times include a compiler run. The frame, sum and mean
         // kernels get a pixel count of 0 and change nothing; the display is rewritten anyway.
         const int n = static_cast<int>(n_);
-        add_.setArg(0, frame_);
-        add_.setArg(1, sum_);
-        add_.setArg(2, 0);
-        rt_.launch(add_, range(n_));
-        accumulate_.setArg(0, sum_);
-        accumulate_.setArg(1, comp_);
-        accumulate_.setArg(2, frame_);
-        accumulate_.setArg(3, 0);
-        rt_.launch(accumulate_, range(n_));
-        mean_.setArg(0, sum_);
-        mean_.setArg(1, comp_);
-        mean_.setArg(2, frame_);
-        mean_.setArg(3, 0.0f);
-        mean_.setArg(4, 0);
-        mean_.setArg(5, partial_);
-        rt_.launch(mean_, range(static_cast<std::size_t>(partials())));
-        sum_partial_.setArg(0, display_);
-        sum_partial_.setArg(1, n);
-        sum_partial_.setArg(2, partial_);
-        rt_.launch(sum_partial_, range(static_cast<std::size_t>(partials())));
-        display_k_.setArg(0, sum_);
-        display_k_.setArg(1, comp_);
-        display_k_.setArg(2, 0.0f);
-        display_k_.setArg(3, partial_);
-        display_k_.setArg(4, n);
-        display_k_.setArg(5, display_);
-        rt_.launch(display_k_, range(n_));
+        add_.bind(frame_, sum_, 0);
+        rt_.launch(add_.get(), range(n_));
+        accumulate_.bind(sum_, comp_, frame_, 0);
+        rt_.launch(accumulate_.get(), range(n_));
+        mean_.bind(sum_, comp_, frame_, 0.0f, 0, partial_);
+        rt_.launch(mean_.get(), range(static_cast<std::size_t>(partials())));
+        sum_partial_.bind(display_, n, partial_);
+        rt_.launch(sum_partial_.get(), range(static_cast<std::size_t>(partials())));
+        display_k_.bind(sum_, comp_, 0.0f, partial_, n, display_);
+        rt_.launch(display_k_.get(), range(n_));
         rt_.queue().finish();
       },
       "building kernels/frame.cl");
@@ -112,11 +95,9 @@ void DeviceFrame::add(const ::cl::Buffer& src) {
   if (n_ == 0) return;
   cl::call(
       [&] {
-        if (!add_()) add_ = rt_.kernel("frame.cl", "frame_add");
-        add_.setArg(0, frame_);
-        add_.setArg(1, src);
-        add_.setArg(2, static_cast<int>(n_));
-        rt_.launch(add_, range(n_));
+        if (!add_) add_ = {rt_, "frame.cl", "frame_add"};
+        add_.bind(frame_, src, static_cast<int>(n_));
+        rt_.launch(add_.get(), range(n_));
       },
       "adding a contribution into the device frame");
 }
@@ -137,12 +118,9 @@ double DeviceFrame::accumulate() {
   if (n_ > 0)
     cl::call(
         [&] {
-          if (!accumulate_()) accumulate_ = rt_.kernel("frame.cl", "frame_accumulate");
-          accumulate_.setArg(0, sum_);
-          accumulate_.setArg(1, comp_);
-          accumulate_.setArg(2, frame_);
-          accumulate_.setArg(3, static_cast<int>(n_));
-          ::cl::Event e = rt_.launch(accumulate_, range(n_));
+          if (!accumulate_) accumulate_ = {rt_, "frame.cl", "frame_accumulate"};
+          accumulate_.bind(sum_, comp_, frame_, static_cast<int>(n_));
+          ::cl::Event e = rt_.launch(accumulate_.get(), range(n_));
           e.wait();
           ms = cl::Runtime::event_ms(e);
         },
@@ -157,11 +135,9 @@ std::uint64_t DeviceFrame::sum(const ::cl::Buffer& values) {
   std::vector<cl_ulong> part(static_cast<std::size_t>(g));
   cl::call(
       [&] {
-        if (!sum_partial_()) sum_partial_ = rt_.kernel("frame.cl", "frame_sum_partial");
-        sum_partial_.setArg(0, values);
-        sum_partial_.setArg(1, static_cast<int>(n_));
-        sum_partial_.setArg(2, partial_);
-        rt_.launch(sum_partial_, range(static_cast<std::size_t>(g)));
+        if (!sum_partial_) sum_partial_ = {rt_, "frame.cl", "frame_sum_partial"};
+        sum_partial_.bind(values, static_cast<int>(n_), partial_);
+        rt_.launch(sum_partial_.get(), range(static_cast<std::size_t>(g)));
         rt_.queue().enqueueReadBuffer(partial_, CL_TRUE, 0, part.size() * sizeof(cl_ulong), part.data());
       },
       "summing the samples drawn");
@@ -202,15 +178,9 @@ double DeviceFrame::mean_luminance(const ::cl::Buffer& surfaces) const {
   std::vector<cl_float2> part(static_cast<std::size_t>(g));
   cl::call(
       [&] {
-        auto& k = const_cast<::cl::Kernel&>(mean_);
-        if (!k()) k = rt_.kernel("frame.cl", "frame_mean_partial");
-        k.setArg(0, sum_);
-        k.setArg(1, comp_);
-        k.setArg(2, surfaces);
-        k.setArg(3, static_cast<float>(1.0 / frames_));
-        k.setArg(4, static_cast<int>(n_));
-        k.setArg(5, partial_);
-        rt_.launch(k, range(static_cast<std::size_t>(g)));
+        if (!mean_) mean_ = {rt_, "frame.cl", "frame_mean_partial"};
+        mean_.bind(sum_, comp_, surfaces, static_cast<float>(1.0 / frames_), static_cast<int>(n_), partial_);
+        rt_.launch(mean_.get(), range(static_cast<std::size_t>(g)));
         rt_.queue().enqueueReadBuffer(partial_, CL_TRUE, 0, part.size() * sizeof(cl_float2), part.data());
       },
       "the tone-mapping mean");
@@ -242,14 +212,10 @@ std::vector<std::uint8_t> DeviceFrame::display(const ::cl::Buffer& surfaces, con
       [&] {
         // The partial sums' buffer is free once the mean is read: it holds the thresholds.
         rt_.queue().enqueueWriteBuffer(partial_, CL_FALSE, 0, thresholds.size() * sizeof(float), thresholds.data());
-        if (!display_k_()) display_k_ = rt_.kernel("frame.cl", "frame_display");
-        display_k_.setArg(0, sum_);
-        display_k_.setArg(1, comp_);
-        display_k_.setArg(2, frames_ > 0 ? static_cast<float>(1.0 / frames_) : 0.0f);
-        display_k_.setArg(3, partial_);
-        display_k_.setArg(4, static_cast<int>(n_));
-        display_k_.setArg(5, display_);
-        rt_.launch(display_k_, range(n_));
+        if (!display_k_) display_k_ = {rt_, "frame.cl", "frame_display"};
+        display_k_.bind(sum_, comp_, frames_ > 0 ? static_cast<float>(1.0 / frames_) : 0.0f, partial_,
+                        static_cast<int>(n_), display_);
+        rt_.launch(display_k_.get(), range(n_));
         if (m > 0) {
           if (lum_capacity_ < static_cast<std::size_t>(m)) {
             lum_pixel_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_ONLY, static_cast<std::size_t>(m) * sizeof(cl_int));
@@ -261,13 +227,9 @@ std::vector<std::uint8_t> DeviceFrame::display(const ::cl::Buffer& surfaces, con
                                          pixels.data());
           rt_.queue().enqueueWriteBuffer(lum_radiance_, CL_FALSE, 0, static_cast<std::size_t>(m) * sizeof(cl_float4),
                                          radiance.data());
-          if (!display_lum_()) display_lum_ = rt_.kernel("frame.cl", "frame_display_luminaires");
-          display_lum_.setArg(0, lum_pixel_);
-          display_lum_.setArg(1, lum_radiance_);
-          display_lum_.setArg(2, m);
-          display_lum_.setArg(3, partial_);
-          display_lum_.setArg(4, display_);
-          rt_.launch(display_lum_, range(static_cast<std::size_t>(m)));
+          if (!display_lum_) display_lum_ = {rt_, "frame.cl", "frame_display_luminaires"};
+          display_lum_.bind(lum_pixel_, lum_radiance_, m, partial_, display_);
+          rt_.launch(display_lum_.get(), range(static_cast<std::size_t>(m)));
         }
         rt_.queue().enqueueReadBuffer(display_, CL_TRUE, 0, out.size(), out.data());
       },

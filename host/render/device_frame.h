@@ -15,6 +15,7 @@
 #include <glm/vec4.hpp>
 
 #include "cl/runtime.h"
+#include "cl/typed_kernel.h"
 #include "core/tonemap.h"
 
 namespace nf::render {
@@ -67,7 +68,17 @@ class DeviceFrame {
   ::cl::Buffer frame_, sum_, comp_, display_, partial_;
   ::cl::Buffer lum_pixel_, lum_radiance_;
   std::size_t lum_capacity_ = 0;
-  ::cl::Kernel add_, accumulate_, mean_, sum_partial_, display_k_, display_lum_;
+  // kernels/frame.cl's kernels, arguments in the kernel's order (cl/typed_kernel.h)
+  using Buf = ::cl::Buffer;
+  cl::TypedKernel<Buf, Buf, cl_int> add_;                               // frame_add(frame, src, n)
+  cl::TypedKernel<Buf, Buf, Buf, cl_int> accumulate_;                   // frame_accumulate(sum, comp, frame, n)
+  mutable cl::TypedKernel<Buf, Buf, Buf, cl_float, cl_int, Buf> mean_;  // frame_mean_partial(sum, comp,
+                                                                        //   surfaces, inv_frames, n, partial)
+  cl::TypedKernel<Buf, cl_int, Buf> sum_partial_;                       // frame_sum_partial(values, n, partial)
+  cl::TypedKernel<Buf, Buf, cl_float, Buf, cl_int, Buf> display_k_;     // frame_display(sum, comp,
+                                                                        //   inv_frames, thresholds, n, out)
+  cl::TypedKernel<Buf, Buf, cl_int, Buf, Buf> display_lum_;             // frame_display_luminaires(pixel,
+                                                                        //   radiance, m, thresholds, out)
 };
 
 }  // namespace nf::render

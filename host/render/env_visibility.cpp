@@ -58,20 +58,14 @@ EnvVisibility::~EnvVisibility() = default;
 // L_k = int L_env Y_k dw by the texel sum of env_sh16_rows (rows summed here in double).
 void EnvVisibility::project(const ref::EnvironmentMap& map, const ::cl::Buffer& pyr, const ::cl::Buffer& lv) {
   const int h = map.height();
-  ::cl::Kernel k = rt_.kernel("env_visibility.cl", "env_sh16_rows");
+  // env_sh16_rows(pyr, lv, rot, out)
+  cl::TypedKernel<::cl::Buffer, ::cl::Buffer, cl_float2, ::cl::Buffer> k(rt_, "env_visibility.cl", "env_sh16_rows");
   ::cl::Buffer rows;
   cl::call(
       [&] { rows = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, sizeof(float) * 48 * static_cast<std::size_t>(h)); },
       "environment order-4 SH buffer");
-  cl::call(
-      [&] {
-        k.setArg(0, pyr);
-        k.setArg(1, lv);
-        k.setArg(2, cl_float2{{static_cast<float>(map.rotation_cos()), static_cast<float>(map.rotation_sin())}});
-        k.setArg(3, rows);
-      },
-      "environment order-4 SH arguments");
-  rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(h)));
+  k.bind(pyr, lv, cl_float2{{static_cast<float>(map.rotation_cos()), static_cast<float>(map.rotation_sin())}}, rows);
+  rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(h)));
   std::vector<float> part(48 * static_cast<std::size_t>(h));
   cl::call([&] { rt_.queue().enqueueReadBuffer(rows, CL_TRUE, 0, part.size() * sizeof(float), part.data()); },
            "reading the environment order-4 SH rows");
@@ -87,7 +81,7 @@ void EnvVisibility::project(const ref::EnvironmentMap& map, const ::cl::Buffer& 
 
 void EnvVisibility::prepare(const FrameInputs& in) {
   if (in.settings.declared.env_visibility != "sh") return;
-  if (!fit_()) fit_ = rt_.kernel("env_visibility.cl", "env_vis_fit");
+  if (!fit_) fit_ = {rt_, "env_visibility.cl", "env_vis_fit"};
   if (!projected_) (void)rt_.kernel("env_visibility.cl", "env_sh16_rows");
 }
 
@@ -144,7 +138,7 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
   f.on = true;
   if (fitted_ && in.view_version != 0 && in.view_version == fitted_version_ && in.count == fitted_count_)
     return f;  // same surfaces, same maps: the coefficients are still valid
-  if (!fit_()) fit_ = rt_.kernel("env_visibility.cl", "env_vis_fit");
+  if (!fit_) fit_ = {rt_, "env_visibility.cl", "env_vis_fit"};
   const std::size_t count = static_cast<std::size_t>(std::max(in.count, 1));
   if (coeff_bytes_ != count * 4 * sizeof(cl_float4)) {
     cl::call([&] { coeffs_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, count * 4 * sizeof(cl_float4)); },
@@ -154,22 +148,9 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
   // Biases (docs/env_visibility.md): normal offset 1.5 texels, depth bias 1 texel; a texel is 2R/size
   // metres, and one metre is 1/(2R) in depth units, so a texel is 1/size there.
   const double r = maps_->radius(), texel = 2.0 * r / size;
-  cl::call(
-      [&] {
-        int a = 0;
-        fit_.setArg(a++, in.surfaces);
-        fit_.setArg(a++, in.count);
-        fit_.setArg(a++, maps_buf_);
-        fit_.setArg(a++, frames_buf_);
-        fit_.setArg(a++, maps_->count());
-        fit_.setArg(a++, size);
-        fit_.setArg(a++, f4(maps_->centre(), r));
-        fit_.setArg(a++, pinv_buf_);
-        fit_.setArg(a++, cl_float2{{static_cast<float>(1.5 * texel), static_cast<float>(1.0 / size)}});
-        fit_.setArg(a++, coeffs_);
-      },
-      "environment visibility fit arguments");
-  const ::cl::Event ev = rt_.launch(fit_, ::cl::NDRange(count));
+  fit_.bind(in.surfaces, in.count, maps_buf_, frames_buf_, maps_->count(), size, f4(maps_->centre(), r), pinv_buf_,
+            cl_float2{{static_cast<float>(1.5 * texel), static_cast<float>(1.0 / size)}}, coeffs_);
+  const ::cl::Event ev = rt_.launch(fit_.get(), ::cl::NDRange(count));
   cl::call([&] { ev.wait(); }, "environment visibility fit");
   f.fit_ms = cl::Runtime::event_ms(ev);
   fitted_ = true;

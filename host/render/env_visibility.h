@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "cl/typed_kernel.h"
 #include "reference/environment_map.h"
 #include "render/contribution.h"
 #include "render/sh16.h"
@@ -76,7 +77,10 @@ class EnvVisibility {
   std::uint64_t fitted_version_ = 0;
   int fitted_count_ = -1;
   bool fitted_ = false;
-  ::cl::Kernel fit_;
+  // env_vis_fit(surfaces, count, maps, frames, n_maps, size, centre_r, pinv, bias, out)
+  cl::TypedKernel<::cl::Buffer, cl_int, ::cl::Buffer, ::cl::Buffer, cl_int, cl_int, cl_float4, ::cl::Buffer, cl_float2,
+                  ::cl::Buffer>
+      fit_;
 };
 
 }  // namespace nf::render

@@ -251,17 +251,13 @@ void EnvironmentContribution::upload() {
 // The pyramid (one env_pyramid_down launch per level) and the SH projection (env_sh_rows, rows
 // summed here in double).
 void EnvironmentContribution::build() {
-  ::cl::Kernel down = rt_.kernel("environment.cl", "env_pyramid_down");  // compiled before the timer
-  ::cl::Kernel shk = rt_.kernel("environment.cl", "env_sh_rows");
+  env_kernels::PyramidDown down(rt_, "environment.cl", "env_pyramid_down");  // compiled before the timer
+  env_kernels::ShRows shk(rt_, "environment.cl", "env_sh_rows");
   Timer timer;
   for (std::size_t k = 0; k + 1 < dims_.size(); ++k) {
-    down.setArg(0, pyr_);
-    down.setArg(1, lv_);
-    down.setArg(2, static_cast<int>(k));
-    down.setArg(3, filter_index(filter_));
-    down.setArg(4, 0);
+    down.bind(pyr_, lv_, static_cast<int>(k), filter_index(filter_), 0);
     const glm::ivec2 d = dims_[k + 1];
-    rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
+    rt_.launch(down.get(), ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
   }
   cl::call([&] { rt_.queue().finish(); }, "building the environment pyramid");
   pyramid_ms_ = timer.ms();
@@ -269,11 +265,9 @@ void EnvironmentContribution::build() {
   ::cl::Buffer rows_out;
   cl::call([&] { rows_out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, sizeof(float) * 27 * h); },
            "environment SH buffer");
-  shk.setArg(0, pyr_);
-  shk.setArg(1, lv_);
-  shk.setArg(2, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
-  shk.setArg(3, rows_out);
-  rt_.launch(shk, ::cl::NDRange(static_cast<std::size_t>(h)));
+  shk.bind(pyr_, lv_, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}},
+           rows_out);
+  rt_.launch(shk.get(), ::cl::NDRange(static_cast<std::size_t>(h)));
   std::vector<float> part(static_cast<std::size_t>(27 * h));
   cl::call([&] { rt_.queue().enqueueReadBuffer(rows_out, CL_TRUE, 0, part.size() * sizeof(float), part.data()); },
            "reading the environment SH rows");
@@ -293,8 +287,8 @@ void EnvironmentContribution::build() {
 // The dual-paraboloid pyramid (docs/environment.md, "Paraboloid"): level 0 (2 S) x S with S = H,
 // resampled from the lat-long level 0 (env_paraboloid_base), then env_pyramid_down per level.
 void EnvironmentContribution::build_paraboloid() {
-  ::cl::Kernel base = rt_.kernel("environment.cl", "env_paraboloid_base");
-  ::cl::Kernel down = rt_.kernel("environment.cl", "env_pyramid_down");
+  env_kernels::ParaboloidBase base(rt_, "environment.cl", "env_paraboloid_base");
+  env_kernels::PyramidDown down(rt_, "environment.cl", "env_pyramid_down");
   Timer timer;
   pdims_ = level_dims(glm::ivec2(2 * map_.height(), map_.height()), true);
   poffsets_.clear();
@@ -309,19 +303,12 @@ void EnvironmentContribution::build_paraboloid() {
   cl::call([&] { ppyr_ = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, static_cast<std::size_t>(off) * 16); },
            "environment paraboloid pyramid buffer");
   ppyr_bytes_ = static_cast<std::size_t>(off) * 16 + lv.size() * sizeof(cl_int4);
-  base.setArg(0, pyr_);
-  base.setArg(1, lv_);
-  base.setArg(2, ppyr_);
-  base.setArg(3, plv_);
-  rt_.launch(base, ::cl::NDRange(static_cast<std::size_t>(pdims_[0].x), static_cast<std::size_t>(pdims_[0].y)));
+  base.bind(pyr_, lv_, ppyr_, plv_);
+  rt_.launch(base.get(), ::cl::NDRange(static_cast<std::size_t>(pdims_[0].x), static_cast<std::size_t>(pdims_[0].y)));
   for (std::size_t k = 0; k + 1 < pdims_.size(); ++k) {
-    down.setArg(0, ppyr_);
-    down.setArg(1, plv_);
-    down.setArg(2, static_cast<int>(k));
-    down.setArg(3, filter_index(filter_));
-    down.setArg(4, 1);
+    down.bind(ppyr_, plv_, static_cast<int>(k), filter_index(filter_), 1);
     const glm::ivec2 d = pdims_[k + 1];
-    rt_.launch(down, ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
+    rt_.launch(down.get(), ::cl::NDRange(static_cast<std::size_t>(d.x), static_cast<std::size_t>(d.y)));
   }
   cl::call([&] { rt_.queue().finish(); }, "building the environment paraboloid pyramid");
   paraboloid_ms_ = timer.ms();
@@ -345,19 +332,9 @@ std::vector<float> EnvironmentContribution::integral_level_debug(const std::vect
   ::cl::Buffer in = cl::upload(rt_, uv, "environment debug points"), buf;
   cl::call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(float)); },
            "environment level buffer");
-  ::cl::Kernel k = rt_.kernel("environment.cl", "env_integral_debug");
-  cl::call(
-      [&] {
-        k.setArg(0, pyr_);
-        k.setArg(1, lv_);
-        k.setArg(2, levels());
-        k.setArg(3, in);
-        k.setArg(4, static_cast<int>(uv.size()));
-        k.setArg(5, target);
-        k.setArg(6, buf);
-      },
-      "environment level kernel arguments");
-  rt_.launch(k, ::cl::NDRange(out.size()));
+  env_kernels::IntegralDebug k(rt_, "environment.cl", "env_integral_debug");
+  k.bind(pyr_, lv_, levels(), in, static_cast<int>(uv.size()), target, buf);
+  rt_.launch(k.get(), ::cl::NDRange(out.size()));
   cl::call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
            "reading the environment levels");
   return out;
@@ -381,20 +358,11 @@ std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std:
   ::cl::Buffer buf;
   cl::call([&] { buf = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(cl_float4)); },
            "environment sample buffer");
-  ::cl::Kernel k = rt_.kernel("environment.cl", "env_sample_debug");
-  cl::call(
-      [&] {
-        k.setArg(0, rows_);
-        k.setArg(1, cols_);
-        k.setArg(2, puv_);
-        k.setArg(3, lv_);
-        k.setArg(4, cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
-        k.setArg(5, static_cast<cl_uint>(seed));
-        k.setArg(6, count);
-        k.setArg(7, buf);
-      },
-      "environment sample kernel arguments");
-  rt_.launch(k, ::cl::NDRange(out.size()));
+  env_kernels::SampleDebug k(rt_, "environment.cl", "env_sample_debug");
+  k.bind(rows_, cols_, puv_, lv_,
+         cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}},
+         static_cast<cl_uint>(seed), count, buf);
+  rt_.launch(k.get(), ::cl::NDRange(out.size()));
   cl::call([&] { rt_.queue().enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data()); },
            "reading the environment samples");
   return out;
@@ -444,8 +412,8 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
         d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0, vis ? 1 : 0);
   };
   const std::string options = options_for(d.env_background != "hide", d.env_visibility == "sh");
-  if (options != options_ || !shade_()) {
-    shade_ = rt_.kernel("environment.cl", "env_shade", options);
+  if (options != options_ || !shade_) {
+    shade_ = env_kernels::Shade(rt_, "environment.cl", "env_shade", options);
     options_ = options;
   }
   // the local maps' passes (texels, the objects' pixels: no background, no far visibility) are
@@ -472,8 +440,16 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     ls.declared.env_background = "hide";
     for (auto& l : locals_) {
       if (!l->any) continue;
-      const FrameInputs local{in.rt,   l->masked,   in.count,        ls,      in.frame,      in.lights, in.camera,
-                              nullptr, in.geometry, in.view_version, nullptr, in.host_lights};
+      const FrameInputs local{.rt = in.rt,
+                              .surfaces = l->masked,
+                              .count = in.count,
+                              .settings = ls,
+                              .frame = in.frame,
+                              .lights = in.lights,
+                              .camera = in.camera,
+                              .geometry = in.geometry,
+                              .view_version = in.view_version,
+                              .host_lights = in.host_lights};
       ContributionFrame lf;
       l->env->prepare(local);
       const std::vector<glm::vec4> lrgb = l->env->shade(local, lf);
@@ -484,8 +460,7 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     }
   }
   Timer readback;
-  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
-  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  add_radiance(radiance, rgb);
   f.readback_ms += readback.ms();
   return f;
 }
@@ -507,8 +482,14 @@ void EnvironmentContribution::update_locals(const FrameInputs& in, ContributionF
       ts.declared.env_visibility = "none";
       ts.declared.env_background = "hide";
       const LocalEnvironmentMap::FarShade far_shade = [&](const ::cl::Buffer& buf, int count, std::uint32_t frame) {
-        const FrameInputs t{in.rt,   buf,     count,       ts, frame,   in.lights,
-                            nullptr, nullptr, in.geometry, 0,  nullptr, in.host_lights};
+        const FrameInputs t{.rt = in.rt,
+                            .surfaces = buf,
+                            .count = count,
+                            .settings = ts,
+                            .frame = frame,
+                            .lights = in.lights,
+                            .geometry = in.geometry,
+                            .host_lights = in.host_lights};
         ContributionFrame tf;
         return shade(t, tf);
       };
@@ -589,54 +570,22 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
     cu = cl_float4{{static_cast<float>(up.x), static_cast<float>(up.y), static_cast<float>(up.z), 0}};
     wh = cl_int2{{c.width, c.height}};
   }
-  cl::call(
-      [&] {
-        int a = 0;
-        shade_.setArg(a++, in.surfaces);
-        shade_.setArg(a++, in.count);
-        shade_.setArg(a++, pyr_);
-        shade_.setArg(a++, lv_);
-        shade_.setArg(a++, levels());
-        shade_.setArg(a++,
-                      cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}});
-        shade_.setArg(a++, sh_buf_);
-        shade_.setArg(a++, rows_);
-        shade_.setArg(a++, cols_);
-        shade_.setArg(a++, puv_);
-        shade_.setArg(a++, d.env_samples);
-        shade_.setArg(a++, static_cast<float>(resolved_k(d.env_k, filter_)));
-        shade_.setArg(a++, static_cast<cl_uint>(in.frame));
-        shade_.setArg(a++, static_cast<cl_uint>(d.seed));
-        shade_.setArg(a++, cf);
-        shade_.setArg(a++, cr);
-        shade_.setArg(a++, cu);
-        shade_.setArg(a++, wh);
-        shade_.setArg(a++, out_);
-        const bool par = param_ == "paraboloid";
-        shade_.setArg(a++, par ? ppyr_ : pyr_);
-        shade_.setArg(a++, par ? plv_ : lv_);
-        shade_.setArg(a++, par ? paraboloid_levels() : levels());
-        shade_.setArg(a++, kurt_);
-        shade_.setArg(a++, kurt_count_);
-        shade_.setArg(a++, *vis.coeffs);
-        shade_.setArg(a++, *vis.lsh);
-        // regular's patterns; any valid buffer otherwise (the kernel reads them only with NF_ENV_GLOSSY 5)
-        const bool regular = regular_bytes_ > 0;
-        shade_.setArg(a++, regular ? rpat_ : pyr_);
-        shade_.setArg(a++, regular ? rlob_ : pyr_);
-        shade_.setArg(a++, static_cast<float>(d.env_regular_eps));
-        shade_.setArg(a++, static_cast<float>(d.env_k > 0.0 ? d.env_k : 1.0));  // regular: no per-filter K
-      },
-      "environment kernel arguments");
-  const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
+  const bool par = param_ == "paraboloid";
+  // regular's patterns; any valid buffer otherwise (the kernel reads them only with NF_ENV_GLOSSY 5)
+  const bool regular = regular_bytes_ > 0;
+  shade_.bind(in.surfaces, in.count, pyr_, lv_, levels(),
+              cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}}, sh_buf_,
+              rows_, cols_, puv_, d.env_samples, static_cast<float>(resolved_k(d.env_k, filter_)),
+              static_cast<cl_uint>(in.frame), static_cast<cl_uint>(d.seed), cf, cr, cu, wh, out_, par ? ppyr_ : pyr_,
+              par ? plv_ : lv_, par ? paraboloid_levels() : levels(), kurt_, kurt_count_, *vis.coeffs, *vis.lsh,
+              regular ? rpat_ : pyr_, regular ? rlob_ : pyr_, static_cast<float>(d.env_regular_eps),
+              static_cast<float>(d.env_k > 0.0 ? d.env_k : 1.0));  // regular: no per-filter K
+  const ::cl::Event ev = rt_.launch(shade_.get(), ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
   cl::call([&] { ev.wait(); }, "environment kernel");
   f.step2_ms += cl::Runtime::event_ms(ev);
   f.wall_ms += wall.ms();
   Timer readback;
-  std::vector<glm::vec4> rgb(static_cast<std::size_t>(in.count));
-  if (in.count > 0)
-    cl::call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
-             "reading the environment radiance");
+  std::vector<glm::vec4> rgb = read_radiance(rt_, out_, in.count, "reading the environment radiance");
   f.samples += static_cast<std::uint64_t>(in.count) * static_cast<std::uint64_t>(d.env_samples);
   f.readback_ms += readback.ms();
   return rgb;

@@ -16,6 +16,7 @@
 #include "reference/environment_map.h"
 #include "render/contribution.h"
 #include "render/env_visibility.h"
+#include "render/environment_kernels.h"
 
 namespace nf::ref {
 class RayScene;
@@ -132,7 +133,7 @@ class EnvironmentContribution final : public Contribution {
   std::string options_;
   std::string filter_ = "box";
   std::string param_ = "latlong";
-  ::cl::Kernel shade_;
+  env_kernels::Shade shade_;
   EnvVisibility vis_;
   bool has_far_ = true;  // false: the scene has no environment, the far map is black
   std::vector<scene::Material> materials_;

@@ -144,7 +144,7 @@ void FarfieldContribution::update_visibility(const FrameInputs& in, Contribution
 }
 
 void FarfieldContribution::prepare(const FrameInputs&) {
-  if (!shade_()) shade_ = rt_.kernel("farfield.cl", "farfield_shade");
+  if (!shade_) shade_ = FarfieldShadeKernel(rt_, "farfield.cl", "farfield_shade");
 }
 
 // One launch of farfield_shade over every surface (kernels/farfield.cl has the formula).
@@ -159,33 +159,14 @@ ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<g
              "far-field output buffer");
     out_bytes_ = output_bytes(n);
   }
-  cl::call(
-      [&] {
-        int a = 0;
-        shade_.setArg(a++, in.surfaces);
-        shade_.setArg(a++, in.count);
-        shade_.setArg(a++, lights_buf_);
-        shade_.setArg(a++, static_cast<cl_int>(lights_.size()));
-        shade_.setArg(a++, angles_);
-        shade_.setArg(a++, cd_);
-        shade_.setArg(a++, kurt_);
-        shade_.setArg(a++, kurt_count_);
-        shade_.setArg(a++, vis_);
-        shade_.setArg(a++, vis_used_ ? 1 : 0);
-        shade_.setArg(a++, out_);
-      },
-      "far-field kernel arguments");
-  const ::cl::Event ev = rt_.launch(shade_, ::cl::NDRange(n));
+  shade_.bind(in.surfaces, in.count, lights_buf_, static_cast<cl_int>(lights_.size()), angles_, cd_, kurt_, kurt_count_,
+              vis_, vis_used_ ? 1 : 0, out_);
+  const ::cl::Event ev = rt_.launch(shade_.get(), ::cl::NDRange(n));
   cl::call([&] { ev.wait(); }, "far-field kernel");
   f.step2_ms = cl::Runtime::event_ms(ev);
   f.wall_ms = wall.ms();
   Timer readback;
-  std::vector<glm::vec4> rgb(static_cast<std::size_t>(std::max(in.count, 0)));
-  if (in.count > 0)
-    cl::call([&] { rt_.queue().enqueueReadBuffer(out_, CL_TRUE, 0, rgb.size() * sizeof(glm::vec4), rgb.data()); },
-             "reading the far-field radiance");
-  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
-  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  add_radiance(radiance, read_radiance(rt_, out_, in.count, "reading the far-field radiance"));
   f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) * lights_.size();
   f.readback_ms = readback.ms();
   return f;

@@ -13,6 +13,7 @@
 #include <memory>
 #include <vector>
 
+#include "cl/typed_kernel.h"
 #include "kernels/shared/farfield.h"
 #include "kernels/shared/kurt.h"
 #include "render/contribution.h"
@@ -58,7 +59,10 @@ class FarfieldContribution final : public Contribution {
   std::size_t table_bytes_ = 0, out_bytes_ = 0;
   int kurt_count_ = 0;
   ::cl::Buffer lights_buf_, angles_, cd_, kurt_, out_;
-  ::cl::Kernel shade_;
+  // farfield_shade(surfaces, count, lights, n_lights, angles, cd, kurt, kurt_count, vis, has_vis, out)
+  using FarfieldShadeKernel = cl::TypedKernel<::cl::Buffer, cl_int, ::cl::Buffer, cl_int, ::cl::Buffer, ::cl::Buffer,
+                                              ::cl::Buffer, cl_int, ::cl::Buffer, cl_int, ::cl::Buffer>;
+  FarfieldShadeKernel shade_;
   // Shadow maps (one per light) and the per-pixel visibility bits of the current view.
   void update_visibility(const FrameInputs& in, ContributionFrame& f);
   std::vector<glm::dmat4> to_world_;

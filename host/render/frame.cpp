@@ -96,8 +96,7 @@ void Renderer::make_contributions_now() {
   contribution_frames_.clear();
   luminaires_ = nullptr;
   contributions_ = make_contributions(ContributionContext{*rt_, scene_, settings_});
-  for (auto& c : contributions_)
-    if (auto* l = dynamic_cast<LuminaireContribution*>(c.get())) luminaires_ = l;
+  luminaires_ = find<LuminaireContribution>();
 }
 
 Contribution* Renderer::contribution(const std::string& name) const {
@@ -415,8 +414,15 @@ void Renderer::warm_up() {
   }
   if (!cl_vis_.empty())
     (void)rt_->kernel("shadow_visibility.cl", "shadow_visibility", ClShadowVisibility::options(*rt_));
-  const FrameInputs in{
-      *rt_, one, 1, settings_, settings_.sampling.frame, ls, &camera_, &step0_->scene_gpu(), &scene_.geometry};
+  const FrameInputs in{.rt = *rt_,
+                       .surfaces = one,
+                       .count = 1,
+                       .settings = settings_,
+                       .frame = settings_.sampling.frame,
+                       .lights = ls,
+                       .camera = &camera_,
+                       .scene_gpu = &step0_->scene_gpu(),
+                       .geometry = &scene_.geometry};
   for (auto& c : contributions_) c->prepare(in);
   dframe_->build();
   warm_ = true;
@@ -449,18 +455,18 @@ const StepTimes& Renderer::render_frame() {
     hl.push_back({{&src.luminaire, inst.to_world, inst.intensity},
                   i < vis_bufs_.size() ? &src.precomputed.ref_lights : nullptr});
   }
-  const FrameInputs in{*rt_,
-                       surfaces_buf_,
-                       count,
-                       settings_,
-                       settings_.sampling.frame + frame_offset_ + static_cast<std::uint32_t>(frames_),
-                       ls,
-                       &camera_,
-                       &step0_->scene_gpu(),
-                       &scene_.geometry,
-                       view_version_,
-                       step0_->gbuffer(),
-                       hl};
+  const FrameInputs in{.rt = *rt_,
+                       .surfaces = surfaces_buf_,
+                       .count = count,
+                       .settings = settings_,
+                       .frame = settings_.sampling.frame + frame_offset_ + static_cast<std::uint32_t>(frames_),
+                       .lights = ls,
+                       .camera = &camera_,
+                       .scene_gpu = &step0_->scene_gpu(),
+                       .geometry = &scene_.geometry,
+                       .view_version = view_version_,
+                       .gbuffer = step0_->gbuffer(),
+                       .host_lights = hl};
   context_->make_current();  // contributions may draw (the environment's shadow maps)
   dframe_->clear_frame();
   contribution_frames_.clear();

@@ -155,6 +155,14 @@ class Renderer {
   const gl::Step0* step0() const { return step0_.get(); }
   // The contribution called `name` ("luminaires", "environment", "indirect"), nullptr if not built.
   Contribution* contribution(const std::string& name) const;
+  // The contribution of type T (e.g. VsglContribution), nullptr if not built: a typed query, so
+  // callers need neither its registry name nor a cast.
+  template <typename T>
+  T* find() const {
+    for (const auto& c : contributions_)
+      if (auto* t = dynamic_cast<T*>(c.get())) return t;
+    return nullptr;
+  }
   // The last frame of each contribution with its name, in registration order (the viewer's rows).
   std::vector<std::pair<std::string, ContributionFrame>> contribution_rows() const;
   cl::Runtime& runtime() { return *rt_; }

@@ -32,9 +32,7 @@ ContributionFrame LuminaireContribution::add(const FrameInputs& in, std::vector<
   f.step2_ms = fs.step2_ms;
   f.wall_ms = fs.wall_ms;
   Timer readback;
-  const std::vector<glm::vec4> rgb = sampler_.read_radiance();
-  radiance.resize(rgb.size(), glm::vec4(0.0f));
-  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  add_radiance(radiance, sampler_.read_radiance());
   for (const auto k : sampler_.read_k()) f.samples += k;
   f.readback_ms = readback.ms();
   return f;

@@ -13,7 +13,6 @@
 #include "cl/buffers.h"
 #include "cl/cl_error.h"
 #include "core/error.h"
-#include "core/invariant.h"
 #include "core/timer.h"
 #include "kernels/shared/surface_order.h"
 
@@ -21,7 +20,6 @@ namespace nf::render {
 namespace {
 
 constexpr const char* kFile = "lightfield.cl";
-constexpr cl_uint kSpecificArgs = 12;  // NF_KERNEL_ARGS (set_common) come first
 constexpr int kLocal = 64;
 
 // Radical inverses in base 3 of 0 .. 3^10 - 1 (the low-digit table of nf_ri3).
@@ -160,29 +158,15 @@ int Sampler::lanes(const SamplingSettings& s) const {
   return rt_.info().type == "CPU" ? 16 : 1;
 }
 
-// The arguments this file binds to each kernel of lightfield.cl: NF_KERNEL_ARGS (set_common), then
-// the kernel's own, then the direction buffer under -DNF_MEAN_DIRECTION=1 (NF_DIR_KARG).
-static cl_uint bound_args(const std::string& name, bool mean_direction) {
-  if (name == "lf_add") return 3;
-  if (name == "lf_step1_image") return kSpecificArgs + 1;
-  if (name == "lf_step2_image") return kSpecificArgs + 3 + (mean_direction ? 1 : 0);
-  if (name == "lf_fused") return kSpecificArgs + 6 + (mean_direction ? 1 : 0);
-  if (name == "lf_debug_samples") return kSpecificArgs + 2;
-  if (name == "lf_debug_pdf") return kSpecificArgs + 3;
-  fail("Sampler: no argument list for kernel " + name);
-}
-
-::cl::Kernel& Sampler::kernel(const std::string& name, const std::string& options) {
+// The typed handle checks the kernel's argument count against K (cl/typed_kernel.h); the
+// direction buffer that ends lf_step2_image and lf_fused exists only under -DNF_MEAN_DIRECTION=1.
+template <typename K>
+K Sampler::kernel(const std::string& name, const std::string& options) {
   const std::string key = name + "|" + options;
-  if (auto it = kernels_.find(key); it != kernels_.end()) return it->second;
-  ::cl::Kernel k = rt_.kernel(kFile, name, options);
-  // OpenCL accepts a misplaced argument whenever its size matches: at least the count must agree
-  cl_uint args = 0;
-  cl::call([&] { args = k.getInfo<CL_KERNEL_NUM_ARGS>(); }, "Sampler: querying " + name + "'s arguments");
+  auto it = kernels_.find(key);
+  if (it == kernels_.end()) it = kernels_.emplace(key, rt_.kernel(kFile, name, options)).first;
   const bool dir = options.find("-DNF_MEAN_DIRECTION=1") != std::string::npos;
-  invariant(args == bound_args(name, dir),
-            fmt::format("{}: the kernel takes {} arguments, sampler.cpp binds {}", name, args, bound_args(name, dir)));
-  return kernels_.emplace(key, std::move(k)).first->second;
+  return K(it->second, name, lf_kernels::kTakesDir<K> && !dir ? 1 : 0);
 }
 
 std::uint32_t surface_of_slot(const SamplingSettings& s, int count, int slot) {
@@ -251,26 +235,16 @@ void Sampler::ensure(int count) {
   return ::cl::NDRange(std::max<std::size_t>(wg, 1));
 }
 
-void Sampler::set_common(::cl::Kernel& k, const NfSampleParams& p, const LightInstance& li,
-                         const ::cl::Buffer& surfaces) {
+template <typename K>
+void Sampler::set_common(K& k, const NfSampleParams& p, const LightInstance& li, const ::cl::Buffer& surfaces) {
   const DeviceLuminaire& lum = *li.luminaire;
-  k.setArg(0, sizeof(NfSampleParams), &p);
-  k.setArg(1, sizeof(NfLuminaire), &lum.params());
   // height above plane U = (M p)_z + delta with M's z translation and delta added in double, so
   // that the kernels need not subtract two nearly equal floats near U (docs/sampling.md).
   NfInstance inst = li.instance;
   inst.u_offset = static_cast<float>(static_cast<double>(inst.to_local[11]) + static_cast<double>(inst.z_lo) +
                                      static_cast<double>(lum.params().delta));
-  k.setArg(2, sizeof(NfInstance), &inst);
-  k.setArg(3, surfaces);
-  k.setArg(4, lum.sat());
-  k.setArg(5, lum.quantum());
-  k.setArg(6, lum.info_buffer());
-  k.setArg(7, lum.chroma());
-  k.setArg(8, li.visibility && li.vis_words > 0 ? *li.visibility : no_vis_);
-  k.setArg(9, halton3_);
-  k.setArg(10, kurt_);
-  k.setArg(11, kurt_count_);
+  k.template bind_at<0>(p, lum.params(), inst, surfaces, lum.sat(), lum.quantum(), lum.info_buffer(), lum.chroma(),
+                        li.visibility && li.vis_words > 0 ? *li.visibility : no_vis_, halton3_, kurt_, kurt_count_);
 }
 
 FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
@@ -305,7 +279,8 @@ std::size_t Sampler::cache_bytes() const {
   return b;
 }
 
-int Sampler::bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, int count, int images, bool enabled) {
+int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const std::string& key, int count, int images,
+                        bool enabled) {
   const int stride = cache_stride(count);
   if (cache_.size() <= i) cache_.resize(i + 1);
   PixelCache& c = cache_[i];
@@ -325,9 +300,7 @@ int Sampler::bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, 
   } else {
     c = PixelCache{};
   }
-  k.setArg(kSpecificArgs + 3, mode == kCacheOff ? no_cache_ : c.am);
-  k.setArg(kSpecificArgs + 4, mode);
-  k.setArg(kSpecificArgs + 5, stride);
+  k.bind_at<lf_kernels::kCommon + 3>(mode == kCacheOff ? no_cache_ : c.am, mode, stride);
   return mode;
 }
 
@@ -345,18 +318,16 @@ void Sampler::launch_instance(const LightInstance& li, std::size_t li_index, con
       build_options(s, lum.has_chroma(), vis, L) + (mean_direction_ ? " -DNF_MEAN_DIRECTION=1" : "");
   NfSampleParams p = params(s, lum, count, vis ? li.vis_words : 0);
   if (s.structure == Structure::fused) {
-    ::cl::Kernel& k = kernel("lf_fused", opts);
-    p.group_mul = group_multiplier(global[0] / local_range(k)[0]);
+    auto k = kernel<lf_kernels::Fused>("lf_fused", opts);
+    p.group_mul = group_multiplier(global[0] / local_range(k.get())[0]);
     set_common(k, p, li, surfaces);
-    k.setArg(kSpecificArgs, *out.a);
-    k.setArg(kSpecificArgs + 1, *out.rgb);
-    k.setArg(kSpecificArgs + 2, *out.k);
+    k.bind_at<lf_kernels::kCommon>(*out.a, *out.rgb, *out.k);
     const int mode =
         bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count, lum.num_images(), use_cache);
     st.cache_reads += mode == kCacheRead ? 1 : 0;
     st.cache_writes += mode == kCacheWrite ? 1 : 0;
-    if (mean_direction_) k.setArg(kSpecificArgs + 6, *out.dir);
-    ev.step2.push_back(rt_.launch(k, global, local_range(k)));
+    if (mean_direction_) k.bind_at<lf_kernels::kCommon + 6>(*out.dir);
+    ev.step2.push_back(rt_.launch(k.get(), global, local_range(k.get())));
     return;
   }
   // per-image passes: Step 1 sums A(p) of this instance alone (a_inst_) when outputs already hold others
@@ -371,33 +342,29 @@ void Sampler::launch_instance(const LightInstance& li, std::size_t li_index, con
         },
         "Sampler: clearing A");
   }
-  ::cl::Kernel& k1 = kernel("lf_step1_image", opts);
-  ::cl::Kernel& k2 = kernel("lf_step2_image", opts);
-  p.group_mul = group_multiplier(global[0] / local_range(k1)[0]);
+  auto k1 = kernel<lf_kernels::Step1>("lf_step1_image", opts);
+  auto k2 = kernel<lf_kernels::Step2>("lf_step2_image", opts);
+  p.group_mul = group_multiplier(global[0] / local_range(k1.get())[0]);
   set_common(k1, p, li, surfaces);
-  k1.setArg(kSpecificArgs, A);
+  k1.bind_at<lf_kernels::kCommon>(A);
   for (int m = 0; m < lum.num_images(); ++m) {
     p.image = m;
-    k1.setArg(0, sizeof(NfSampleParams), &p);
-    ev.step1.push_back(rt_.launch(k1, global, local_range(k1)));
+    k1.set<0>(p);
+    ev.step1.push_back(rt_.launch(k1.get(), global, local_range(k1.get())));
   }
-  p.group_mul = group_multiplier(global[0] / local_range(k2)[0]);
+  p.group_mul = group_multiplier(global[0] / local_range(k2.get())[0]);
   set_common(k2, p, li, surfaces);
-  k2.setArg(kSpecificArgs, A);
-  k2.setArg(kSpecificArgs + 1, *out.rgb);
-  k2.setArg(kSpecificArgs + 2, *out.k);
-  if (mean_direction_) k2.setArg(kSpecificArgs + 3, *out.dir);
+  k2.bind_at<lf_kernels::kCommon>(A, *out.rgb, *out.k);
+  if (mean_direction_) k2.bind_at<lf_kernels::kCommon + 3>(*out.dir);
   for (int m = 0; m < lum.num_images(); ++m) {
     p.image = m;
-    k2.setArg(0, sizeof(NfSampleParams), &p);
-    ev.step2.push_back(rt_.launch(k2, global, local_range(k2)));
+    k2.set<0>(p);
+    ev.step2.push_back(rt_.launch(k2.get(), global, local_range(k2.get())));
   }
   if (several) {
-    ::cl::Kernel& ka = kernel("lf_add", opts);
-    ka.setArg(0, a_inst_);
-    ka.setArg(1, *out.a);
-    ka.setArg(2, count);
-    ev.clears.push_back(rt_.launch(ka, global1, local_range(ka)));
+    auto ka = kernel<lf_kernels::Add>("lf_add", opts);
+    ka.bind(a_inst_, *out.a, count);
+    ev.clears.push_back(rt_.launch(ka.get(), global1, local_range(ka.get())));
   }
 }
 
@@ -513,11 +480,10 @@ std::vector<NfSampleDebug> Sampler::debug_samples(const DeviceLuminaire& lum, co
   LightInstance li;
   li.luminaire = &lum;
   li.instance = instance;
-  ::cl::Kernel& k = kernel("lf_debug_samples", opts);
+  auto k = kernel<lf_kernels::DebugSamples>("lf_debug_samples", opts);
   set_common(k, p, li, surf);
-  k.setArg(kSpecificArgs, out);
-  k.setArg(kSpecificArgs + 1, n);
-  rt_.launch(k, global_range(n, 1), local_range(k));
+  k.bind_at<lf_kernels::kCommon>(out, n);
+  rt_.launch(k.get(), global_range(n, 1), local_range(k.get()));
   std::vector<NfSampleDebug> v(n);
   cl::call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(NfSampleDebug), v.data()); },
            "debug_samples: reading");
@@ -546,12 +512,10 @@ std::vector<glm::vec2> Sampler::debug_pdf(const DeviceLuminaire& lum, const NfSu
   LightInstance li;
   li.luminaire = &lum;
   li.instance = instance;
-  ::cl::Kernel& k = kernel("lf_debug_pdf", opts);
+  auto k = kernel<lf_kernels::DebugPdf>("lf_debug_pdf", opts);
   set_common(k, p, li, surf);
-  k.setArg(kSpecificArgs, din);
-  k.setArg(kSpecificArgs + 1, n);
-  k.setArg(kSpecificArgs + 2, out);
-  rt_.launch(k, global_range(n, 1), local_range(k));
+  k.bind_at<lf_kernels::kCommon>(din, n, out);
+  rt_.launch(k.get(), global_range(n, 1), local_range(k.get()));
   std::vector<glm::vec4> v(in.size());
   cl::call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(glm::vec4), v.data()); },
            "debug_pdf: reading");

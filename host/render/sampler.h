@@ -18,6 +18,7 @@
 #include "kernels/shared/sampling.h"
 #include "kernels/shared/surface.h"
 #include "render/device_luminaire.h"
+#include "render/lightfield_kernels.h"
 #include "render/settings.h"
 
 namespace nf::render {
@@ -121,10 +122,15 @@ class Sampler {
   void set_kurt_table(const std::vector<NfKurtMaterial>& table);
 
  private:
-  ::cl::Kernel& kernel(const std::string& name, const std::string& options);
+  // Kernel `name` of lightfield.cl built with `options` (compiled once per pair), typed as K
+  // (render/lightfield_kernels.h; its argument count checked).
+  template <typename K>
+  K kernel(const std::string& name, const std::string& options);
   NfSampleParams params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const;
   void ensure(int count);
-  void set_common(::cl::Kernel& k, const NfSampleParams& p, const LightInstance& li, const ::cl::Buffer& surfaces);
+  // Binds NF_KERNEL_ARGS (lf_kernels::Common) of any lightfield.cl kernel but lf_add.
+  template <typename K>
+  void set_common(K& k, const NfSampleParams& p, const LightInstance& li, const ::cl::Buffer& surfaces);
   ::cl::NDRange global_range(int count, int lanes) const;
   // Where one instance's launches write: radiance, A, K, mean direction (may be null when off).
   struct Outputs {
@@ -167,7 +173,7 @@ class Sampler {
   };
   Selection sel_;
   // Sets the pixel-cache arguments of lf_fused for instance i; returns the mode (kernels/lightfield.cl).
-  int bind_cache(::cl::Kernel& k, std::size_t i, const std::string& key, int count, int images, bool enabled);
+  int bind_cache(lf_kernels::Fused& k, std::size_t i, const std::string& key, int count, int images, bool enabled);
 };
 
 // Uploads surfaces into a new read-only device buffer.

@@ -104,17 +104,10 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
       },
       "Sampler: uploading the selection lights");
   // 1. choose an instance per surface
-  ::cl::Kernel& ks = kern("ls_select");
-  ks.setArg(0, surfaces);
-  ks.setArg(1, count);
-  ks.setArg(2, sel_.lights);
-  ks.setArg(3, sel_.tables);
-  ks.setArg(4, static_cast<int>(n));
-  ks.setArg(5, static_cast<cl_uint>(s.seed));
-  ks.setArg(6, static_cast<cl_uint>(s.frame));
-  ks.setArg(7, sel_.sel);
-  ks.setArg(8, sel_.w);
-  ev.clears.push_back(rt_.launch(ks, range1(count), ::cl::NDRange(kGroup)));
+  lf_kernels::Select ks(kern("ls_select"), "ls_select");
+  ks.bind(surfaces, count, sel_.lights, sel_.tables, static_cast<int>(n), static_cast<cl_uint>(s.seed),
+          static_cast<cl_uint>(s.frame), sel_.sel, sel_.w);
+  ev.clears.push_back(rt_.launch(ks.get(), range1(count), ::cl::NDRange(kGroup)));
   std::vector<nf_uint> chosen(static_cast<std::size_t>(count));
   cl::call([&] { q.enqueueReadBuffer(sel_.sel, CL_TRUE, 0, chosen.size() * sizeof(nf_uint), chosen.data()); },
            "Sampler: reading the selection");
@@ -177,23 +170,15 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
       },
       "Sampler: clearing the selection outputs");
   // 3. gather the surfaces, shade each instance on its list
-  ::cl::Kernel& kg = kern("ls_gather");
-  kg.setArg(0, surfaces);
-  kg.setArg(1, sel_.idx);
-  kg.setArg(2, static_cast<int>(total));
-  kg.setArg(3, sel_.surf);
-  ev.clears.push_back(rt_.launch(kg, range1(total), ::cl::NDRange(kGroup)));
+  lf_kernels::Gather kg(kern("ls_gather"), "ls_gather");
+  kg.bind(surfaces, sel_.idx, static_cast<int>(total), sel_.surf);
+  ev.clears.push_back(rt_.launch(kg.get(), range1(total), ::cl::NDRange(kGroup)));
   for (std::size_t i = 0; i < n; ++i) {
     const LightInstance& li = lights[i];
     if (cnt[i] == 0 || !li.visibility || li.vis_words <= 0) continue;
-    ::cl::Kernel& kv = kern("ls_gather_vis");
-    kv.setArg(0, *li.visibility);
-    kv.setArg(1, sel_.idx);
-    kv.setArg(2, static_cast<int>(base[i]));
-    kv.setArg(3, static_cast<int>(cnt[i]));
-    kv.setArg(4, li.vis_words);
-    kv.setArg(5, sel_.vis);
-    ev.clears.push_back(rt_.launch(kv, range1(cnt[i]), ::cl::NDRange(kGroup)));
+    lf_kernels::GatherVis kv(kern("ls_gather_vis"), "ls_gather_vis");
+    kv.bind(*li.visibility, sel_.idx, static_cast<int>(base[i]), static_cast<int>(cnt[i]), li.vis_words, sel_.vis);
+    ev.clears.push_back(rt_.launch(kv.get(), range1(cnt[i]), ::cl::NDRange(kGroup)));
   }
   // sub-buffers (views into the gathered lists) live until the queue is done
   std::vector<std::array<::cl::Buffer, 6>> views(n);
@@ -216,25 +201,13 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
     launch_instance(li, i, v[0], static_cast<int>(c), out, s, 0, false, st, ev);
   }
   // 4. scatter back with the weights 1 / q
-  ::cl::Kernel& kc = kern("ls_scatter");
-  kc.setArg(0, sel_.idx);
-  kc.setArg(1, static_cast<int>(total));
-  kc.setArg(2, sel_.w);
-  kc.setArg(3, sel_.rgb);
-  kc.setArg(4, sel_.a);
-  kc.setArg(5, sel_.k);
-  kc.setArg(6, rgb_);
-  kc.setArg(7, a_);
-  kc.setArg(8, k_);
-  ev.clears.push_back(rt_.launch(kc, range1(total), ::cl::NDRange(kGroup)));
+  lf_kernels::Scatter kc(kern("ls_scatter"), "ls_scatter");
+  kc.bind(sel_.idx, static_cast<int>(total), sel_.w, sel_.rgb, sel_.a, sel_.k, rgb_, a_, k_);
+  ev.clears.push_back(rt_.launch(kc.get(), range1(total), ::cl::NDRange(kGroup)));
   if (mean_direction_) {
-    ::cl::Kernel& kd = kern("ls_scatter_dir");
-    kd.setArg(0, sel_.idx);
-    kd.setArg(1, static_cast<int>(total));
-    kd.setArg(2, sel_.w);
-    kd.setArg(3, sel_.dir);
-    kd.setArg(4, dir_);
-    ev.clears.push_back(rt_.launch(kd, range1(total), ::cl::NDRange(kGroup)));
+    lf_kernels::ScatterDir kd(kern("ls_scatter_dir"), "ls_scatter_dir");
+    kd.bind(sel_.idx, static_cast<int>(total), sel_.w, sel_.dir, dir_);
+    ev.clears.push_back(rt_.launch(kd.get(), range1(total), ::cl::NDRange(kGroup)));
   }
   cl::call([&] { q.finish(); }, "Sampler: waiting for the device");
   for (const auto& e : ev.step1) st.step1_ms += cl::Runtime::event_ms(e);

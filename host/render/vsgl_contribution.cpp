@@ -15,6 +15,7 @@
 #include "gl/scene_gpu.h"
 #include "gl/shadow_maps.h"
 #include "render/kurt_table.h"
+#include "render/vsgl_kernels.h"
 
 namespace nf::render {
 
@@ -142,88 +143,41 @@ void VsglContribution::ensure_gl(int size) {
 
 void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size,
                                   const RsmView& view, const ::cl::Buffer& pyr, const ::cl::Buffer* dir) {
-  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_texels");
+  vsgl_kernels::Texels k(rt_, "vsgl.cl", "vsgl_texels");
   const float pix = static_cast<float>(2.0 * view.tan_half / size);
-  cl::call(
-      [&] {
-        k.setArg(0, surf);
-        k.setArg(1, irradiance);
-        k.setArg(2, kurt_buf_);
-        k.setArg(3, static_cast<int>(kurt_.size()));
-        k.setArg(4, size);
-        k.setArg(5, f4(view.origin));
-        k.setArg(6, f4(view.forward));
-        k.setArg(7, pix);
-        k.setArg(8, pyr);
-        k.setArg(9, dir ? *dir : irradiance);
-        k.setArg(10, dir ? 1 : 0);
-      },
-      "VSGL texel kernel arguments");
-  rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
+  k.bind(surf, irradiance, kurt_buf_, static_cast<int>(kurt_.size()), size, f4(view.origin), f4(view.forward), pix, pyr,
+         dir ? *dir : irradiance, dir ? 1 : 0);
+  rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
 }
 
 std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size) {
-  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_pyramid_down");
+  vsgl_kernels::PyramidDown k(rt_, "vsgl.cl", "vsgl_pyramid_down");
   std::vector<int> off{0};
   for (int s = size; s > 1; s /= 2) {
     const int src = off.back(), dst = src + s * s;
     off.push_back(dst);
-    cl::call(
-        [&] {
-          k.setArg(0, pyr);
-          k.setArg(1, src);
-          k.setArg(2, s);
-          k.setArg(3, dst);
-        },
-        "VSGL pyramid kernel arguments");
-    rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(s / 2), static_cast<std::size_t>(s / 2)));
+    k.bind(pyr, src, s, dst);
+    rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(s / 2), static_cast<std::size_t>(s / 2)));
   }
   return off;
 }
 
 void VsglContribution::run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size,
                                     glm::dvec3 origin, const VsglSettings& s, const ::cl::Buffer& out) {
-  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_generate");
+  vsgl_kernels::Generate k(rt_, "vsgl.cl", "vsgl_generate");
   const ::cl::Buffer off = upload_rw(rt_, offsets, "VSGL pyramid offsets");
-  cl::call(
-      [&] {
-        k.setArg(0, pyr);
-        k.setArg(1, off);
-        k.setArg(2, size);
-        k.setArg(3, static_cast<int>(offsets.size()));
-        k.setArg(4, s.count);
-        k.setArg(5, s.kernel);
-        k.setArg(6, static_cast<float>(s.k));
-        k.setArg(7, s.points);
-        k.setArg(8, f4(origin));
-        k.setArg(9, out);
-      },
-      "VSGL generation kernel arguments");
-  rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(s.count)));
+  k.bind(pyr, off, size, static_cast<int>(offsets.size()), s.count, s.kernel, static_cast<float>(s.k), s.points,
+         f4(origin), out);
+  rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(s.count)));
   cl::call([&] { rt_.queue().finish(); }, "VSGL generation");
 }
 
 void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const ::cl::Buffer& vsgls, int nv,
                                  const ::cl::Buffer& out, const VsglShadows& shadows, const ::cl::Buffer& index) {
-  ::cl::Kernel k = rt_.kernel("vsgl.cl", "vsgl_shade");
-  cl::call(
-      [&] {
-        k.setArg(0, surfaces);
-        k.setArg(1, count);
-        k.setArg(2, vsgls);
-        k.setArg(3, nv);
-        k.setArg(4, kurt_buf_);
-        k.setArg(5, static_cast<int>(kurt_.size()));
-        k.setArg(6, out);
-        k.setArg(7, index);
-        k.setArg(8, shadows.maps());
-        k.setArg(9, shadows.origins());
-        k.setArg(10, shadows.params().size);
-        k.setArg(11, static_cast<float>(shadows.params().near));
-        k.setArg(12, shadows.bias());
-      },
-      "VSGL shading kernel arguments");
-  const ::cl::Event ev = rt_.launch(k, ::cl::NDRange(static_cast<std::size_t>(std::max(count, 1))));
+  vsgl_kernels::Shade k(rt_, "vsgl.cl", "vsgl_shade");
+  k.bind(surfaces, count, vsgls, nv, kurt_buf_, static_cast<int>(kurt_.size()), out, index, shadows.maps(),
+         shadows.origins(), shadows.params().size, static_cast<float>(shadows.params().near), shadows.bias());
+  const ::cl::Event ev = rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(std::max(count, 1))));
   cl::call([&] { ev.wait(); }, "VSGL shading kernel");
 }
 
@@ -430,10 +384,7 @@ ContributionFrame VsglContribution::add(const FrameInputs& in, std::vector<glm::
   f.step2_ms = shade_timer.ms();
   f.wall_ms = wall.ms();
   Timer readback;
-  const auto rgb =
-      download<glm::vec4>(rt_, out_, static_cast<std::size_t>(std::max(in.count, 0)), 0, "reading the VSGL radiance");
-  radiance.resize(std::max(radiance.size(), rgb.size()), glm::vec4(0.0f));
-  for (std::size_t p = 0; p < rgb.size(); ++p) radiance[p] += rgb[p];
+  add_radiance(radiance, read_radiance(rt_, out_, in.count, "reading the VSGL radiance"));
   f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) * vsgls_.size();
   f.readback_ms = readback.ms();
   return f;

@@ -12,6 +12,7 @@
 #include "core/memory.h"
 #include "gl/point_shadow_maps.h"
 #include "render/vsgl_contribution.h"
+#include "render/vsgl_kernels.h"
 
 namespace nf::render {
 
@@ -145,22 +146,10 @@ std::vector<float> VsglShadows::lookup(const std::vector<glm::dvec3>& points, co
   ::cl::Buffer out;
   cl::call([&] { out = ::cl::Buffer(rt_.context(), CL_MEM_WRITE_ONLY, std::max<std::size_t>(points.size(), 1) * 4); },
            "VSGL shadow lookup output");
-  ::cl::Kernel kern = rt_.kernel("vsgl.cl", "vsgl_shadow_lookup");
-  cl::call(
-      [&] {
-        kern.setArg(0, pb);
-        kern.setArg(1, nb);
-        kern.setArg(2, lb);
-        kern.setArg(3, static_cast<int>(points.size()));
-        kern.setArg(4, maps_buf_);
-        kern.setArg(5, origins_buf_);
-        kern.setArg(6, p_.size);
-        kern.setArg(7, static_cast<float>(p_.near));
-        kern.setArg(8, bias());
-        kern.setArg(9, out);
-      },
-      "VSGL shadow lookup arguments");
-  rt_.launch(kern, ::cl::NDRange(std::max<std::size_t>(points.size(), 1)));
+  vsgl_kernels::ShadowLookup kern(rt_, "vsgl.cl", "vsgl_shadow_lookup");
+  kern.bind(pb, nb, lb, static_cast<int>(points.size()), maps_buf_, origins_buf_, p_.size, static_cast<float>(p_.near),
+            bias(), out);
+  rt_.launch(kern.get(), ::cl::NDRange(std::max<std::size_t>(points.size(), 1)));
   std::vector<float> v(points.size());
   if (!v.empty())
     cl::call([&] { rt_.queue().enqueueReadBuffer(out, CL_TRUE, 0, v.size() * sizeof(float), v.data()); },

@@ -5,17 +5,11 @@
    bases 2 and 3 (Halton), the Hammersley set and the Fibonacci lattice. Lane-generic (vu, vf)
    where the light-field kernel needs lanes, scalar otherwise. */
 #include "common/lanes.h"
+#include "shared/hash.h"
 #include "shared/sampling.h"
 
-/* 32-bit integer hash (xor-shift-multiply finaliser), scalar and per lane. */
-NF_INLINE uint nf_hash1(uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
+/* 32-bit integer hash (shared/hash.h), scalar and per lane (the same steps on vectors). */
+NF_INLINE uint nf_hash1(uint x) { return nf_hash32(x); }
 
 NF_INLINE vu nf_hashv(vu x) {
   x ^= x >> 16;

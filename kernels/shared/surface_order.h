@@ -10,6 +10,7 @@
    (d = the smallest even number with 2^d >= size, so 2^d < 4 size); results >= size are fed
    back in (cycle walking), which keeps it a bijection on [0, size) and takes fewer than 4
    rounds on average. The same function runs on the host (tests, layouts) and in the kernels. */
+#include "shared/hash.h"
 #include "shared/types.h"
 
 #ifdef __OPENCL_VERSION__
@@ -18,21 +19,12 @@
 #define NF_SO_INLINE inline
 #endif
 
-NF_SO_INLINE nf_uint nf_so_hash(nf_uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-
 /* One pass of the Feistel network on 2 h bits (h >= 1). */
 NF_SO_INLINE nf_uint nf_so_feistel(nf_uint x, nf_uint h, nf_uint key) {
   const nf_uint mask = (1U << h) - 1U;
   nf_uint l = x >> h, r = x & mask;
   for (nf_uint round = 0; round < 4U; ++round) {
-    const nf_uint f = nf_so_hash(r ^ key ^ (round * 0x9E3779B9U)) & mask;
+    const nf_uint f = nf_hash32(r ^ key ^ (round * 0x9E3779B9U)) & mask;
     const nf_uint t = l ^ f;
     l = r;
     r = t;
@@ -49,7 +41,7 @@ NF_SO_INLINE nf_uint nf_surface_at(nf_uint slot, nf_uint count, nf_uint bits, nf
   if (size < 2U) return slot;
   nf_uint h = 1U;
   while ((1U << (2U * h)) < size) ++h;
-  const nf_uint k = nf_so_hash(key ^ nf_so_hash(base ^ 0x68bc21ebU));
+  const nf_uint k = nf_hash32(key ^ nf_hash32(base ^ 0x68bc21ebU));
   nf_uint x = slot - base;
   do {
     x = nf_so_feistel(x, h, k);
