@@ -69,7 +69,9 @@ import sys
 import tempfile
 import time
 
-SKIP = 77
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from radiance_support import SKIP, radiance_bindir  # noqa: E402
+
 SIZE = 256
 L_PANEL = 4000.0  # cd/m^2
 SIDE = 0.2  # m, the panel preset's square
@@ -192,15 +194,10 @@ def main():
     ap.add_argument("--shared", required=True, help="../shared/data (unused)")
     ap.add_argument("--keep", help="keep the work files in this folder")
     args = ap.parse_args()
-    try:
-        import pyradiance  # noqa: F401  (the wheel ships Radiance's binaries)
-    except ImportError:
-        print("SKIPPED: pyradiance is not installed in this Python environment (scripts/setup_python.sh)")
-        return SKIP
-    bindir = pathlib.Path(pyradiance.__file__).parent / "bin"
+    bindir = None
     for tool in ("ies2rad", "oconv", "rpict", "evalglare"):
-        if not (bindir / tool).exists():
-            print(f"SKIPPED: pyradiance has no {tool} in {bindir}")
+        bindir = radiance_bindir(tool)
+        if bindir is None:
             return SKIP
     t0 = time.time()
     tmp = tempfile.TemporaryDirectory()

@@ -1,5 +1,5 @@
 """Radiance's binaries for the tests that compare with it (radiance_typec_test.py,
-radiance_render_test.py): the pyradiance wheel (scripts/python-requirements.txt) ships them."""
+radiance_render_test.py, radiance_glare_test.py): the pyradiance wheel (scripts/python-requirements.txt) ships them."""
 import pathlib
 
 SKIP = 77  # ctest's SKIP_RETURN_CODE for these tests

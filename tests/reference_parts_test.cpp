@@ -17,11 +17,14 @@
 #include "core/image_io.h"
 #include "reference/sample_sums.h"
 #include "support/cli_helpers.h"
+#include "support/part_helpers.h"
 #include "support/testing.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using nf::testing::bits;
+using nf::testing::part_data;
 using nf::testing::q;
 using nf::testing::run_nearfield;
 using nf::testing::write;
@@ -33,21 +36,6 @@ const char* kScene = R"({
                { "type": "box", "size": [0.4, 0.4, 0.4], "transform": { "translate": [0, 0.2, 0] } } ],
   "luminaires": [ { "preset": "panel", "transform": { "translate": [0, 0.8, 0], "rotate": [90, 0, 0] } } ]
 })";
-
-// Bit patterns, so that -0 vs +0 and NaN payloads count as differences.
-std::vector<std::uint32_t> bits(const nf::Image& img) {
-  std::vector<std::uint32_t> b(img.pixels.size());
-  std::memcpy(b.data(), img.pixels.data(), b.size() * sizeof(float));
-  return b;
-}
-
-// A part file's sums and kinds (what follows its header line).
-std::string part_data(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::string header;
-  std::getline(in, header);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 struct Fixture {
   fs::path dir, scene;

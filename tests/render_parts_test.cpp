@@ -14,28 +14,18 @@
 #include <nlohmann/json.hpp>
 
 #include "core/image_io.h"
+#include "support/cli_helpers.h"
+#include "support/part_helpers.h"
 #include "support/testing.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using nf::testing::bits;
+using nf::testing::part_data;
 using nf::testing::run_nearfield;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-
-std::vector<std::uint32_t> bits(const nf::Image& img) {
-  std::vector<std::uint32_t> b(img.pixels.size());
-  std::memcpy(b.data(), img.pixels.data(), b.size() * sizeof(float));
-  return b;
-}
-
-std::string part_data(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::string header;
-  std::getline(in, header);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
+using nf::testing::q;
 // A floor and a box lit by a panel luminaire, a sky (environment map with a gradient) and a
 // far-field downlight (LM-63 file): three contributions in every frame.
 struct Fixture {
@@ -44,7 +34,8 @@ struct Fixture {
     nf::Image sky(16, 8, 3);
     for (int y = 0; y < 8; ++y)
       for (int x = 0; x < 16; ++x)
-        for (int c = 0; c < 3; ++c) sky.at(x, y, c) = 0.05f + 0.02f * static_cast<float>(x + c) / (1.0f + y);
+        for (int c = 0; c < 3; ++c)
+          sky.at(x, y, c) = 0.05f + 0.02f * static_cast<float>(x + c) / (1.0f + static_cast<float>(y));
     nf::write_exr(dir / "sky.exr", sky);
     std::ofstream ies(dir / "down.ies");
     ies << "IESNA:LM-63-2002\n[TEST] render_parts_test\nTILT=NONE\n1 -1 1.0 7 3 1 2 0 0 0\n1.0 1.0 0\n"
