@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "gl/shader.h"
+#include "luminaire/parallel.h"
 
 namespace nf::gl {
 
@@ -47,6 +48,48 @@ std::vector<float> read_raw(unsigned fbo, int index, int w, int h) {
   return v;
 }
 
+// Output pixel (x, y from the top) from GL row h - 1 - y of the three attachments.
+NfSurface convert_surface(const std::vector<float>& pos, const std::vector<float>& nrm, const std::vector<float>& mat,
+                          const std::vector<scene::Material>& materials, const scene::Camera& camera, int w, int h,
+                          std::size_t x, std::size_t y) {
+  const std::size_t i = (static_cast<std::size_t>(h) - 1 - y) * static_cast<std::size_t>(w) + x;
+  NfSurface s{};
+  const float* p = &pos[4 * i];
+  const int id = static_cast<int>(std::lround(p[3])) - 1;
+  if (id >= 0 && id < static_cast<int>(materials.size())) {
+    const float* q = &nrm[4 * i];
+    const float* m = &mat[4 * i];
+    s.px = p[0];
+    s.py = p[1];
+    s.pz = p[2];
+    s.valid = 1;
+    glm::dvec3 nn(q[0], q[1], q[2]);
+    const double len = glm::length(nn);
+    nn = len > 0.0 ? nn / len : glm::dvec3(0.0, 0.0, 1.0);
+    s.nx = static_cast<float>(nn.x);
+    s.ny = static_cast<float>(nn.y);
+    s.nz = static_cast<float>(nn.z);
+    const glm::dvec3 v = glm::normalize(camera.position - glm::dvec3(p[0], p[1], p[2]));
+    s.vx = static_cast<float>(v.x);
+    s.vy = static_cast<float>(v.y);
+    s.vz = static_cast<float>(v.z);
+    const scene::MaterialKind kind = materials[static_cast<std::size_t>(id)].kind;
+    const bool ggx = kind == scene::MaterialKind::ggx;
+    s.brdf = ggx ? NF_BRDF_GGX : NF_BRDF_LAMBERT;
+    s.base_r = m[0];
+    s.base_g = m[1];
+    s.base_b = m[2];
+    s.roughness = ggx ? m[3] : 1.0f;
+    s.metallic = ggx ? q[3] : 0.0f;
+    if (kind == scene::MaterialKind::kurt) {  // base = world tangent, metallic = table index
+      s.brdf = NF_BRDF_KURT;
+      s.roughness = 1.0f;
+      s.metallic = static_cast<float>(id);
+    }
+  }
+  return s;
+}
+
 }  // namespace
 
 std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>& materials,
@@ -55,46 +98,13 @@ std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>
   const std::vector<float> pos = read_raw(fb_.id(), 0, w, h), nrm = read_raw(fb_.id(), 1, w, h),
                            mat = read_raw(fb_.id(), 2, w, h);
   std::vector<NfSurface> out(static_cast<std::size_t>(w) * h);
-  for (std::size_t o = 0; o < out.size(); ++o) {
-    // Output row y (from the top) is GL row h - 1 - y.
-    const std::size_t x = o % static_cast<std::size_t>(w), y = o / static_cast<std::size_t>(w);
-    const std::size_t i = (static_cast<std::size_t>(h) - 1 - y) * static_cast<std::size_t>(w) + x;
-    NfSurface s{};
-    const float* p = &pos[4 * i];
-    const int id = static_cast<int>(std::lround(p[3])) - 1;
-    if (id >= 0 && id < static_cast<int>(materials.size())) {
-      const float* q = &nrm[4 * i];
-      const float* m = &mat[4 * i];
-      s.px = p[0];
-      s.py = p[1];
-      s.pz = p[2];
-      s.valid = 1;
-      glm::dvec3 nn(q[0], q[1], q[2]);
-      const double len = glm::length(nn);
-      nn = len > 0.0 ? nn / len : glm::dvec3(0.0, 0.0, 1.0);
-      s.nx = static_cast<float>(nn.x);
-      s.ny = static_cast<float>(nn.y);
-      s.nz = static_cast<float>(nn.z);
-      const glm::dvec3 v = glm::normalize(camera.position - glm::dvec3(p[0], p[1], p[2]));
-      s.vx = static_cast<float>(v.x);
-      s.vy = static_cast<float>(v.y);
-      s.vz = static_cast<float>(v.z);
-      const scene::MaterialKind kind = materials[static_cast<std::size_t>(id)].kind;
-      const bool ggx = kind == scene::MaterialKind::ggx;
-      s.brdf = ggx ? NF_BRDF_GGX : NF_BRDF_LAMBERT;
-      s.base_r = m[0];
-      s.base_g = m[1];
-      s.base_b = m[2];
-      s.roughness = ggx ? m[3] : 1.0f;
-      s.metallic = ggx ? q[3] : 0.0f;
-      if (kind == scene::MaterialKind::kurt) {  // base = world tangent, metallic = table index
-        s.brdf = NF_BRDF_KURT;
-        s.roughness = 1.0f;
-        s.metallic = static_cast<float>(id);
-      }
-    }
-    out[o] = s;
-  }
+  // Rows convert independently, each into its own slots, on every core: the per-pixel conversion in
+  // double precision is host work that a moving camera pays every frame.
+  lum::parallel_for(h, 0, [&](int row) {
+    const std::size_t y = static_cast<std::size_t>(row);
+    for (std::size_t x = 0; x < static_cast<std::size_t>(w); ++x)
+      out[y * static_cast<std::size_t>(w) + x] = convert_surface(pos, nrm, mat, materials, camera, w, h, x, y);
+  });
   return out;
 }
 
