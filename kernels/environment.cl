@@ -195,15 +195,7 @@ typedef struct {
      level <= log2(e / (4 s_0)),   s_0 = the level-0 texel's longer side (rad),
    evaluated with sin e = nl in place of e (more conservative, no asin), and below level 0 the
    lookup goes from bilinear to the texel holding l (the map itself, as mc and the reference read
-   it) over one level. nl = 1 disables the cap (regular sampling).
-   The cap lowers the level by at most NF_ENV_CAP_LEVELS below the sample's own level
-   l_s = log4(omega / Omega_texel) (issue 29, "The horizon cap's floor"): a BRDF-sampled sample's
-   weight f_r cos / p falls like cos = sin e towards the horizon while a capped footprint's area
-   falls like e^2, so without a floor a capped sample adds about the same variance from small
-   bright lights read unfiltered however close to the horizon it is; with it, the footprint keeps at least
-   4^-2 of the sample's solid angle, and the samples whose footprint then reaches past a quarter of
-   their elevation are those with e < 4 s(l_s - 2) = s(l_s), whose weight is small. */
-#define NF_ENV_CAP_LEVELS 2.0f
+   it) over one level. nl = 1 disables the cap (regular sampling). */
 static float3 env_filtered(const EnvMap* m, float3 l, float omega, float nl) {
   const float3 w = nf_env_to_map(l, m->rot);
 #if NF_ENV_PARAM == 1
@@ -222,8 +214,7 @@ static float3 env_filtered(const EnvMap* m, float3 l, float omega, float nl) {
 #endif
   /* e >= sin e = nl: the cap with nl in place of e is (slightly) more conservative, one log2 */
   const float e4 = clamp(nl, 0.0f, 1.0f) / (4.0f * side0);
-  const float own = fmax(omega / texel, 1.0f);
-  const float level = fmax(0.5f * log2(fmax(fmin(own, e4 * e4), 1e-30f)), 0.5f * log2(own) - NF_ENV_CAP_LEVELS);
+  const float level = 0.5f * log2(fmax(fmin(fmax(omega / texel, 1.0f), e4 * e4), 1e-30f));
 #if NF_ENV_PARAM == 1
   float3 r = nf_par_trilinear(m->fpyr, m->flv, m->flevels, hf, uv, level).xyz;
   if (level < 0.0f) {
