@@ -52,7 +52,7 @@ struct Options {
   double step = 0.01;
   bool refresh = false;
   std::string decompose;  // N_v values of the deficit decomposition ("" = none)
-  int merge = 4;          // texel blocks per shadow ray of the shadowed VPL gather
+  int merge = 1;          // texel blocks per shadow ray of the shadowed VPL gather (1: a ray per texel)
   std::string images;     // folder for PNGs of the reference and each VSGL image ("" = none)
 };
 
