@@ -13,6 +13,7 @@
 // --shadowed-count, written to vsgl_shadowed.{csv,md}; an empty --counts skips the kernel sweep
 // (and leaves vsgl.{csv,md} alone).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -26,6 +27,7 @@
 
 #include "bench/sweep/machine.h"
 #include "bench/sweep/metrics.h"
+#include "bench/vsgl_vpl_gather.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/timer.h"
@@ -49,7 +51,9 @@ struct Options {
   int width = 160, height = 90, ref_spp = 256, spp = 64, rsm = 256, flicker_frames = 60;
   double step = 0.01;
   bool refresh = false;
-  std::string images;  // folder for PNGs of the reference and each VSGL image ("" = none)
+  std::string decompose;  // N_v values of the deficit decomposition ("" = none)
+  int merge = 1;          // texel blocks per shadow ray of the shadowed VPL gather (1: a ray per texel)
+  std::string images;     // folder for PNGs of the reference and each VSGL image ("" = none)
 };
 
 std::vector<int> parse_list(const std::string& s) {
@@ -89,6 +93,10 @@ int main(int argc, char** argv) {
   app.add_option("--counts", o.counts, "N_v values, comma-separated (empty: no kernel sweep)");
   app.add_option("--shadowed", o.shadowed, "vsgl_shadowed values, comma-separated (empty: no shadowed sweep)");
   app.add_option("--shadowed-count", o.shadowed_count, "N_v of the shadowed sweep");
+  app.add_option(
+      "--decompose", o.decompose,
+      "N_v values (integral kernels) of the deficit decomposition against the brute-force VPLs (empty: none)");
+  app.add_option("--merge", o.merge, "RSM texel blocks (merge^2) per shadow ray of the shadowed VPL gather");
   app.add_option("--ref-spp", o.ref_spp, "Reference samples per pixel");
   app.add_option("--spp", o.spp, "Light-field samples per RSM texel and pixel");
   app.add_option("--rsm", o.rsm, "RSM size");
@@ -217,6 +225,86 @@ int main(int argc, char** argv) {
       srows.push_back(row);
     }
     shadowed = 0;
+
+    // The deficit's decomposition (docs/indirect.md, "Where the default scene's deficit comes from"):
+    // per receiver region, the reference's one-bounce light, the brute-force VPLs of the same RSMs
+    // (diffuse and specular lobes, unshadowed and with shadow rays; bench/vsgl_vpl_gather.h) and
+    // the VSGLs (integral kernels) at each N_v, unshadowed and with every VSGL shadowed.
+    if (!o.decompose.empty()) {
+      frame("vsgl", "integral", 256);
+      auto* v = dynamic_cast<nf::render::VsglContribution*>(renderer.contribution("indirect"));
+      const std::vector<NfSurface> px = renderer.surfaces();
+      const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+      nf::Timer tu;
+      const nf::bench::VplGather un = nf::bench::gather_vpls(*v, o.rsm, px, 1, nullptr, static_cast<int>(hw));
+      const double un_ms = tu.ms();
+      nf::Timer ts;
+      const nf::bench::VplGather sh =
+          nf::bench::gather_vpls(*v, o.rsm, px, o.merge, &scene.geometry, static_cast<int>(hw));
+      const double sh_ms = ts.ms();
+      // regions: 0 floor (y = 0, normal +y), 1 wall (z = -8, normal +z), 2 everything else
+      auto region = [&](std::size_t p) {
+        const NfSurface& q = px[p];
+        if (q.ny > 0.999f && std::abs(q.py) < 1e-3f) return 0;
+        if (q.nz > 0.999f && std::abs(q.pz + 8.0f) < 1e-3f) return 1;
+        return 2;
+      };
+      auto lum3 = [](const float* c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; };
+      struct Totals {
+        std::array<double, 4> t{};  // floor, wall, other, all
+        void add(int r, double x) {
+          t[static_cast<std::size_t>(r)] += x;
+          t[3] += x;
+        }
+      };
+      Totals ref_t, vd, vs, sd, ss, vg;
+      for (std::size_t p = 0; p < px.size(); ++p) {
+        if (!valid[p] || !px[p].valid) continue;
+        const int r = region(p);
+        ref_t.add(r, lum3(&ref.result.image.pixels[3 * p]));
+        vd.add(r, un.diffuse[p]);
+        vs.add(r, un.specular[p]);
+        vg.add(r, un.diffuse_sg[p] + un.specular[p]);
+        sd.add(r, sh.diffuse[p]);
+        ss.add(r, sh.specular[p]);
+      }
+      std::vector<std::pair<std::string, Totals>> cols;
+      cols.push_back({"reference (shadowed)", ref_t});
+      Totals vu, vsh;
+      for (std::size_t k = 0; k < 4; ++k) {
+        vu.t[k] = vd.t[k] + vs.t[k];
+        vsh.t[k] = sd.t[k] + ss.t[k];
+      }
+      cols.push_back({"VPLs, shadow rays", vsh});
+      cols.push_back({"VPLs, unshadowed", vu});
+      cols.push_back({"VPLs, unshadowed, diffuse lobes", vd});
+      cols.push_back({"VPLs, unshadowed, specular lobes", vs});
+      cols.push_back({"VPLs, unshadowed, diffuse lobes as the SG of App. A (+ specular)", vg});
+      for (int count : parse_list(o.decompose))
+        for (int k : {0, count}) {
+          shadowed = k;
+          const nf::Image only = difference(frame("vsgl", "integral", count), direct);
+          Totals t;
+          for (std::size_t p = 0; p < px.size(); ++p)
+            if (valid[p] && px[p].valid) t.add(region(p), lum3(&only.pixels[3 * p]));
+          cols.push_back({fmt::format("VSGL N_v {}{}", count, k ? ", all shadowed" : ""), t});
+        }
+      shadowed = 0;
+      std::string md = fmt::format(
+          "# VSGL deficit decomposition, default scene {}x{}, RSM {}^2\n\nVPLs: {} (flux {:.4g} W; with the area "
+          "clamp at 1e-3 instead of 0.05: {:.4g} W, {:+.2f} %); shadowed gather: one shadow ray per {}x{} texel "
+          "block; gathers took {:.0f} / {:.0f} ms. Luminance totals over the valid pixels, and their ratio to the "
+          "reference and to the unshadowed VPLs.\n\n| | floor | wall | other | all | / reference | / VPLs "
+          "unshadowed |\n|---|---|---|---|---|---|---|\n",
+          o.width, o.height, o.rsm, un.vpls, un.flux, un.flux_unclamped,
+          100.0 * (un.flux_unclamped / std::max(un.flux, 1e-30) - 1.0), o.merge, o.merge, un_ms, sh_ms);
+      for (const auto& [name, t] : cols)
+        md += fmt::format("| {} | {:.4g} | {:.4g} | {:.4g} | {:.4g} | {:.3f} | {:.3f} |\n", name, t.t[0], t.t[1],
+                          t.t[2], t.t[3], t.t[3] / std::max(ref_t.t[3], 1e-30), t.t[3] / std::max(vu.t[3], 1e-30));
+      std::printf("%s", md.c_str());
+      fs::create_directories(o.out);
+      std::ofstream(fs::path(o.out) / "vsgl_decomposition.md") << md;
+    }
 
     // The paper's Fig. 1 picture: the PDF of instance 0's RSM (log grey) with the square footprint
     // (2^l texels per side about x_i) of each of its N_v = 256 kernels, per kernel kind.
