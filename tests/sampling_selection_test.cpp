@@ -326,6 +326,7 @@ TEST(LightSelection, ThousandInstancesStayFinite) {
   s.light_selection = LightSelection::flat;  // auto would pick flat too (1,000 instances)
   for (std::uint32_t frame = 0; frame < 2; ++frame) {
     s.frame = frame;
+    set_selection_picks(frame == 0 ? 1 : 4);  // one pick, then four (up to 4,000 lists)
     sampler.run(buf, static_cast<int>(surf.size()), lights, s);
     const auto rgb = sampler.read_radiance();
     const auto a = sampler.read_a();
@@ -338,6 +339,7 @@ TEST(LightSelection, ThousandInstancesStayFinite) {
     }
     EXPECT_GT(lit, 100);
   }
+  set_selection_picks(kSelectionPicks);
 }
 
 // One instance: selection has nothing to choose, the frame is the `all` frame bit for bit.

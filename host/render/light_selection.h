@@ -33,7 +33,10 @@ std::vector<double> selection_probabilities(std::span<const LightInstance> light
 // one list per instance and count) or c times with round(K / M) (one list per instance). Process-
 // wide for now (defaults: the measured kSelectionPicks and merging); a render setting would add a
 // field to SamplingSettings and the registry. set_selection_picks throws nf::Error outside 1..15.
-inline constexpr int kSelectionPicks = 4;
+// M = 1 by the measurement (bench/results/selection/README.md): more picks lower one frame's error
+// but cost as much more (one A_m(p) set-up per picked instance), equal at equal time at N = 32 and
+// worse at N = 2.
+inline constexpr int kSelectionPicks = 1;
 int selection_picks();
 void set_selection_picks(int m);
 bool selection_merge();
