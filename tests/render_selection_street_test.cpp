@@ -1,7 +1,7 @@
 // Light selection on a whole image (issue 26, docs/sampling.md "Light selection"): a small street of
 // four car2 headlights (bench/selection/street_gen.py --instances 4 --seed 3 --width 64 --height 36,
 // presets at a quarter of their image resolution), flat floor and wall, no occluders. The whole
-// image's mean luminance of `light_selection flat` (M = 1 and M = 4 picks, 48 frames each) against
+// image's mean luminance of `light_selection flat` (M = 1 and M = 4 picks, 96 frames each) against
 // `nearfield reference` (render::run_reference, direct light, every sample through the pixel centre as
 // render does) and against `all`. Each mean carries its standard error: the frames' spread for the
 // renders (frames are independent), the reference's per-pixel variances for it. Required:
@@ -67,7 +67,7 @@ TEST(LightSelectionStreet, ImageMeanMatchesTheReference) {
   const scene::Scene sc = render_test::parse(kStreet);
   ASSERT_EQ(sc.luminaires.size(), 4u);
   ref::ReferenceSettings rs;
-  rs.spp = 64;
+  rs.spp = 256;
   rs.seed = 26;
   rs.progress = false;
   render::LuminaireLoadOptions load;
@@ -94,7 +94,7 @@ TEST(LightSelectionStreet, ImageMeanMatchesTheReference) {
   };
   for (const Case c : {Case{render::LightSelection::flat, 1}, Case{render::LightSelection::flat, 4},
                        Case{render::LightSelection::all, 1}}) {
-    const Mean got = render_mean(*r, c.mode, c.picks, 48);
+    const Mean got = render_mean(*r, c.mode, c.picks, 96);
     const double se = std::sqrt(got.se * got.se + want.se * want.se);
     const double z = (got.mean - want.mean) / se;
     std::printf("  %-4s M=%d: mean %.6g (se %.3g) reference %.6g (se %.3g): ratio %.4f, z %.2f\n",
