@@ -1,9 +1,12 @@
-/* Light selection (docs/sampling.md "Light selection", DESIGN §15): one luminaire instance per
-   pixel and frame, drawn with probability q_i(p) = f_i(p) / sum_j f_j(p) (common/light_select.h),
-   then the surfaces are gathered per chosen instance, shaded by the unchanged light-field kernels
-   (lightfield.cl) on that compact list, and scattered back weighted by 1 / q_i:
-     E[ L_I(p) / q_I(p) ] = sum_i q_i(p) L_i(p) / q_i(p) = sum_{i: q_i > 0} L_i(p) = L(p)
-   since q_i(p) > 0 wherever instance i contributes. */
+/* Light selection (docs/sampling.md "Light selection", DESIGN §15): per pixel and frame, M picks of
+   luminaire instances drawn with probabilities q_i(p) = f_i(p) / sum_j f_j(p) (common/light_select.h)
+   by systematic sampling: one uniform u per pixel, pick k at the point (k + u) / M of the CDF, so
+   instance i is picked c_i times with c_i in {floor(M q_i), floor(M q_i) + 1} and E[c_i] = M q_i.
+   Each picked instance is shaded once, by the unchanged light-field kernels (lightfield.cl) on a
+   compact list of surfaces, with round(c_i K / M) samples, and weighted c_i / (M q_i):
+     E[ sum_i c_i / (M q_i) L_i(p) ] = sum_{i: q_i > 0} L_i(p) = L(p)
+   since q_i(p) > 0 wherever instance i contributes and L_i is unbiased for any sample count.
+   M = 1 is the plain draw of one instance with probability q_i (weight 1 / q_i). */
 #define NF_LANES 1
 #include "common/lanes.h"
 #include "common/light_select.h"
@@ -11,38 +14,75 @@
 #include "shared/surface.h"
 
 #define NF_LS_NONE 0xffffffffU
+#define NF_LS_COUNT_BITS 4 /* sel = instance << 4 | c_i, c_i in 1..picks (picks <= 15) */
 
-/* Chooses the instance of every surface by weighted reservoir sampling over the n instances (one pass,
-   P(choose i) = f_i / sum_j f_j exactly in real arithmetic). sel = the instance (NF_LS_NONE: no
-   instance can light it, or background), w = 1 / q_sel. */
-__kernel void ls_select(__global const NfSurface* surfaces, const int count, __global const NfSelectLight* lights,
+/* The picks of every surface: sel[g * picks + j] = instance << 4 | c (NF_LS_NONE: no more picks; all
+   NF_LS_NONE where no instance can light the surface, or background) and w = c / (x_i - x_{i-1}), where
+   x_i = M C_i / C_N are the float CDF points the picks were drawn from (C = the running sums of f), so
+   the weight is exactly c over the expected count E[c] = x_i - x_{i-1} (u uniform) of that draw.
+   merge = 0: an instance picked c times gets c entries of count 1 (weight 1 / (x_i - x_{i-1}) each),
+   so the host keeps one list per instance (fewer launches, c set-ups of its A_m(p)). Two passes over
+   the instances: the sum, then the CDF. */
+__kernel void ls_pick(__global const NfSurface* surfaces, const int count, __global const NfSelectLight* lights,
                         __global const float* tables, const int n, const uint seed, const uint frame,
-                        __global uint* sel, __global float* w) {
+                        const int picks, const int merge, __global uint* sel, __global float* w) {
   const int g = get_global_id(0);
   if (g >= count) return;
   const NfSurface s = surfaces[g];
-  uint chosen = NF_LS_NONE;
-  float fc = 0.0f, total = 0.0f;
+  const size_t o = (size_t)g * (size_t)picks;
+  int j = 0;
   if (s.valid) {
     const float3 p = (float3)(s.px, s.py, s.pz), nn = (float3)(s.nx, s.ny, s.nz);
     const int use_cos = s.brdf != NF_BRDF_SCALAR;
-    const uint key = nf_hash1(nf_hash1((uint)g ^ 0x68bc21ebU) ^ nf_hash1(frame * 0x9e3779b9U + seed));
+    float total = 0.0f;
     for (int i = 0; i < n; ++i) {
       const float f = nf_select_estimate(lights + i, tables, p, nn, use_cos);
-      if (!(f > 0.0f)) continue;
-      total += f;
-      const float u = nf_unit1(nf_hash1(key ^ ((uint)i * 0x85ebca6bU + 0x1b873593U)));
-      if (u * total < f) {
-        chosen = (uint)i;
-        fc = f;
+      if (f > 0.0f) total += f;
+    }
+    if (total > 0.0f && isfinite(total)) {
+      const uint key = nf_hash1(nf_hash1((uint)g ^ 0x68bc21ebU) ^ nf_hash1(frame * 0x9e3779b9U + seed));
+      const float u = nf_unit1(key);
+      const float M = (float)picks;
+      float cum = 0.0f, x_prev = 0.0f;
+      int fl_prev = 0; /* floor(0 + u) */
+      for (int i = 0; i < n && j < picks && fl_prev < picks; ++i) {
+        const float f = nf_select_estimate(lights + i, tables, p, nn, use_cos);
+        if (!(f > 0.0f)) continue;
+        cum += f;
+        const float x = fmin(M * (cum / total), M);
+        const int fl = (int)floor(x + u);
+        const int c = fl - fl_prev;
+        if (c > 0) {
+          const float w1 = 1.0f / (x - x_prev);
+          if (x > x_prev && isfinite(w1 * (float)c)) {
+            if (merge) {
+              sel[o + (size_t)j] = ((uint)i << NF_LS_COUNT_BITS) | (uint)c;
+              w[o + (size_t)j] = w1 * (float)c;
+              ++j;
+            } else {
+              for (int r = 0; r < c && j < picks; ++r, ++j) {
+                sel[o + (size_t)j] = ((uint)i << NF_LS_COUNT_BITS) | 1U;
+                w[o + (size_t)j] = w1;
+              }
+            }
+          }
+        }
+        fl_prev = fl;
+        x_prev = x;
       }
     }
   }
-  const float inv_q = chosen != NF_LS_NONE ? total / fc : 0.0f;
-  const int ok = chosen != NF_LS_NONE && isfinite(inv_q) && inv_q >= 1.0f;
-  sel[g] = ok ? chosen : NF_LS_NONE;
-  w[g] = ok ? inv_q : 0.0f;
+  for (; j < picks; ++j) {
+    sel[o + (size_t)j] = NF_LS_NONE;
+    w[o + (size_t)j] = 0.0f;
+  }
 }
+
+/* The compact lists' entries: idx[k] = surface g | rank << NF_LS_RANK_SHIFT, rank = the pick's slot
+   j (0..picks-1) at g, so that the weights are w[g * picks + j] and one scatter pass per rank never
+   writes a surface twice; NF_LS_NONE: padding. */
+#define NF_LS_RANK_SHIFT 28
+#define NF_LS_SURFACE(e) ((e) & ((1U << NF_LS_RANK_SHIFT) - 1U))
 
 /* out[k] = surfaces[idx[k]] (NF_LS_NONE: a background surface that the kernels skip). */
 __kernel void ls_gather(__global const NfSurface* surfaces, __global const uint* idx, const int total,
@@ -52,7 +92,7 @@ __kernel void ls_gather(__global const NfSurface* surfaces, __global const uint*
   const uint i = idx[k];
   NfSurface s;
   if (i != NF_LS_NONE) {
-    s = surfaces[i];
+    s = surfaces[NF_LS_SURFACE(i)];
   } else {
     s.px = s.py = s.pz = s.nx = s.ny = s.nz = s.vx = s.vy = s.vz = 0.0f;
     s.roughness = s.base_r = s.base_g = s.base_b = s.metallic = 0.0f;
@@ -68,33 +108,39 @@ __kernel void ls_gather_vis(__global const uint* vis, __global const uint* idx, 
   const int k = get_global_id(0);
   if (k >= n) return;
   const uint i = idx[base + k];
+  const size_t g = (size_t)NF_LS_SURFACE(i);
   for (int j = 0; j < words; ++j)
-    out[(size_t)(base + k) * (size_t)words + (size_t)j] = i != NF_LS_NONE ? vis[(size_t)i * (size_t)words + j] : 0U;
+    out[(size_t)(base + k) * (size_t)words + (size_t)j] = i != NF_LS_NONE ? vis[g * (size_t)words + j] : 0U;
 }
 
-/* Back to the surfaces, weighted by 1 / q: rgb, A (as an estimate of the sum over instances) and K. */
-__kernel void ls_scatter(__global const uint* idx, const int total, __global const float* w,
-                         __global const float4* rgb_c, __global const float* a_c, __global const uint* k_c,
-                         __global float4* rgb, __global float* a, __global uint* kcount) {
+/* Back to the surfaces, the entries of one rank (one per surface at most): rgb, A (an estimate of the
+   sum over instances) and K added, weighted c / (M q). The outputs are cleared before rank 0. */
+__kernel void ls_scatter_rank(__global const uint* idx, const int total, __global const float* w, const int picks,
+                              const int rank, __global const float4* rgb_c, __global const float* a_c,
+                              __global const uint* k_c, __global float4* rgb, __global float* a,
+                              __global uint* kcount) {
   const int k = get_global_id(0);
   if (k >= total) return;
-  const uint i = idx[k];
-  if (i == NF_LS_NONE) return;
-  const float wi = w[i];
+  const uint e = idx[k];
+  if (e == NF_LS_NONE || (int)(e >> NF_LS_RANK_SHIFT) != rank) return;
+  const size_t g = (size_t)NF_LS_SURFACE(e);
+  const float wi = w[g * (size_t)picks + (size_t)rank];
   const float4 c = rgb_c[k] * wi;
   const float ai = a_c[k] * wi;
-  rgb[i] = all(isfinite(c)) ? c : (float4)(0.0f);
-  a[i] = isfinite(ai) ? ai : 0.0f;
-  kcount[i] = k_c[k];
+  if (all(isfinite(c))) rgb[g] += c;
+  if (isfinite(ai)) a[g] += ai;
+  kcount[g] += k_c[k];
 }
 
 /* The mean-direction sums (docs/indirect.md), weighted like the radiance. */
-__kernel void ls_scatter_dir(__global const uint* idx, const int total, __global const float* w,
-                             __global const float4* dir_c, __global float4* dir) {
+__kernel void ls_scatter_dir_rank(__global const uint* idx, const int total, __global const float* w,
+                                  const int picks, const int rank, __global const float4* dir_c,
+                                  __global float4* dir) {
   const int k = get_global_id(0);
   if (k >= total) return;
-  const uint i = idx[k];
-  if (i == NF_LS_NONE) return;
-  const float4 d = dir_c[k] * w[i];
-  dir[i] = all(isfinite(d)) ? d : (float4)(0.0f);
+  const uint e = idx[k];
+  if (e == NF_LS_NONE || (int)(e >> NF_LS_RANK_SHIFT) != rank) return;
+  const size_t g = (size_t)NF_LS_SURFACE(e);
+  const float4 d = dir_c[k] * w[g * (size_t)picks + (size_t)rank];
+  if (all(isfinite(d))) dir[g] += d;
 }

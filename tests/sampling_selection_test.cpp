@@ -1,9 +1,10 @@
-// Light selection (docs/sampling.md "Light selection", DESIGN §15): with several instances, one per
-// pixel and frame is chosen with probability q_i(p) and weighted 1 / q_i. Tests: the estimator
+// Light selection (docs/sampling.md "Light selection", DESIGN §15): with several instances, M picks
+// per pixel and frame by systematic sampling of q_i(p), each picked instance weighted c / (M q_i)
+// (c = times picked) and shaded with round(c K / M) samples. Tests: the estimator
 // against the independent double quadrature (sampling_support.h) at points lit by several instances,
 // including instances that contribute nothing and one that dominates; the kernel's choices against
-// the host mirror's q_i (chi-square); q_i > 0 wherever the quadrature says an instance contributes;
-// no NaN/Inf with 1,000 instances, coincident instances and instances behind the surface.
+// the host mirror's q_i (chi-square for M = 1, the counts' means for M = 4); q_i > 0 wherever the quadrature says an
+// instance contributes; no NaN/Inf with 1,000 instances, coincident instances and instances behind the surface.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -144,24 +145,37 @@ TEST(LightSelection, UnbiasedAgainstQuadrature) {
   s.spp = 8;
   s.roulette_block = 1;
   s.light_selection = LightSelection::flat;
-  // both structures (fused and per-image passes): 2 x 18 tests at a family rate of 1e-3 each
-  for (const Structure st : {Structure::fused, Structure::per_image}) {
-    s.structure = st;
-    s.seed = st == Structure::fused ? 1u : 2u;
-    const Estimates e = estimate_many(sampler, lights, pts, st == Structure::fused ? 20000 : 8000, s);
+  // fused with M = 4 picks (the default) and M = 3 (K = 8 split unevenly: 3, 5 or 8 samples per list),
+  // per-image passes with M = 1: 3 x 18 tests at a family rate of 1e-3 each
+  struct Case {
+    Structure st;
+    int picks, replicates;
+  };
+  for (const Case c :
+       {Case{Structure::fused, 4, 20000}, Case{Structure::fused, 3, 12000}, Case{Structure::per_image, 1, 8000}}) {
+    s.structure = c.st;
+    set_selection_picks(c.picks);
+    s.seed = static_cast<std::uint32_t>(c.picks);
+    const Estimates e = estimate_many(sampler, lights, pts, c.replicates, s);
     EXPECT_TRUE(e.finite);
     const ZResult z = z_test(e, ref, sidak_z(1e-3, 18), 2e-5);
-    EXPECT_TRUE(z.failures.empty()) << to_string(st) << "\n" << z.failures << "max z " << z.max_z;
+    EXPECT_TRUE(z.failures.empty()) << to_string(c.st) << " picks " << c.picks << "\n"
+                                    << z.failures << "max z " << z.max_z;
+    // K is the pixel's budget: the picks' shares round(c K / M) sum to at most K + M / 2; per pick
+    // sum_m round(K_e A_m / A) <= K_e + images / 2 and roulette adds at most one sample per image
+    const auto k = sampler.read_k();
+    for (const auto v : k)
+      EXPECT_LE(v, static_cast<std::uint32_t>(s.spp + c.picks + 2 * c.picks * int(l.images.size())));
   }
-  // K is the pixel's budget: each replicate drew its K from one instance only
-  const auto k = sampler.read_k();
-  // (sum_m round(K A_m / A) <= K + M / 2; roulette adds at most one sample per image)
-  for (const auto v : k) EXPECT_LE(v, static_cast<std::uint32_t>(s.spp + 2 * l.images.size()));
+  set_selection_picks(kSelectionPicks);
 }
 
-// The kernel chooses instance i with probability q_i(p) of the host mirror: chi-square of 40,000
-// choices at one point (false-failure rate 1e-3 per point, 3 points); q sums to 1 and q_i = 0 only
-// for the instances that cannot contribute.
+// The kernel's picks follow q_i(p) of the host mirror. M = 1: instance i chosen with probability q_i,
+// chi-square of 40,000 choices per point (false-failure rate 1e-3 per point, 3 points). M = 4
+// (systematic sampling): instance i is picked c_i in {floor(4 q_i), floor(4 q_i) + 1} times with
+// E[c_i] = 4 q_i, so c_i - floor is Bernoulli(frac(4 q_i)): a z-test of its mean over 40,000 pixels per
+// instance, Sidak-corrected over the instances to 1e-3 per point. The weights are c / (M q_i); q sums
+// to 1 and q_i = 0 only for the instances that cannot contribute.
 TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
   nf::cl::Runtime rt;
   const auto l = tiny();
@@ -174,12 +188,13 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
   SamplingSettings s;
   s.spp = 1;
   s.light_selection = LightSelection::flat;  // auto is all below 16 instances
+  const std::size_t ni = placed.size();
   for (int pi : {0, 1, 2}) {
     const auto q = selection_probabilities(lights, pts[pi]);
     double sum = 0.0;
     for (const double v : q) sum += v;
     EXPECT_NEAR(sum, 1.0, 1e-12);
-    for (std::size_t i = 0; i < placed.size(); ++i) {
+    for (std::size_t i = 0; i < ni; ++i) {
       const double r = reference_of(l, placed[i], pts[pi]).y;
       if (r > 0.0) {
         EXPECT_GT(q[i], 0.0) << "point " << pi << " instance " << i;
@@ -191,22 +206,61 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
     const int n = 40000;
     const std::vector<NfSurface> surf(n, pts[pi]);
     const auto buf = upload_surfaces(rt, surf);
-    sampler.run(buf, n, lights, s);
-    const auto sel = sampler.read_selection();
-    const auto w = sampler.read_selection_weight();
-    ASSERT_EQ(sel.size(), static_cast<std::size_t>(n));
-    std::vector<double> obs(placed.size(), 0.0), expd(placed.size(), 0.0);
-    for (int g = 0; g < n; ++g) {
-      ASSERT_LT(sel[g], placed.size());
-      obs[sel[g]] += 1.0;
-      EXPECT_NEAR(w[g], 1.0 / q[sel[g]], 1e-4 / q[sel[g]]);
+    for (const int M : {1, 4}) {
+      set_selection_picks(M);
+      sampler.run(buf, n, lights, s);
+      const auto sel = sampler.read_selection();
+      const auto w = sampler.read_selection_weight();
+      ASSERT_EQ(sel.size(), static_cast<std::size_t>(n) * static_cast<std::size_t>(M));
+      // counts[g * ni + i] = times instance i was picked at surface g
+      std::vector<int> counts(static_cast<std::size_t>(n) * ni, 0);
+      for (int g = 0; g < n; ++g) {
+        int picked = 0;
+        for (int j = 0; j < M; ++j) {
+          const std::size_t e = static_cast<std::size_t>(g) * static_cast<std::size_t>(M) + static_cast<std::size_t>(j);
+          if (sel[e] == 0xffffffffU) continue;
+          const std::size_t i = sel[e] >> 4;
+          const int c = static_cast<int>(sel[e] & 15u);
+          ASSERT_LT(i, ni);
+          ASSERT_GE(c, 1);
+          counts[static_cast<std::size_t>(g) * ni + i] += c;
+          picked += c;
+          EXPECT_NEAR(w[e], c / (M * q[i]), 1e-4 * c / (M * q[i])) << "M " << M << " instance " << i;
+        }
+        // the M picks are all made (a float CDF may end a hair below M: at most one pick lost)
+        EXPECT_GE(picked, M - 1);
+        EXPECT_LE(picked, M);
+      }
+      if (M == 1) {
+        std::vector<double> obs(ni, 0.0), expd(ni, 0.0);
+        for (int g = 0; g < n; ++g)
+          for (std::size_t i = 0; i < ni; ++i) obs[i] += counts[static_cast<std::size_t>(g) * ni + i];
+        for (std::size_t i = 0; i < ni; ++i) expd[i] = n * q[i];
+        for (std::size_t i : {4u, 5u, 6u}) EXPECT_EQ(obs[i], 0.0);
+        int dof = 0;
+        const double p = chi_square_p(obs, expd, &dof);
+        EXPECT_GT(p, 1e-3) << "point " << pi << " dof " << dof;
+        continue;
+      }
+      const double zc = sidak_z(1e-3, static_cast<int>(ni));
+      for (std::size_t i = 0; i < ni; ++i) {
+        const double mq = M * q[i], fl = std::floor(mq), fr = mq - fl;
+        double mean = 0.0;
+        for (int g = 0; g < n; ++g) {
+          const int c = counts[static_cast<std::size_t>(g) * ni + i];
+          // c in {floor, floor + 1} (a float CDF point within 1e-5 of an integer may round either way)
+          const bool near_int = fr < 1e-5 || fr > 1.0 - 1e-5;
+          EXPECT_TRUE((c == fl || c == fl + 1) || (near_int && std::abs(c - mq) < 1.0 + 1e-5))
+              << "point " << pi << " instance " << i << " c " << c << " M q " << mq;
+          mean += c;
+        }
+        mean /= n;
+        const double sd = std::sqrt(std::max(fr * (1.0 - fr), 1e-12) / n);
+        EXPECT_LT(std::abs(mean - mq), zc * sd + 1e-5) << "point " << pi << " instance " << i << " M q " << mq;
+      }
     }
-    for (std::size_t i = 0; i < placed.size(); ++i) expd[i] = n * q[i];
-    for (std::size_t i : {4u, 5u, 6u}) EXPECT_EQ(obs[i], 0.0);
-    int dof = 0;
-    const double p = chi_square_p(obs, expd, &dof);
-    EXPECT_GT(p, 1e-3) << "point " << pi << " dof " << dof;
   }
+  set_selection_picks(kSelectionPicks);
 }
 
 // q_i > 0 wherever the quadrature gives instance i light: 300 random points around one instance,
@@ -272,6 +326,7 @@ TEST(LightSelection, ThousandInstancesStayFinite) {
   s.light_selection = LightSelection::flat;  // auto would pick flat too (1,000 instances)
   for (std::uint32_t frame = 0; frame < 2; ++frame) {
     s.frame = frame;
+    set_selection_picks(frame == 0 ? 1 : 4);  // one pick, then four (up to 4,000 lists)
     sampler.run(buf, static_cast<int>(surf.size()), lights, s);
     const auto rgb = sampler.read_radiance();
     const auto a = sampler.read_a();
@@ -284,6 +339,7 @@ TEST(LightSelection, ThousandInstancesStayFinite) {
     }
     EXPECT_GT(lit, 100);
   }
+  set_selection_picks(kSelectionPicks);
 }
 
 // One instance: selection has nothing to choose, the frame is the `all` frame bit for bit.

@@ -1,6 +1,7 @@
 #!/bin/sh
 # Light-selection bench (docs/sampling.md "Light selection"): street scenes with N in {2, 8, 32, 128}
-# car2 headlights (seeded, bench/selection/street_gen.py), all vs flat at equal K, 320 x 180.
+# car2 headlights (seeded, bench/selection/street_gen.py), all vs flat with M picks (flat:M, flat:Mu
+# unmerged) at equal K, 320 x 180. MODES, REF_MODE, FRAMES, REF_FRAMES (even), WORST override.
 #   bench/selection/run.sh [BUILD_DIR] [OUT_DIR]     (defaults: build, bench/results/selection)
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -17,4 +18,5 @@ for layout in ${LAYOUTS:-scattered aimed}; do
 done
 # shellcheck disable=SC2086
 "$build/bench/bench_selection" --spp 16 --frames "${FRAMES:-4}" --ref-frames "${REF_FRAMES:-48}" \
+  --ref-mode "${REF_MODE:-flat:4}" --modes "${MODES:-flat:4,flat:1,all}" --worst "${WORST:-0}" \
   --csv "$out/selection.csv" $scenes | tee "$out/selection.txt"

@@ -24,6 +24,7 @@
 #include "luminaire/precompute.h"
 #include "luminaire/rayset.h"
 #include "luminaire/type_c.h"
+#include "render/instance_memory.h"
 
 namespace nf::app {
 namespace {
@@ -157,6 +158,16 @@ void run_info(const std::string& file) {
   std::printf("device data %.2f MiB (SAT %.2f MiB, chroma %.2f MiB)\n", static_cast<double>(pc.bytes()) / 1048576.0,
               static_cast<double>(pc.sat.size() * 8) / 1048576.0,
               static_cast<double>(pc.chroma.size() * 4) / 1048576.0);
+  // instances share the device data above (one copy per luminaire); what one more adds
+  // (render/instance_memory.h), at 1920 x 1080 with 256^2 shadow maps for scale
+  const render::InstanceBytes per = render::instance_device_bytes(l, 1920ULL * 1080ULL, true, 256);
+  std::printf(
+      "instance    each instance shares the device data above; one more adds %zu B (selection record), with "
+      "light_selection all a pixel cache of %d B per pixel (%.1f MiB at 1920 x 1080), with shadow maps %d maps "
+      "(%.1f MiB at 256^2) and %d B of visibility per pixel (%.1f MiB at 1920 x 1080)\n",
+      static_cast<std::size_t>(per.record), 4 * l.num_images(), static_cast<double>(per.pixel_cache) / 1048576.0,
+      render::shadow_cells(l), static_cast<double>(per.shadow_maps) / 1048576.0,
+      static_cast<int>(per.visibility / (1920ULL * 1080ULL)), static_cast<double>(per.visibility) / 1048576.0);
   std::printf("timing      read %.1f ms, precompute %.1f ms\n", read_ms, pc.precompute_ms);
 }
 

@@ -262,6 +262,13 @@ void run_render(const RenderCmd& o) {
         format_bytes(estimate.geometry).c_str(), format_bytes(estimate.environment_host).c_str(),
         format_bytes(estimate.environment_device).c_str(), format_bytes(estimate.farfield_device).c_str(),
         format_bytes(estimate.local_host).c_str(), format_bytes(estimate.local_device).c_str());
+    for (const app::InstanceCost& c : app::instance_costs(scene))
+      std::printf(
+          "instances   %zu of %s share its images and SATs on the device; one more instance: %s (selection "
+          "record %s, pixel cache %s, shadow maps %s, visibility %s)\n",
+          c.instances, c.label.c_str(), format_bytes(c.more.total()).c_str(), format_bytes(c.more.record).c_str(),
+          format_bytes(c.more.pixel_cache).c_str(), format_bytes(c.more.shadow_maps).c_str(),
+          format_bytes(c.more.visibility).c_str());
     std::printf("available   host %s, device %s (%s)\n", format_bytes(available_host_memory()).c_str(),
                 format_bytes(runtime.info().global_mem_bytes).c_str(), runtime.info().name.c_str());
     check_render_memory(o.scene, estimate, runtime.info());

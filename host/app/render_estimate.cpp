@@ -1,5 +1,7 @@
 #include "app/render_estimate.h"
 
+#include <algorithm>
+#include <set>
 #include <utility>
 
 #include <fmt/format.h>
@@ -7,11 +9,14 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/memory.h"
+#include "luminaire/generator.h"
 #include "luminaire/io.h"
 #include "luminaire/memory_estimate.h"
 #include "render/environment_contribution.h"
 #include "render/farfield_contribution.h"
 #include "render/kurt_table.h"
+#include "render/luminaire_cache.h"
+#include "render/settings.h"
 
 namespace nf::app {
 
@@ -19,9 +24,10 @@ RenderEstimate estimate_render(const scene::Scene& s) {
   RenderEstimate e;
   const std::uint64_t pixels = static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
   e.per_pixel = mul_sat(pixels, kHostBytesPerPixel + kDeviceBytesPerPixel);  // both sides, for display
+  std::set<std::string> seen;  // instances of one luminaire share its device data (render/luminaire_cache.h)
   for (std::size_t i = 0; i < s.luminaires.size(); ++i) {
     const auto& l = s.luminaires[i];
-    if (l.manifest.empty()) continue;
+    if (l.manifest.empty() || !seen.insert(render::luminaire_key(l)).second) continue;
     lum::LuminaireMemory m;
     try {  // name the scene and the instance, as loading the luminaire does
       m = lum::estimate_memory(lum::read_manifest(l.manifest), 3);
@@ -68,6 +74,41 @@ RenderEstimate estimate_render(const scene::Scene& s) {
                       e.farfield_device),
               e.local_device);
   return e;
+}
+
+std::vector<InstanceCost> instance_costs(const scene::Scene& s) {
+  std::vector<InstanceCost> out;
+  std::vector<std::string> keys;
+  std::vector<lum::Luminaire> lums;
+  for (std::size_t i = 0; i < s.luminaires.size(); ++i) {
+    const auto& ref = s.luminaires[i];
+    const std::string key = render::luminaire_key(ref);
+    const auto it = std::find(keys.begin(), keys.end(), key);
+    if (it != keys.end()) {
+      ++out[static_cast<std::size_t>(it - keys.begin())].instances;
+      continue;
+    }
+    try {
+      lums.push_back(ref.preset.empty() ? lum::read_manifest(ref.manifest)
+                                        : lum::generate_preset(ref.preset, lum::GenOptions{0.02, 1}));
+    } catch (const Error& err) {
+      fail(fmt::format("{}: /luminaires/{} ('{}'): {}", s.file.string(), i, ref.name, err.what()));
+    }
+    keys.push_back(key);
+    out.push_back({ref.preset.empty() ? ref.manifest.string() : ref.preset + " (preset)", 1, {}});
+  }
+  const std::uint64_t pixels = static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
+  const std::size_t n = s.luminaires.size() + 1;  // with the one more instance
+  const bool all = !render::selects_instances(render::parse_light_selection(s.render.light_selection), n);
+  std::uint64_t cache = 0;  // every instance's pixel cache, the one more included (the cache holds all or none)
+  for (std::size_t k = 0; k < lums.size(); ++k)
+    cache += 4ULL * static_cast<std::uint64_t>(lums[k].num_images()) * pixels * (out[k].instances + (k == 0 ? 1 : 0));
+  const bool cache_on =
+      all && s.render.pixel_cache > 0 && cache <= (static_cast<std::uint64_t>(s.render.pixel_cache) << 20);
+  for (std::size_t k = 0; k < lums.size(); ++k)
+    out[k].more =
+        render::instance_device_bytes(lums[k], pixels, cache_on, s.needs_shadow_maps() ? s.render.shadow_map_size : 0);
+  return out;
 }
 
 void check_render_memory(const std::string& where, const RenderEstimate& e, const cl::DeviceInfo& device) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "core/error.h"
 
 namespace nf::render {
@@ -117,6 +119,19 @@ double selection_estimate(const NfSelectLight& s, const float* table, const glm:
   const double f = static_cast<double>(s.power) * I * c / d2;
   return std::isfinite(f) ? std::min(f, 1e30) : 1e30;
 }
+
+namespace {
+int g_picks = kSelectionPicks;
+bool g_merge = true;
+}  // namespace
+
+int selection_picks() { return g_picks; }
+void set_selection_picks(int m) {
+  if (m < 1 || m > 15) fail(fmt::format("light selection: picks per pixel must be 1..15, got {}", m));
+  g_picks = m;
+}
+bool selection_merge() { return g_merge; }
+void set_selection_merge(bool merge) { g_merge = merge; }
 
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface) {
   std::vector<double> q(lights.size(), 0.0);

@@ -28,4 +28,18 @@ double selection_estimate(const NfSelectLight& s, const float* table, const glm:
 // (background surfaces included).
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface);
 
+// M, the picks per pixel and frame of `light_selection flat` (docs/sampling.md "Light selection"),
+// 1..15, and whether an instance picked c times is shaded once with round(c K / M) samples (merge,
+// one list per instance and count) or c times with round(K / M) (one list per instance). Process-
+// wide for now (defaults: the measured kSelectionPicks and merging); a render setting would add a
+// field to SamplingSettings and the registry. set_selection_picks throws nf::Error outside 1..15.
+// M = 1 by the measurement (bench/results/selection/README.md): more picks lower one frame's error
+// but cost as much more (one A_m(p) set-up per picked instance), equal at equal time at N = 32 and
+// worse at N = 2.
+inline constexpr int kSelectionPicks = 1;
+int selection_picks();
+void set_selection_picks(int m);
+bool selection_merge();
+void set_selection_merge(bool merge);
+
 }  // namespace nf::render

@@ -1,8 +1,9 @@
-// Sampler::run with light selection (docs/sampling.md "Light selection", DESIGN §15): one instance
-// per pixel and frame, chosen with probability q_i(p) by kernels/light_select.cl (flat CDF, one
-// pass over the instances per pixel), the pixels sorted by their instance (counting sort on the
-// host), each instance shaded by the unchanged light-field kernels on its own compact list of
-// surfaces (sub-buffers of one gathered buffer), and the results scattered back weighted 1 / q_i.
+// Sampler::run with light selection (docs/sampling.md "Light selection", DESIGN §15): M picks of
+// instances per pixel and frame, drawn by systematic sampling of q_i(p) in kernels/light_select.cl
+// (flat CDF, two passes over the instances per pixel); the picks sorted by (instance, times picked)
+// (counting sort on the host), each such list shaded by the unchanged light-field kernels with
+// round(c K / M) samples on its own compact list of surfaces (sub-buffers of one gathered buffer),
+// and every pixel's picks summed back weighted c / (M q_i).
 #include <fmt/format.h>
 #include <algorithm>
 #include <array>
@@ -34,12 +35,21 @@ constexpr int kGroup = 64;
   return out;
 }
 
+// ls_pick(surfaces, count, lights, tables, n, seed, frame, picks, merge, sel, w)
+using Buf = lf_kernels::Buf;
+using Pick = cl::TypedKernel<Buf, cl_int, Buf, Buf, cl_int, cl_uint, cl_uint, cl_int, cl_int, Buf, Buf>;
+// ls_scatter_rank(idx, total, w, picks, rank, rgb_c, a_c, k_c, rgb, a, kcount)
+using ScatterRank = cl::TypedKernel<Buf, cl_int, Buf, cl_int, cl_int, Buf, Buf, Buf, Buf, Buf, Buf>;
+// ls_scatter_dir_rank(idx, total, w, picks, rank, dir_c, dir)
+using ScatterDirRank = cl::TypedKernel<Buf, cl_int, Buf, cl_int, cl_int, Buf, Buf>;
+constexpr int kRankShift = 28;  // idx entries: surface | rank << 28 (kernels/light_select.cl)
+
 }  // namespace
 
 std::vector<std::uint32_t> Sampler::read_selection() {
   std::vector<std::uint32_t> out;
   if (!sel_.valid || count_ <= 0) return out;
-  out.resize(count_);
+  out.resize(static_cast<std::size_t>(count_) * static_cast<std::size_t>(selection_picks()));
   cl::call([&] { rt_.queue().enqueueReadBuffer(sel_.sel, CL_TRUE, 0, out.size() * sizeof(nf_uint), out.data()); },
            "Sampler: reading the light selection");
   return out;
@@ -48,7 +58,7 @@ std::vector<std::uint32_t> Sampler::read_selection() {
 std::vector<float> Sampler::read_selection_weight() {
   std::vector<float> out;
   if (!sel_.valid || count_ <= 0) return out;
-  out.resize(count_);
+  out.resize(static_cast<std::size_t>(count_) * static_cast<std::size_t>(selection_picks()));
   cl::call([&] { rt_.queue().enqueueReadBuffer(sel_.w, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
            "Sampler: reading the light selection weights");
   return out;
@@ -94,8 +104,6 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
   };
   grow(sel_.lights, n * sizeof(NfSelectLight));
   grow(sel_.tables, tables.size() * sizeof(float));
-  grow(sel_.sel, static_cast<std::size_t>(count) * sizeof(nf_uint));
-  grow(sel_.w, static_cast<std::size_t>(count) * sizeof(float));
   Events ev;
   cl::call(
       [&] {
@@ -103,36 +111,53 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
         q.enqueueWriteBuffer(sel_.tables, CL_TRUE, 0, tables.size() * sizeof(float), tables.data());
       },
       "Sampler: uploading the selection lights");
-  // 1. choose an instance per surface
-  lf_kernels::Select ks(kern("ls_select"), "ls_select");
+  // 1. M picks per surface (systematic sampling of q; entries instance << 4 | count)
+  const int M = std::clamp(selection_picks(), 1, 15);
+  if (count >= (1 << kRankShift))
+    fail(fmt::format("Sampler::run: light selection takes at most 2^28 surfaces, got {}", count));
+  const std::size_t entries = static_cast<std::size_t>(count) * static_cast<std::size_t>(M);
+  grow(sel_.sel, entries * sizeof(nf_uint));
+  grow(sel_.w, entries * sizeof(float));
+  Pick ks(kern("ls_pick"), "ls_pick");
   ks.bind(surfaces, count, sel_.lights, sel_.tables, static_cast<int>(n), static_cast<cl_uint>(s.seed),
-          static_cast<cl_uint>(s.frame), sel_.sel, sel_.w);
+          static_cast<cl_uint>(s.frame), M, selection_merge() ? 1 : 0, sel_.sel, sel_.w);
   ev.clears.push_back(rt_.launch(ks.get(), range1(count), ::cl::NDRange(kGroup)));
-  std::vector<nf_uint> chosen(static_cast<std::size_t>(count));
+  std::vector<nf_uint> chosen(entries);
   cl::call([&] { q.enqueueReadBuffer(sel_.sel, CL_TRUE, 0, chosen.size() * sizeof(nf_uint), chosen.data()); },
            "Sampler: reading the selection");
   sel_.valid = true;
-  // 2. counting sort by instance; each instance's list starts at a sub-buffer alignment
+  // 2. counting sort by (instance, count): list key = instance * M + count - 1, shaded with
+  // round(count K / M) samples; each list starts at a sub-buffer alignment
   std::size_t align_bytes = 128;
   try {
     align_bytes = std::max<std::size_t>(rt_.device().getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8, 4);
   } catch (const ::cl::Error&) {
   }
   const std::size_t align = std::max<std::size_t>(align_bytes / sizeof(float), 1);  // elements
-  std::vector<std::size_t> cnt(n, 0), base(n, 0);
-  for (const nf_uint c : chosen)
-    if (c < n) ++cnt[c];
+  const std::size_t keys = n * static_cast<std::size_t>(M);
+  auto key_of = [&](nf_uint e) -> std::size_t {
+    if (e == kNone) return keys;
+    const std::size_t inst = e >> 4, c = e & 15u;
+    return inst < n && c >= 1 && c <= static_cast<std::size_t>(M) ? inst * static_cast<std::size_t>(M) + c - 1 : keys;
+  };
+  std::vector<std::size_t> cnt(keys, 0), base(keys, 0);
+  for (const nf_uint e : chosen)
+    if (const std::size_t k = key_of(e); k < keys) ++cnt[k];
   std::size_t total = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    base[i] = total;
-    total += (cnt[i] + align - 1) / align * align;
+  for (std::size_t k = 0; k < keys; ++k) {
+    base[k] = total;
+    total += (cnt[k] + align - 1) / align * align;
   }
   total = std::max<std::size_t>(total, 1);
   std::vector<nf_uint> idx(total, kNone);
   {
     std::vector<std::size_t> at = base;
-    for (std::size_t g = 0; g < chosen.size(); ++g)
-      if (chosen[g] < n) idx[at[chosen[g]]++] = static_cast<nf_uint>(g);
+    for (std::size_t e = 0; e < entries; ++e)
+      if (const std::size_t k = key_of(chosen[e]); k < keys) {
+        const auto g = static_cast<nf_uint>(e / static_cast<std::size_t>(M));
+        const auto rank = static_cast<nf_uint>(e % static_cast<std::size_t>(M));
+        idx[at[k]++] = g | rank << kRankShift;
+      }
   }
   int max_words = 0;
   for (const LightInstance& li : lights)
@@ -169,23 +194,25 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
         }
       },
       "Sampler: clearing the selection outputs");
-  // 3. gather the surfaces, shade each instance on its list
+  // 3. gather the surfaces, shade each (instance, count) list
   lf_kernels::Gather kg(kern("ls_gather"), "ls_gather");
   kg.bind(surfaces, sel_.idx, static_cast<int>(total), sel_.surf);
   ev.clears.push_back(rt_.launch(kg.get(), range1(total), ::cl::NDRange(kGroup)));
-  for (std::size_t i = 0; i < n; ++i) {
-    const LightInstance& li = lights[i];
-    if (cnt[i] == 0 || !li.visibility || li.vis_words <= 0) continue;
+  for (std::size_t k = 0; k < keys; ++k) {
+    const LightInstance& li = lights[k / static_cast<std::size_t>(M)];
+    if (cnt[k] == 0 || !li.visibility || li.vis_words <= 0) continue;
     lf_kernels::GatherVis kv(kern("ls_gather_vis"), "ls_gather_vis");
-    kv.bind(*li.visibility, sel_.idx, static_cast<int>(base[i]), static_cast<int>(cnt[i]), li.vis_words, sel_.vis);
-    ev.clears.push_back(rt_.launch(kv.get(), range1(cnt[i]), ::cl::NDRange(kGroup)));
+    kv.bind(*li.visibility, sel_.idx, static_cast<int>(base[k]), static_cast<int>(cnt[k]), li.vis_words, sel_.vis);
+    ev.clears.push_back(rt_.launch(kv.get(), range1(cnt[k]), ::cl::NDRange(kGroup)));
   }
   // sub-buffers (views into the gathered lists) live until the queue is done
-  std::vector<std::array<::cl::Buffer, 6>> views(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (cnt[i] == 0) continue;
-    const std::size_t b0 = base[i], c = cnt[i];
-    auto& v = views[i];
+  std::vector<std::array<::cl::Buffer, 6>> views(keys);
+  for (std::size_t k = 0; k < keys; ++k) {
+    if (cnt[k] == 0) continue;
+    const std::size_t b0 = base[k], c = cnt[k];
+    const std::size_t i = k / static_cast<std::size_t>(M);
+    const int picked = static_cast<int>(k % static_cast<std::size_t>(M)) + 1;
+    auto& v = views[k];
     LightInstance li = lights[i];
     if (li.visibility && li.vis_words > 0) {
       const std::size_t wb = static_cast<std::size_t>(li.vis_words) * sizeof(nf_uint);
@@ -198,16 +225,26 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
     v[3] = sub(sel_.k, b0 * 4, c * 4);
     if (mean_direction_) v[4] = sub(sel_.dir, b0 * 16, c * 16);
     const Outputs out{&v[1], &v[2], &v[3], mean_direction_ ? &v[4] : nullptr, false};
-    launch_instance(li, i, v[0], static_cast<int>(c), out, s, 0, false, st, ev);
+    // this list's share of K; its own seed, so lists of one instance do not repeat each other's numbers
+    SamplingSettings sk = s;
+    sk.spp = std::max(1, (picked * s.spp + M / 2) / M);
+    sk.seed = s.seed + 0x9e3779b9U * static_cast<std::uint32_t>(picked - 1);
+    launch_instance(li, i, v[0], static_cast<int>(c), out, sk, 0, false, st, ev);
   }
-  // 4. scatter back with the weights 1 / q
-  lf_kernels::Scatter kc(kern("ls_scatter"), "ls_scatter");
-  kc.bind(sel_.idx, static_cast<int>(total), sel_.w, sel_.rgb, sel_.a, sel_.k, rgb_, a_, k_);
-  ev.clears.push_back(rt_.launch(kc.get(), range1(total), ::cl::NDRange(kGroup)));
-  if (mean_direction_) {
-    lf_kernels::ScatterDir kd(kern("ls_scatter_dir"), "ls_scatter_dir");
-    kd.bind(sel_.idx, static_cast<int>(total), sel_.w, sel_.dir, dir_);
-    ev.clears.push_back(rt_.launch(kd.get(), range1(total), ::cl::NDRange(kGroup)));
+  // 4. back to the pixels: the sum of their picks, weighted c / (M q), one pass per rank (a surface
+  // has at most one entry of each rank, so no pass writes a surface twice)
+  int ranks = 0;  // the largest rank used + 1
+  for (std::size_t e = 0; e < entries; ++e)
+    if (chosen[e] != kNone) ranks = std::max(ranks, static_cast<int>(e % static_cast<std::size_t>(M)) + 1);
+  for (int rank = 0; rank < ranks; ++rank) {
+    ScatterRank kc(kern("ls_scatter_rank"), "ls_scatter_rank");
+    kc.bind(sel_.idx, static_cast<int>(total), sel_.w, M, rank, sel_.rgb, sel_.a, sel_.k, rgb_, a_, k_);
+    ev.clears.push_back(rt_.launch(kc.get(), range1(total), ::cl::NDRange(kGroup)));
+    if (mean_direction_) {
+      ScatterDirRank kd(kern("ls_scatter_dir_rank"), "ls_scatter_dir_rank");
+      kd.bind(sel_.idx, static_cast<int>(total), sel_.w, M, rank, sel_.dir, dir_);
+      ev.clears.push_back(rt_.launch(kd.get(), range1(total), ::cl::NDRange(kGroup)));
+    }
   }
   cl::call([&] { q.finish(); }, "Sampler: waiting for the device");
   for (const auto& e : ev.step1) st.step1_ms += cl::Runtime::event_ms(e);
