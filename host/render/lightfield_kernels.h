@@ -39,15 +39,15 @@ inline constexpr bool kTakesDir = std::is_same_v<K, Step2> || std::is_same_v<K, 
 // lf_add(src, dst, count)
 using Add = cl::TypedKernel<Buf, Buf, cl_int>;
 
-// light_select.cl: ls_select(surfaces, count, lights, tables, n, seed, frame, sel, w)
-using Select = cl::TypedKernel<Buf, cl_int, Buf, Buf, cl_int, cl_uint, cl_uint, Buf, Buf>;
+// light_select.cl: ls_pick(surfaces, count, lights, tables, n, seed, frame, picks, merge, sel, w)
+using Pick = cl::TypedKernel<Buf, cl_int, Buf, Buf, cl_int, cl_uint, cl_uint, cl_int, cl_int, Buf, Buf>;
 // ls_gather(surfaces, idx, total, out)
 using Gather = cl::TypedKernel<Buf, Buf, cl_int, Buf>;
 // ls_gather_vis(vis, idx, base, n, words, out)
 using GatherVis = cl::TypedKernel<Buf, Buf, cl_int, cl_int, cl_int, Buf>;
-// ls_scatter(idx, total, w, rgb_c, a_c, k_c, rgb, a, kcount)
-using Scatter = cl::TypedKernel<Buf, cl_int, Buf, Buf, Buf, Buf, Buf, Buf, Buf>;
-// ls_scatter_dir(idx, total, w, dir_c, dir)
-using ScatterDir = cl::TypedKernel<Buf, cl_int, Buf, Buf, Buf>;
+// ls_scatter_rank(idx, total, w, picks, rank, rgb_c, a_c, k_c, rgb, a, kcount)
+using ScatterRank = cl::TypedKernel<Buf, cl_int, Buf, cl_int, cl_int, Buf, Buf, Buf, Buf, Buf, Buf>;
+// ls_scatter_dir_rank(idx, total, w, picks, rank, dir_c, dir)
+using ScatterDirRank = cl::TypedKernel<Buf, cl_int, Buf, cl_int, cl_int, Buf, Buf>;
 
 }  // namespace nf::render::lf_kernels

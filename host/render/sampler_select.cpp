@@ -35,13 +35,9 @@ constexpr int kGroup = 64;
   return out;
 }
 
-// ls_pick(surfaces, count, lights, tables, n, seed, frame, picks, merge, sel, w)
-using Buf = lf_kernels::Buf;
-using Pick = cl::TypedKernel<Buf, cl_int, Buf, Buf, cl_int, cl_uint, cl_uint, cl_int, cl_int, Buf, Buf>;
-// ls_scatter_rank(idx, total, w, picks, rank, rgb_c, a_c, k_c, rgb, a, kcount)
-using ScatterRank = cl::TypedKernel<Buf, cl_int, Buf, cl_int, cl_int, Buf, Buf, Buf, Buf, Buf, Buf>;
-// ls_scatter_dir_rank(idx, total, w, picks, rank, dir_c, dir)
-using ScatterDirRank = cl::TypedKernel<Buf, cl_int, Buf, cl_int, cl_int, Buf, Buf>;
+using lf_kernels::Pick;
+using lf_kernels::ScatterDirRank;
+using lf_kernels::ScatterRank;
 constexpr int kRankShift = 28;  // idx entries: surface | rank << 28 (kernels/light_select.cl)
 
 }  // namespace
