@@ -14,8 +14,8 @@
      in the band (|z| < band delta): u uniform on supp Phi_m: p_m(w) = 1 / (n^2 h_x h_y) * (delta + z)^2 / |w_z|^3.
    Mixture density of one light sample (tests, docs): p_L(w) = sum_m c_m p_m(w) / sum_m c_m.
    The BRDF strategy draws N_B directions per glossy lane (common/brdf_sample.h, nf_mis_count_brdf:
-   K for Kurt lobes and GGX alpha <= alpha_0 = NF_MIS_ALPHA0, K alpha_0 / alpha rounded, >= 1, for
-   rougher GGX lobes), density p_B; the weights use each lane's actual N_B.
+   K for Kurt lobes and GGX alpha <= alpha_0 = NF_MIS_ALPHA0, K (alpha_0 / alpha)^2 rounded, >= 1,
+   for rougher GGX lobes), density p_B; the weights use each lane's actual N_B.
    Each image term f_m = v_m C_m Psi_m rho is combined separately (its own two strategies):
      light sample of m:  weight w_L = h(c_m p_m, N_B p_B),  BRDF sample: w_B = h(N_B p_B, c_m p_m),
      balance h(a, b) = a / (a + b), power (beta = 2) h(a, b) = a^2 / (a^2 + b^2);
@@ -76,17 +76,20 @@ NF_INLINE vi nf_mis_lanes(const NfCtx* c) { return nf_mat_mis_mask(&c->sh) & c->
 /* GGX alpha (= roughness^2, common/material.h) up to which a lane takes N_B = K BRDF samples
    (docs/mis.md "The BRDF strategy and how K is split"). */
 #ifndef NF_MIS_ALPHA0
-#define NF_MIS_ALPHA0 0.02f
+#define NF_MIS_ALPHA0 0.01f
 #endif
 
 /* N_B of a lane (as a float: it divides the weights). BRDF sampling pays where the lobe is narrower
-   than the luminaire seen from p; the GGX lobe's width grows with alpha, so a lane with
-   alpha > alpha_0 gets N_B = max(1, round(K alpha_0 / alpha)) and one with alpha <= alpha_0 (and Kurt
-   lanes) N_B = K. Any N_B >= 1 keeps the estimator unbiased: both weights use this N_B. */
+   than the luminaire seen from p; the solid angle of a GGX lobe grows as alpha^2, so a lane with
+   alpha > alpha_0 gets N_B = max(1, round(K (alpha_0 / alpha)^2)) and one with alpha <= alpha_0 (and
+   Kurt lanes) N_B = K. Any N_B >= 1 keeps the estimator unbiased: both weights use this N_B.
+   alpha_0 = 0.01 (roughness 0.1) from bench_mis (docs/mis.md): at roughness 0.3 N_B = 4 cost more
+   than it gained, N_B = 1 does not. */
 NF_INLINE vf nf_mis_count_brdf(const NfCtx* c, const NfSampleParams* P) {
   const float K = (float)P->spp;
   const vf a = fmax(c->sh.alpha, 1e-6f);
-  const vf n = clamp(floor(K * (NF_MIS_ALPHA0 / a) + 0.5f), 1.0f, K);
+  const vf r = NF_MIS_ALPHA0 / a;
+  const vf n = clamp(floor(K * r * r + 0.5f), 1.0f, K);
   return SEL((vf)(K), n, (c->sh.brdf == NF_BRDF_GGX) & (a > NF_MIS_ALPHA0));
 }
 
