@@ -35,6 +35,7 @@ struct Options {
   std::string scene = NEARFIELD_BENCH_DIR "/../scenes/wet_road.json";
   std::string roughness = "0.02,0.05,0.1,0.3,1";
   int width = 96, height = 54, spp = 16, ref_frames = 96;
+  int frames = 0;  // > 0: exactly this many frames per point (equal samples) instead of the budget
   double budget_s = 4.0;
   bool quick = false;
 };
@@ -96,6 +97,9 @@ int main(int argc, char** argv) {
   app.add_option("--spp", o.spp, "K per frame");
   app.add_option("--budget", o.budget_s, "seconds of frames per point");
   app.add_option("--ref-frames", o.ref_frames, "frames of each half of the reference (mis power)");
+  app.add_option("--frames", o.frames,
+                 "frames per point instead of the time budget (equal samples: separates the error per frame "
+                 "from the cost per frame)");
   app.add_flag("--quick", o.quick, "tiny run (smoke test)");
   CLI11_PARSE(app, argc, argv);
   if (o.quick) {
@@ -133,7 +137,7 @@ int main(int argc, char** argv) {
         set_mis(renderer, mis, 1);
         nf::Timer t;
         int frames = 0;
-        while (t.ms() < 1000.0 * o.budget_s) {
+        while (o.frames > 0 ? frames < o.frames : t.ms() < 1000.0 * o.budget_s) {
           renderer.render_frame();
           ++frames;
         }
@@ -161,9 +165,12 @@ int main(int argc, char** argv) {
         machine.cpu_model, machine.isa, machine.cores, machine.cl_device.name, machine.loadavg, machine.git_commit,
         machine.date_utc);
     md << fmt::format(
-        "scenes/wet_road.json at {}x{}, K = {} per frame, visibility none, {:.1f} s of frames per point; reference: "
+        "scenes/wet_road.json at {}x{}, K = {} per frame, visibility none, {} per point; reference: "
         "mis power, 2 x {} frames.\n\n",
-        o.width, o.height, o.spp, o.budget_s, o.ref_frames);
+        o.width, o.height, o.spp,
+        o.frames > 0 ? fmt::format("{} frames (equal samples)", o.frames)
+                     : fmt::format("{:.1f} s of frames", o.budget_s),
+        o.ref_frames);
     md << "| road | mis | frames | equal-time rel. MSE | none / this | Lab dE | rel. bias | reference noise |\n";
     md << "|---|---|---|---|---|---|---|---|\n";
     for (std::size_t i = 0; i < rows.size(); ++i) {

@@ -53,7 +53,7 @@
 #if NF_MEAN_DIRECTION
 #define NF_DIR_PARAMS , vf *adx, vf *ady, vf *adz
 #define NF_DIR_PASS , &dx, &dy, &dz
-#define NF_DIR_KARG , __global float4 *dir
+#define NF_DIR_KARG , __global float4* dir
 #else
 #define NF_DIR_PARAMS
 #define NF_DIR_PASS
@@ -770,12 +770,13 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   vf dx = (vf)(0.0f), dy = (vf)(0.0f), dz = (vf)(0.0f);
 #endif
   const vf cm = nf_mis_count(&P, L.num_images, Am, A);
-  nf_image(&c, &L, &P, m, K, inv_p, Am, cm, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g, &bl NF_DIR_PASS);
+  nf_image(&c, &L, &P, m, K, inv_p, Am, cm, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g,
+           &bl NF_DIR_PASS);
 #if NF_MIS != NF_MIS_NONE
   /* the BRDF samples' share of image m (the same directions in every image's pass) */
   for (int k0 = 0; ANY(mis) && k0 < P.spp; k0 += NF_MIS_CHUNK) {
     NfMisDirs d;
-    nf_mis_draw(&c, &P, mis, k0, &d);
+    nf_mis_draw(&c, &L, &P, mis, k0, m, &d); /* only the directions that meet image m's support */
     nf_mis_image(&c, &L, &P, m, Am, cm, &d, I.intensity, sat, quantum, chroma, vis, &r, &g, &bl);
   }
 #endif
@@ -857,24 +858,29 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     total += K;
   }
 #if NF_MIS != NF_MIS_NONE
-  /* BRDF samples (common/lf_mis.h): N_B = K directions per glossy lane, drawn a chunk at a time and
-     shared by every image; A_m(p) from loop 1 (private or pixel cache) or recomputed */
+  /* BRDF samples (common/lf_mis.h): N_B <= K directions per glossy lane, drawn a chunk at a time and
+     shared by the images of the chunk's window on U (nf_mis_window); A_m(p) from loop 1 (private or
+     pixel cache) or recomputed */
   const vi mis = nf_mis_lanes(&c) & (A > 0.0f);
   for (int k0 = 0; ANY(mis) && k0 < P.spp; k0 += NF_MIS_CHUNK) {
     NfMisDirs d;
-    nf_mis_draw(&c, &P, mis, k0, &d);
-    for (int m = 0; m < M; ++m) {
-      vf Am;
-      if (priv || shared) {
-        Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
-      } else {
-        NfBox b;
-        Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+    nf_mis_draw(&c, &L, &P, mis, k0, -1, &d);
+    int i0, i1, j0, j1;
+    nf_mis_window(&L, &d, &i0, &i1, &j0, &j1);
+    for (int mj = j0; mj <= j1; ++mj)
+      for (int mi = i0; mi <= i1; ++mi) {
+        const int m = mj * L.count_x + mi;
+        vf Am;
+        if (priv || shared) {
+          Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
+        } else {
+          NfBox b;
+          Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+        }
+        if (!ANY(Am > 0.0f)) continue;
+        nf_mis_image(&c, &L, &P, m, Am, nf_mis_count(&P, M, Am, A), &d, I.intensity, sat, quantum, chroma, vis, &r, &g,
+                     &bl);
       }
-      if (!ANY(Am > 0.0f)) continue;
-      nf_mis_image(&c, &L, &P, m, Am, nf_mis_count(&P, M, Am, A), &d, I.intensity, sat, quantum, chroma, vis, &r, &g,
-                   &bl);
-    }
   }
 #endif
 #if NF_MEAN_DIRECTION

@@ -136,6 +136,11 @@ void run_suite(Sampler& sampler, const DeviceLuminaire& dl, const Suite& su, con
   std::printf("%s: %d tests, max |z| %.2f (limit %.2f)\n", what.c_str(), z.tests, z.max_z, zc);
 }
 
+// The suites are split by what they add: the default test keeps one run of every code path the
+// kernels have (fused and per-image, balance and power, the S and U densities, the roulette's
+// c_m < 1 and the uniform box density), each over every point and material; the *_Slow tests
+// (seconds to minutes each: every extra run rebuilds the programs and shades all points again) repeat
+// the remaining combinations of method, heuristic and rounding that take no other code path.
 TEST(MisEstimator, GgxMatchesQuadrature) {
   const auto l = test_luminaire();
   const auto pc = lum::precompute(l);
@@ -144,10 +149,25 @@ TEST(MisEstimator, GgxMatchesQuadrature) {
     nf::cl::Runtime rt(spec);
     const DeviceLuminaire dl(rt, pc);
     Sampler sampler(rt);
-    for (Mis mis : {Mis::balance, Mis::power})
-      run_suite(sampler, dl, su, mis_settings(mis), 400, "ggx ours fused " + to_string(mis));
+    run_suite(sampler, dl, su, mis_settings(Mis::balance), 400, "ggx ours fused balance");
     run_suite(sampler, dl, su, mis_settings(Mis::power, Method::ours, Structure::per_image), 200,
               "ggx ours per-image power");
+    // the uniform box density (NF_UNIFORM_BOX) and the roulette's counts (c_m < 1)
+    auto s = mis_settings(Mis::power, Method::uniform);
+    s.spp = 3;
+    run_suite(sampler, dl, su, s, 600, "ggx uniform K=3 roulette power");
+  }
+}
+
+TEST(MisEstimator, GgxMatchesQuadrature_Slow) {
+  const auto l = test_luminaire();
+  const auto pc = lum::precompute(l);
+  const Suite su = ggx_suite(l);
+  for (const auto& spec : device_specs()) {
+    nf::cl::Runtime rt(spec);
+    const DeviceLuminaire dl(rt, pc);
+    Sampler sampler(rt);
+    run_suite(sampler, dl, su, mis_settings(Mis::power), 400, "ggx ours fused power");
     for (Method m : {Method::uniform, Method::ours_equal, Method::uniform_equal, Method::global})
       run_suite(sampler, dl, su, mis_settings(Mis::balance, m), 200, "ggx " + to_string(m) + " balance");
     // the roulette's counts and min1 / paper rounding (c_m = 0: the BRDF samples carry it alone)
@@ -171,10 +191,25 @@ TEST(MisEstimator, KurtMatchesQuadrature) {
     const DeviceLuminaire dl(rt, pc);
     Sampler sampler(rt);
     sampler.set_kurt_table(table);
-    for (Mis mis : {Mis::balance, Mis::power})
-      run_suite(sampler, dl, su, mis_settings(mis), 400, "kurt ours fused " + to_string(mis));
+    run_suite(sampler, dl, su, mis_settings(Mis::power), 400, "kurt ours fused power");
     run_suite(sampler, dl, su, mis_settings(Mis::balance, Method::ours, Structure::per_image), 200,
               "kurt ours per-image balance");
+  }
+}
+
+TEST(MisEstimator, KurtMatchesQuadrature_Slow) {
+  const auto l = test_luminaire();
+  const auto pc = lum::precompute(l);
+  const auto mats = kurt_materials();
+  const Suite su = kurt_suite(l, mats);
+  std::vector<NfKurtMaterial> table;
+  for (const auto& m : mats) table.push_back(kurt_test::device_material(m));
+  for (const auto& spec : device_specs()) {
+    nf::cl::Runtime rt(spec);
+    const DeviceLuminaire dl(rt, pc);
+    Sampler sampler(rt);
+    sampler.set_kurt_table(table);
+    run_suite(sampler, dl, su, mis_settings(Mis::balance), 400, "kurt ours fused balance");
   }
 }
 

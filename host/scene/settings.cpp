@@ -139,7 +139,8 @@ std::vector<Setting> declare() {
       choice(
           "mis", "mis", {"none", "balance", "power"}, "luminaires", R,
           "multiple importance sampling of the light-field samples with BRDF samples on glossy surfaces "
-          "(ggx, kurt: K more directions per pixel): none, balance or power heuristic (docs/mis.md)",
+          "(ggx, kurt: up to K more directions per pixel, fewer for rough GGX): none, balance or power heuristic "
+          "(docs/mis.md)",
           [](auto& r) -> auto& { return r.mis; }),
       choice(
           "visibility", "visibility", {"none", "shadowmaps"}, "frame", S0,
