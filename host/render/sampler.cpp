@@ -149,7 +149,8 @@ std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool 
       method_code(s.method), sampler_code(s.sampler), balance_code(s.balance),
       s.search == SearchKind::secant ? NF_SEARCH_SECANT : NF_SEARCH_BINARY, chroma ? 1 : 0, visibility ? 1 : 0, lanes);
   // mis = none adds nothing: the kernels are built exactly as before (bit-identical images)
-  if (s.mis != Mis::none) o += fmt::format(" -DNF_MIS={}", s.mis == Mis::balance ? NF_MIS_BALANCE : NF_MIS_POWER);
+  if (s.effective_mis() != Mis::none)
+    o += fmt::format(" -DNF_MIS={}", s.effective_mis() == Mis::balance ? NF_MIS_BALANCE : NF_MIS_POWER);
   return o;
 }
 

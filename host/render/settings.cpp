@@ -96,10 +96,6 @@ void SamplingSettings::validate() const {
     fail(fmt::format("sampling: roulette_block must be 1..1024, got {}", roulette_block));
   if (surface_shuffle < 0 || surface_shuffle > 20)
     fail(fmt::format("sampling: surface_shuffle must be 0..20, got {}", surface_shuffle));
-  if (mis != Mis::none && method == Method::paper)
-    fail(fmt::format("sampling: mis {} needs the light strategy's density, which method paper does not have "
-                     "(use ours, ours-equal, uniform, uniform-equal or global; docs/mis.md)",
-                     to_string(mis)));
   if (pixel_cache_mib < 0 || pixel_cache_mib > 1048576)
     fail(fmt::format("sampling: pixel_cache must be 0..1048576 MiB, got {}", pixel_cache_mib));
 }
@@ -111,7 +107,7 @@ std::string SamplingSettings::describe() const {
       to_string(method), to_string(sampler), to_string(balance), to_string(search),
       search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure), spp,
       k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame, to_string(light_selection));
-  if (mis != Mis::none) d += " mis=" + to_string(mis);
+  if (effective_mis() != Mis::none) d += " mis=" + to_string(mis);
   return d;
 }
 

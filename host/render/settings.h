@@ -62,7 +62,7 @@ struct SamplingSettings {
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
   // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,
   // combined by that heuristic (docs/mis.md). Not with method paper (its density is not Y_m / A_m).
-  Mis mis = Mis::none;
+  Mis mis = Mis::power;
   int spp = 200;                           // K of Eq. 12, >= 1
   int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
   int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
@@ -83,6 +83,9 @@ struct SamplingSettings {
   LightSelection light_selection = LightSelection::automatic;
 
   void validate() const;         // throws nf::Error naming the bad field
+  // `mis` as the kernels get it: method paper has no light-strategy density, so it samples without
+  // MIS whatever `mis` says (docs/mis.md).
+  Mis effective_mis() const { return method == Method::paper ? Mis::none : mis; }
   std::string describe() const;  // one line: method=... sampler=... K=...
 };
 

@@ -28,7 +28,7 @@ struct RenderSettings {
   std::string search = "secant";             // secant | binary
   std::string balance = "roulette";          // paper | min1 | roulette (min1 and roulette are unbiased)
   std::string structure = "fused";           // per-image | fused (Step 1/2 passes)
-  std::string mis = "none";                  // none | balance | power: MIS with BRDF samples (docs/mis.md)
+  std::string mis = "power";                 // none | balance | power: MIS with BRDF samples (docs/mis.md)
   std::string visibility = "shadowmaps";     // none | shadowmaps
   int shadow_map_size = 256;                 // pixels per side of each cell's shadow map, 16..4096
   // opencl | gl: where Step 0's visibility bitmask is computed (the same test)
