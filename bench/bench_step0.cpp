@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/sweep/metrics.h"
 #include "core/color.h"
 #include "core/error.h"
 #include "core/image_io.h"
@@ -26,7 +27,6 @@
 #include "luminaire/generator.h"
 #include "luminaire/precompute.h"
 #include "scene/scene.h"
-#include "bench/sweep/metrics.h"
 
 namespace {
 

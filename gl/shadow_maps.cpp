@@ -137,8 +137,7 @@ ShadowMaps::ShadowMaps(ShadowMapSpec spec) : spec_(std::move(spec)) {
   GLint64 max_block = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
   const std::size_t map_bytes = static_cast<std::size_t>(spec_.size) * spec_.size * sizeof(float);
-  maps_per_buffer_ =
-      static_cast<int>(std::min<std::int64_t>(max_block / static_cast<std::int64_t>(map_bytes), maps()));
+  maps_per_buffer_ = static_cast<int>(std::min<std::int64_t>(max_block / static_cast<std::int64_t>(map_bytes), maps()));
   if (maps_per_buffer_ < 1 || (maps() + maps_per_buffer_ - 1) / maps_per_buffer_ > kMaxMapBuffers)
     fail(
         fmt::format("shadow maps: {} maps of {}^2 floats exceed {} storage buffers of {} bytes (GL limit); use "

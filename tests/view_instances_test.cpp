@@ -27,9 +27,12 @@ using namespace nf;
 namespace fs = std::filesystem;
 constexpr double kPresetScale = 0.125;
 
-const char* kLeft = R"({ "name": "left", "preset": "car2", "transform": { "translate": [-2.5, 0.7, 0], "rotate": [0, 180, 0] } })";
-const char* kExtra = R"({ "name": "extra", "preset": "car2", "transform": { "translate": [2, 0.7, 0], "rotate": [0, 180, 0] } })";
-const char* kMoved = R"({ "name": "extra", "preset": "car2", "transform": { "translate": [0, 0.7, 0.5], "rotate": [0, 160, 0] } })";
+const char* kLeft =
+    R"({ "name": "left", "preset": "car2", "transform": { "translate": [-2.5, 0.7, 0], "rotate": [0, 180, 0] } })";
+const char* kExtra =
+    R"({ "name": "extra", "preset": "car2", "transform": { "translate": [2, 0.7, 0], "rotate": [0, 180, 0] } })";
+const char* kMoved =
+    R"({ "name": "extra", "preset": "car2", "transform": { "translate": [0, 0.7, 0.5], "rotate": [0, 160, 0] } })";
 
 std::string street(const std::string& luminaires) {
   return fmt::format(R"({{
@@ -144,9 +147,9 @@ TEST(ViewInstancesXvfb, ScriptedAddMoveDelete) {
                                     << "c.exr\n"
                                        "instance delete extra\ninstance delete left\nframes 1\nsave "
                                     << at << "d.exr\nquit\n";
-  const auto v = nf::testing::run_nearfield("view '" + (dir / "scene.json").string() +
-                                            "' --window 128x72 --scale 1 --script '" + (dir / "script.txt").string() +
-                                            "'");
+  const auto v =
+      nf::testing::run_nearfield("view '" + (dir / "scene.json").string() + "' --window 128x72 --scale 1 --script '" +
+                                 (dir / "script.txt").string() + "'");
   ASSERT_EQ(v.exit_code, 0) << v.err;
   const Image a = read_image(dir / "a.exr"), b = read_image(dir / "b.exr"), c = read_image(dir / "c.exr"),
               e = read_image(dir / "d.exr");

@@ -33,8 +33,8 @@ RenderEstimate estimate_render(const scene::Scene& s) {
     e.luminaires_device = add_sat(e.luminaires_device, m.device());
   }
   if (s.needs_shadow_maps()) {  // docs/rendering.md "Shadow maps at scale": every instance exact (the worst case)
-    const std::uint64_t texels = static_cast<std::uint64_t>(s.render.shadow_map_size) *
-                                 static_cast<std::uint64_t>(s.render.shadow_map_size);
+    const std::uint64_t texels =
+        static_cast<std::uint64_t>(s.render.shadow_map_size) * static_cast<std::uint64_t>(s.render.shadow_map_size);
     for (std::size_t i = 0; i < s.luminaires.size(); ++i) {
       const auto& l = s.luminaires[i];
       lum::Basis basis;
