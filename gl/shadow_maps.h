@@ -59,8 +59,8 @@ struct ShadowMapSpec {
   // Which map each cell is tested against (empty: map c for cell c, the exact Step 0). Cells that
   // share a map share its light: lights[c] is the position the map is rendered from.
   std::vector<int> map_of_cell;
-  glm::dmat4 to_world{1.0};        // rigid luminaire-instance transform
-  int size = 256;                  // map resolution (square)
+  glm::dmat4 to_world{1.0};  // rigid luminaire-instance transform
+  int size = 256;            // map resolution (square)
   ShadowFrustum frustum;
   ShadowBias bias;
 };
@@ -115,7 +115,7 @@ class ShadowMaps {
   glm::dmat4 light_clip(int map) const;  // world -> clip of one map
   void allocate();
   ShadowMapSpec spec_;
-  std::vector<glm::dvec3> map_lights_;  // per map, the light it is rendered from
+  std::vector<glm::dvec3> map_lights_;      // per map, the light it is rendered from
   static constexpr int kMaxMapBuffers = 8;  // as in visibility.comp.glsl
   unsigned depth_ = 0, fbo_ = 0, lights_ssbo_ = 0, vis_ssbo_ = 0;
   std::vector<unsigned> maps_ssbo_;  // maps_per_buffer_ maps each

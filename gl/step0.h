@@ -105,8 +105,8 @@ class Step0 {
   std::vector<scene::Material> materials_;
   std::unique_ptr<GBuffer> gbuffer_;
   std::vector<std::unique_ptr<ShadowMaps>> shadow_maps_;
-  std::vector<ShadowMapSpec> full_specs_;          // per instance, every cell its own map
-  std::vector<bool> valid_, far_, needed_, rendered_;  // per instance
+  std::vector<ShadowMapSpec> full_specs_;                   // per instance, every cell its own map
+  std::vector<bool> valid_, far_, needed_, rendered_;       // per instance
   std::vector<std::pair<glm::dvec3, glm::dvec3>> casters_;  // world boxes of the shadow casters
   double far_distance_ = 0.0;
   bool uses_maps_ = false;

@@ -52,7 +52,7 @@ struct ViewerState {
     std::size_t index = 0;        // delete
   };
   std::vector<InstanceRequest> instance_requests;
-  int selected = 0;                            // luminaire edited by the panel and Ctrl+drag
+  int selected = 0;  // luminaire edited by the panel and Ctrl+drag
   // The scene's materials as the panel and scripts edit them (app/material_edit.h); the frame
   // loop pushes the ones that differ into the renderer (render::Renderer::set_material).
   std::vector<scene::Material> materials;
