@@ -50,6 +50,62 @@ ShadowMapSpec make_shadow_map_spec(const NfLuminaire& lum, const std::vector<glm
   return s;
 }
 
+ShadowMapSpec single_position_spec(ShadowMapSpec full) {
+  glm::dvec3 mean(0.0);
+  for (const auto& l : full.lights) mean += l;
+  if (!full.lights.empty()) mean /= static_cast<double>(full.lights.size());
+  for (auto& l : full.lights) l = mean;
+  full.map_of_cell.assign(full.lights.size(), 0);
+  return full;
+}
+
+bool box_in_shadow_frusta(const ShadowMapSpec& spec, const glm::dvec3& lo, const glm::dvec3& hi, bool grow) {
+  if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z || spec.lights.empty()) return false;  // empty box
+  // The box in the luminaire frame (the local bounds of its 8 corners contain it).
+  const glm::dmat4 to_local = glm::inverse(spec.to_world);
+  glm::dvec3 a(std::numeric_limits<double>::max()), b(-std::numeric_limits<double>::max());
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 c((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+    const glm::dvec3 l(to_local * glm::dvec4(c, 1.0));
+    a = glm::min(a, l);
+    b = glm::max(b, l);
+  }
+  const auto& f = spec.frustum;
+  double lz_min = std::numeric_limits<double>::max();
+  for (const auto& l : spec.lights) lz_min = std::min(lz_min, l.z);
+  // The pass moves p by at most normal_texels * texel(z) = normal_texels * z * max(r - l, t - b) /
+  // size along the unit normal; grow the box by that at its farthest z, plus a float margin
+  // (the pass computes in float: 1e-4 relative to the box's size and distance).
+  const double extent = glm::length(b - a) + glm::length(0.5 * (a + b));
+  const double texel_per_z = std::max(f.right - f.left, f.top - f.bottom) / spec.size;
+  const double g = (grow ? spec.bias.normal_texels * texel_per_z * std::max(0.0, b.z - lz_min) : 0.0) + 1e-4 * extent;
+  a -= g;
+  b += g;
+  for (const auto& light : spec.lights) {
+    const glm::dvec3 lo_q = a - light, hi_q = b - light;
+    if (hi_q.z <= f.near) continue;  // behind the near plane: q0.z <= near or q.z <= near, lit
+    // Outside one side for every z > 0 in the box: the linear x - k z (or y - k z) keeps its sign
+    // over the box (extremes at corners). Points with z <= near are lit anyway.
+    const auto min_lin = [&](double x0, double x1, double k) {
+      return std::min({x0 - k * lo_q.z, x0 - k * hi_q.z, x1 - k * lo_q.z, x1 - k * hi_q.z});
+    };
+    const auto max_lin = [&](double x0, double x1, double k) {
+      return std::max({x0 - k * lo_q.z, x0 - k * hi_q.z, x1 - k * lo_q.z, x1 - k * hi_q.z});
+    };
+    const bool outside = min_lin(lo_q.x, hi_q.x, f.right) >= 0.0 || max_lin(lo_q.x, hi_q.x, f.left) < 0.0 ||
+                         min_lin(lo_q.y, hi_q.y, f.top) >= 0.0 || max_lin(lo_q.y, hi_q.y, f.bottom) < 0.0;
+    if (!outside) return true;
+  }
+  return false;
+}
+
+std::size_t ShadowMaps::bytes(const ShadowMapSpec& spec) {
+  int maps = spec.cells_x * spec.cells_y;
+  if (!spec.map_of_cell.empty()) maps = *std::max_element(spec.map_of_cell.begin(), spec.map_of_cell.end()) + 1;
+  const std::size_t texels = static_cast<std::size_t>(spec.size) * static_cast<std::size_t>(spec.size);
+  return texels * 4 * static_cast<std::size_t>(maps) + texels * 4 + spec.lights.size() * 16;
+}
+
 ShadowMaps::ShadowMaps(ShadowMapSpec spec) : spec_(std::move(spec)) {
   const int n = cells();
   if (spec_.cells_x <= 0 || spec_.cells_y <= 0 || static_cast<std::size_t>(n) != spec_.lights.size())
@@ -58,20 +114,58 @@ ShadowMaps::ShadowMaps(ShadowMapSpec spec) : spec_(std::move(spec)) {
   if (spec_.size < 1 || spec_.size > 16384) fail(fmt::format("shadow maps: size {} out of range", spec_.size));
   const auto& f = spec_.frustum;
   if (!(f.right > f.left) || !(f.top > f.bottom) || !(f.near > 0.0)) fail("shadow maps: invalid frustum");
+  if (spec_.map_of_cell.empty()) {
+    map_lights_ = spec_.lights;
+  } else {
+    if (spec_.map_of_cell.size() != spec_.lights.size())
+      fail(fmt::format("shadow maps: {} map indices for {} cells", spec_.map_of_cell.size(), n));
+    const int maps = *std::max_element(spec_.map_of_cell.begin(), spec_.map_of_cell.end()) + 1;
+    map_lights_.assign(static_cast<std::size_t>(std::max(maps, 0)), glm::dvec3(0.0));
+    std::vector<bool> seen(map_lights_.size(), false);
+    for (int c = 0; c < n; ++c) {
+      const int m = spec_.map_of_cell[static_cast<std::size_t>(c)];
+      if (m < 0) fail(fmt::format("shadow maps: cell {} has map index {}", c, m));
+      const auto& l = spec_.lights[static_cast<std::size_t>(c)];
+      if (seen[static_cast<std::size_t>(m)] && map_lights_[static_cast<std::size_t>(m)] != l)
+        fail(fmt::format("shadow maps: the cells of map {} have different lights", m));
+      map_lights_[static_cast<std::size_t>(m)] = l;
+      seen[static_cast<std::size_t>(m)] = true;
+    }
+  }
   // The maps live in up to kMaxMapBuffers storage buffers, each within the block-size limit
   // (128 MiB on llvmpipe).
   GLint64 max_block = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
   const std::size_t map_bytes = static_cast<std::size_t>(spec_.size) * spec_.size * sizeof(float);
-  maps_per_buffer_ = static_cast<int>(std::min<std::int64_t>(max_block / static_cast<std::int64_t>(map_bytes), n));
-  if (maps_per_buffer_ < 1 || (n + maps_per_buffer_ - 1) / maps_per_buffer_ > kMaxMapBuffers)
+  maps_per_buffer_ = static_cast<int>(std::min<std::int64_t>(max_block / static_cast<std::int64_t>(map_bytes), maps()));
+  if (maps_per_buffer_ < 1 || (maps() + maps_per_buffer_ - 1) / maps_per_buffer_ > kMaxMapBuffers)
     fail(
         fmt::format("shadow maps: {} maps of {}^2 floats exceed {} storage buffers of {} bytes (GL limit); use "
                     "smaller maps",
-                    n, spec_.size, kMaxMapBuffers, max_block));
+                    maps(), spec_.size, kMaxMapBuffers, max_block));
 
-  // One depth target, reused for every cell; each finished map is copied into one storage
-  // buffer (cells x size^2 floats) that the visibility pass indexes directly (faster than a
+  // Per cell: its light (xyz) and its map's index (w), which the visibility passes read.
+  std::vector<float> lights(static_cast<std::size_t>(n) * 4, 0.0f);
+  for (int c = 0; c < n; ++c) {
+    for (int k = 0; k < 3; ++k)
+      lights[static_cast<std::size_t>(c) * 4 + static_cast<std::size_t>(k)] =
+          static_cast<float>(spec_.lights[static_cast<std::size_t>(c)][k]);
+    lights[static_cast<std::size_t>(c) * 4 + 3] =
+        static_cast<float>(spec_.map_of_cell.empty() ? c : spec_.map_of_cell[static_cast<std::size_t>(c)]);
+  }
+  glCreateBuffers(1, &lights_ssbo_);
+  glNamedBufferStorage(lights_ssbo_, static_cast<GLsizeiptr>(lights.size() * sizeof(float)), lights.data(), 0);
+
+  depth_program_ = build_program("shadow_depth.vert.glsl", "shadow_depth.frag.glsl");
+  vis_program_ = build_compute_program("visibility.comp.glsl");
+}
+
+void ShadowMaps::allocate() {
+  if (allocated()) return;
+  const int n = maps();
+  const std::size_t map_bytes = static_cast<std::size_t>(spec_.size) * spec_.size * sizeof(float);
+  // One depth target, reused for every map; each finished map is copied into one storage
+  // buffer (maps x size^2 floats) that the visibility pass indexes directly (faster than a
   // texture-array fetch on llvmpipe, and half the memory of target array + copy).
   glCreateTextures(GL_TEXTURE_2D, 1, &depth_);
   glTextureStorage2D(depth_, 1, GL_DEPTH_COMPONENT32F, spec_.size, spec_.size);
@@ -90,17 +184,6 @@ ShadowMaps::ShadowMaps(ShadowMapSpec spec) : spec_(std::move(spec)) {
         nullptr, 0);
     maps_ssbo_.push_back(b);
   }
-
-  std::vector<float> lights(static_cast<std::size_t>(n) * 4, 0.0f);
-  for (int c = 0; c < n; ++c)
-    for (int k = 0; k < 3; ++k)
-      lights[static_cast<std::size_t>(c) * 4 + static_cast<std::size_t>(k)] =
-          static_cast<float>(spec_.lights[static_cast<std::size_t>(c)][k]);
-  glCreateBuffers(1, &lights_ssbo_);
-  glNamedBufferStorage(lights_ssbo_, static_cast<GLsizeiptr>(lights.size() * sizeof(float)), lights.data(), 0);
-
-  depth_program_ = build_program("shadow_depth.vert.glsl", "shadow_depth.frag.glsl");
-  vis_program_ = build_compute_program("visibility.comp.glsl");
 }
 
 ShadowMaps::~ShadowMaps() {
@@ -113,21 +196,22 @@ ShadowMaps::~ShadowMaps() {
   if (vis_program_) glDeleteProgram(vis_program_);
 }
 
-glm::dmat4 ShadowMaps::light_clip(int cell) const {
+glm::dmat4 ShadowMaps::light_clip(int map) const {
   const auto& f = spec_.frustum;
   const glm::dmat4 to_light =
-      glm::translate(glm::dmat4(1.0), -spec_.lights[static_cast<std::size_t>(cell)]) * glm::inverse(spec_.to_world);
+      glm::translate(glm::dmat4(1.0), -map_lights_[static_cast<std::size_t>(map)]) * glm::inverse(spec_.to_world);
   return reversed_z_frustum(f.left, f.right, f.bottom, f.top, f.near) * to_light;
 }
 
 void ShadowMaps::render(const SceneGpu& scene) {
+  allocate();
   ReversedZScope depth_state;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, spec_.size, spec_.size);
   glUseProgram(depth_program_);
   const std::size_t map_bytes = static_cast<std::size_t>(spec_.size) * spec_.size * sizeof(float);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  for (int c = 0; c < cells(); ++c) {
+  for (int c = 0; c < maps(); ++c) {
     glBindBuffer(GL_PIXEL_PACK_BUFFER, maps_ssbo_[static_cast<std::size_t>(c / maps_per_buffer_)]);
     glUseProgram(depth_program_);
     glClear(GL_DEPTH_BUFFER_BIT);
@@ -142,6 +226,7 @@ void ShadowMaps::render(const SceneGpu& scene) {
 }
 
 std::vector<std::uint32_t> ShadowMaps::visibility(const GBuffer& gbuffer) {
+  if (!allocated()) fail("shadow maps: visibility() before render()");
   const int w = gbuffer.width(), h = gbuffer.height();
   const std::size_t words = static_cast<std::size_t>(w) * h * static_cast<std::size_t>(words_per_pixel());
   const std::size_t bytes = std::max<std::size_t>(words * sizeof(std::uint32_t), 4);
@@ -183,7 +268,9 @@ std::vector<std::uint32_t> ShadowMaps::visibility(const GBuffer& gbuffer) {
 
 std::vector<float> ShadowMaps::read_depth(int cell) const {
   if (cell < 0 || cell >= cells()) fail(fmt::format("shadow maps: cell {} out of range", cell));
+  if (!allocated()) fail("shadow maps: read_depth() before render()");
   const int s = spec_.size;
+  if (!spec_.map_of_cell.empty()) cell = spec_.map_of_cell[static_cast<std::size_t>(cell)];
   std::vector<float> raw(static_cast<std::size_t>(s) * s);
   glGetNamedBufferSubData(
       maps_ssbo_[static_cast<std::size_t>(cell / maps_per_buffer_)],
@@ -201,9 +288,10 @@ std::vector<float> ShadowMaps::read_depth(int cell) const {
 
 std::vector<float> ShadowMaps::read_maps() const {
   const std::size_t texels = static_cast<std::size_t>(spec_.size) * static_cast<std::size_t>(spec_.size);
-  std::vector<float> out(texels * static_cast<std::size_t>(cells()));
-  for (int first = 0; first < cells(); first += maps_per_buffer_) {
-    const std::size_t n = static_cast<std::size_t>(std::min(maps_per_buffer_, cells() - first));
+  std::vector<float> out(texels * static_cast<std::size_t>(maps()));
+  if (!allocated()) fail("shadow maps: read_maps() before render()");
+  for (int first = 0; first < maps(); first += maps_per_buffer_) {
+    const std::size_t n = static_cast<std::size_t>(std::min(maps_per_buffer_, maps() - first));
     glGetNamedBufferSubData(maps_ssbo_[static_cast<std::size_t>(first / maps_per_buffer_)], 0,
                             static_cast<GLsizeiptr>(n * texels * sizeof(float)),
                             out.data() + static_cast<std::size_t>(first) * texels);
@@ -212,10 +300,12 @@ std::vector<float> ShadowMaps::read_maps() const {
 }
 
 std::vector<MemoryItem> ShadowMaps::memory() const {
-  std::vector<MemoryItem> m{{fmt::format("shadow maps ({} x {}^2 float)", cells(), spec_.size), maps_bytes_},
-                            {fmt::format("shadow depth target ({}^2 D32F)", spec_.size),
-                             static_cast<std::size_t>(spec_.size) * spec_.size * 4},
-                            {"shadow reference lights", static_cast<std::size_t>(cells()) * 16}};
+  std::vector<MemoryItem> m{{"shadow reference lights", static_cast<std::size_t>(cells()) * 16}};
+  if (allocated()) {
+    m.push_back({fmt::format("shadow maps ({} x {}^2 float)", maps(), spec_.size), maps_bytes_});
+    m.push_back({fmt::format("shadow depth target ({}^2 D32F)", spec_.size),
+                 static_cast<std::size_t>(spec_.size) * spec_.size * 4});
+  }
   if (vis_bytes_) m.push_back({"visibility bitmask", vis_bytes_});
   return m;
 }

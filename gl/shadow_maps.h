@@ -6,6 +6,7 @@
 // leaves the luminaire towards +z local, so each map is a perspective projection looking along
 // +z local (x right, y up in the map) with an asymmetric frustum that holds every direction the
 // light field can emit in (shadow_frustum_for), at most `max_half_angle` off axis per side.
+// With spec.map_of_cell (the far approximation) several cells share one map and its light.
 // Depth is reversed-Z D32F (near / z), rendered cell by cell into one depth target and copied
 // into storage buffers of size^2 floats per map (as many maps per buffer as the GL block-size
 // limit allows), map = cell index = cj * (W + n - 1) + ci. The visibility pass indexes them
@@ -55,8 +56,11 @@ struct ShadowBias {
 struct ShadowMapSpec {
   std::vector<glm::dvec3> lights;  // per cell, luminaire-local (on S); index cj * cells_x + ci
   int cells_x = 0, cells_y = 0;    // W + n - 1, H + n - 1
-  glm::dmat4 to_world{1.0};        // rigid luminaire-instance transform
-  int size = 256;                  // map resolution (square)
+  // Which map each cell is tested against (empty: map c for cell c, the exact Step 0). Cells that
+  // share a map share its light: lights[c] is the position the map is rendered from.
+  std::vector<int> map_of_cell;
+  glm::dmat4 to_world{1.0};  // rigid luminaire-instance transform
+  int size = 256;            // map resolution (square)
   ShadowFrustum frustum;
   ShadowBias bias;
 };
@@ -65,10 +69,21 @@ struct ShadowMapSpec {
 ShadowMapSpec make_shadow_map_spec(const NfLuminaire& luminaire, const std::vector<glm::dvec3>& ref_lights,
                                    const glm::dmat4& to_world, int size);
 
+// The `shadow_far_distance` approximation (docs/rendering.md, "Shadow maps at scale"): one map,
+// rendered from the mean of the cells' reference lights, that every cell is tested against. Its
+// bits are all equal (hard shadows from the lens centre instead of the n^2-cell penumbra).
+ShadowMapSpec single_position_spec(ShadowMapSpec full);
+
+// Whether any point in the world box [lo, hi] (grown by the normal offset) can get a bit cleared
+// by the maps of `spec`: false only when, for every cell, the whole box lies behind the cell's near
+// plane or beyond one side of its frustum, where the test of the visibility pass sets the bit
+// without reading the map. Conservative: `false` is certain, `true` may be.
+bool box_in_shadow_frusta(const ShadowMapSpec& spec, const glm::dvec3& lo, const glm::dvec3& hi, bool grow = true);
+
 class ShadowMaps {
  public:
-  // Allocates the maps buffer (size^2 x cells x 4 bytes) and one size^2 depth target; needs a
-  // current context.
+  // Checks the spec and builds the programs; needs a current context. The maps buffer (size^2 x
+  // maps() x 4 bytes) and the size^2 depth target are allocated by the first render().
   explicit ShadowMaps(ShadowMapSpec spec);
   ~ShadowMaps();
   ShadowMaps(const ShadowMaps&) = delete;
@@ -81,6 +96,10 @@ class ShadowMaps {
   std::vector<std::uint32_t> visibility(const GBuffer& gbuffer);
 
   int cells() const { return spec_.cells_x * spec_.cells_y; }
+  int maps() const { return static_cast<int>(map_lights_.size()); }  // distinct maps (cells() when exact)
+  bool allocated() const { return !maps_ssbo_.empty(); }
+  // GPU bytes the maps of `spec` take once rendered (maps, depth target, reference lights).
+  static std::size_t bytes(const ShadowMapSpec& spec);
   int words_per_pixel() const { return NF_VIS_WORDS(cells()); }
   const ShadowMapSpec& spec() const { return spec_; }
   void set_to_world(const glm::dmat4& to_world) { spec_.to_world = to_world; }
@@ -93,8 +112,10 @@ class ShadowMaps {
   std::vector<MemoryItem> memory() const;
 
  private:
-  glm::dmat4 light_clip(int cell) const;  // world -> clip of one cell's map
+  glm::dmat4 light_clip(int map) const;  // world -> clip of one map
+  void allocate();
   ShadowMapSpec spec_;
+  std::vector<glm::dvec3> map_lights_;      // per map, the light it is rendered from
   static constexpr int kMaxMapBuffers = 8;  // as in visibility.comp.glsl
   unsigned depth_ = 0, fbo_ = 0, lights_ssbo_ = 0, vis_ssbo_ = 0;
   std::vector<unsigned> maps_ssbo_;  // maps_per_buffer_ maps each

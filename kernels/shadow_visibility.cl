@@ -8,8 +8,9 @@
      else lit iff q.z <= near / depth + constant + depth_texels * texel(q.z)
    One work-item tests NF_LANES neighbouring surfaces (common/lanes.h) against every cell: the
    cells' reference lights are the same for all lanes, the map reads are gathers. Bit b of word w
-   is cell 32 w + b. Maps: reversed-Z depth near / z (0 = empty), map c at c * size^2, rows
-   bottom up (as GL stores them). Background surfaces (valid = 0) get 0. */
+   is cell 32 w + b. Maps: reversed-Z depth near / z (0 = empty), cell c reads map m = lights[c].w
+   (c itself unless cells share maps, gl/shadow_maps.h) at m * size^2, rows bottom up (as GL
+   stores them). Background surfaces (valid = 0) get 0. */
 #include "common/lanes.h"
 #include "shared/surface.h"
 
@@ -70,7 +71,7 @@ __kernel void shadow_visibility(__global const NfSurface* surfaces, int count, _
       if (ANY(inside)) {
         const vi mx = min(CVT_I(SEL((vf)(0.0f), ux, inside) * (float)map_size), map_size - 1);
         const vi my = min(CVT_I(SEL((vf)(0.0f), uy, inside) * (float)map_size), map_size - 1);
-        const vl idx = (vl)((long)cell * texels) + CVT_L(my) * (long)map_size + CVT_L(mx);
+        const vl idx = (vl)((long)(int)(lc.w + 0.5f) * texels) + CVT_L(my) * (long)map_size + CVT_L(mx);
         const vf d = SEL((vf)(0.0f), GATHERF(maps, idx), inside);
         const vf dd = SEL((vf)(1.0f), d, d > 0.0f);
         shadowed = (d > 0.0f) & ((qz <= near_z / dd + bias.x + bias.y * texel_per_z * qz) == 0);

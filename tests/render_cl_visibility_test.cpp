@@ -48,10 +48,11 @@ gl::ShadowMapSpec spec(int cells_x, int cells_y) {
   return s;
 }
 
-void compare_bits(int cells_x, int cells_y) {
+// far: every cell tests one shared map (gl::single_position_spec, `shadow_far_distance`).
+void compare_bits(int cells_x, int cells_y, bool far = false) {
   render_test::context().make_current();
   const auto s = render_test::parse(kScene);
-  const auto sp = spec(cells_x, cells_y);
+  const auto sp = far ? gl::single_position_spec(spec(cells_x, cells_y)) : spec(cells_x, cells_y);
   gl::Step0 step0(s, {sp});
   step0.run(s.camera);
   ASSERT_TRUE(step0.has_shadow_maps());
@@ -101,6 +102,7 @@ void compare_bits(int cells_x, int cells_y) {
 
 TEST(ClShadowVisibility, SameBitsAsTheGlPassOneWord) { compare_bits(6, 1); }
 TEST(ClShadowVisibility, SameBitsAsTheGlPassTwoWords) { compare_bits(7, 5); }
+TEST(ClShadowVisibility, SameBitsAsTheGlPassOneSharedMap) { compare_bits(7, 5, true); }
 
 // Through the renderer: the default scene with either pass, the same sampler streams.
 TEST(ClShadowVisibility, RendererFramesMatchTheGlPass) {

@@ -110,4 +110,42 @@ TEST(RenderEstimate, FarfieldLightAndLocalMapMatchTheRenderersBytes) {
   }
 }
 
+// Shadow maps (docs/rendering.md "Shadow maps at scale"): per car2 instance (11 x 9 quadratic
+// B-splines: 13 x 11 = 143 cells) 143 maps of size^2 floats, the size^2 depth target, 16 bytes of
+// light per cell and the 5-word bitmask per pixel twice on the host (GL buffer, readback); on the
+// device the OpenCL pass's copy of the maps and the bitmask. Closed form from the preset's grid,
+// tolerance 0 bytes; "none" counts nothing; the shadow-map bytes the renderer reports after a frame
+// (GL and the OpenCL pass's copies; both instances in reach of the crate) do not exceed it.
+TEST(RenderEstimate, ShadowMapsPerInstance) {
+  const auto json = [](const std::string& visibility) {
+    return fmt::format(R"({{
+    "camera": {{ "position": [0, 3, 4], "target": [0, 0, -1], "fov_y": 50, "resolution": [40, 30] }},
+    "materials": {{ "floor": {{ "type": "lambert", "base_color": [0.5, 0.5, 0.5] }} }},
+    "objects": [ {{ "name": "floor", "type": "plane", "size": [8, 8], "material": "floor" }},
+                 {{ "name": "crate", "type": "box", "size": [0.5, 0.5, 0.5], "material": "floor",
+                    "transform": {{ "translate": [0, 0.25, -1.5] }} }} ],
+    "luminaires": [ {{ "preset": "car2", "transform": {{ "translate": [-0.3, 0.4, 0], "rotate": [0, 180, 0] }} }},
+                    {{ "preset": "car2", "transform": {{ "translate": [0.3, 0.4, 0], "rotate": [0, 180, 0] }} }} ],
+    "render": {{ "visibility": "{}", "shadow_map_size": 32, "spp": 1 }} }})",
+                       visibility);
+  };
+  const std::uint64_t cells = 143, texels = 32 * 32, pixels = 40 * 30;
+  const std::uint64_t maps = cells * texels * 4 + texels * 4 + cells * 16, bitmask = pixels * 5 * 4;
+  const app::RenderEstimate on = app::estimate_render(render_test::parse(json("shadowmaps")));
+  const app::RenderEstimate off = app::estimate_render(render_test::parse(json("none")));
+  EXPECT_EQ(on.shadow_maps_host, 2 * (maps + 2 * bitmask));
+  EXPECT_EQ(on.shadow_maps_device, 2 * (maps + bitmask));
+  EXPECT_EQ(off.shadow_maps_host + off.shadow_maps_device, 0u);
+  EXPECT_EQ(on.host - off.host, on.shadow_maps_host);
+  EXPECT_EQ(on.device - off.device, on.shadow_maps_device);
+
+  auto r = render_test::make_renderer(render_test::parse(json("shadowmaps")), 0.125);
+  r->render_frame();
+  std::uint64_t shadow_bytes = 0;  // GL maps, depth targets, lights and the OpenCL pass's copies
+  for (const auto& m : r->stats().memory)
+    if (m.name.find("shadow") != std::string::npos) shadow_bytes += m.bytes;
+  EXPECT_GT(shadow_bytes, 2 * 2 * cells * texels * 4);  // both instances' maps were rendered and uploaded
+  EXPECT_LE(shadow_bytes, on.shadow_maps_host + on.shadow_maps_device);
+}
+
 }  // namespace

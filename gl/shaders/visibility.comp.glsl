@@ -4,10 +4,10 @@
 layout(local_size_x = 64) in;
 layout(binding = 0) uniform sampler2D u_position;  // G-buffer: xyz world, w = material + 1 (0: none)
 layout(binding = 1) uniform sampler2D u_normal;    // G-buffer: xyz unit normal
-layout(std430, binding = 0) readonly buffer Lights { vec4 lights[]; };  // per cell, luminaire-local
+layout(std430, binding = 0) readonly buffer Lights { vec4 lights[]; };  // per cell: luminaire-local xyz, map index w
 layout(std430, binding = 1) writeonly buffer Visibility { uint vis[]; };
-// Maps: reversed-Z depth (near / z), 0 = empty; map c is map (c % per_buffer) of buffer
-// c / per_buffer, rows bottom up. Bindings 2..9 (kMaxMapBuffers in gl/shadow_maps.h).
+// Maps: reversed-Z depth (near / z), 0 = empty; cell c reads map m = lights[c].w (c itself unless
+// cells share maps), map (m % per_buffer) of buffer m / per_buffer, rows bottom up. Bindings 2..9 (kMaxMapBuffers in gl/shadow_maps.h).
 layout(std430, binding = 2) readonly buffer Maps { float depth[]; } maps[8];
 layout(location = 0) uniform mat4 u_world_to_local;
 layout(location = 1) uniform ivec2 u_size;         // G-buffer width, height
@@ -50,7 +50,8 @@ void main() {
           vec2 uv = (t - u_frustum.xz) / vec2(width, height);
           if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) {
             ivec2 mt = min(ivec2(uv * float(u_map_size)), ivec2(u_map_size - 1));
-            float d = maps[cell / u_per_buffer].depth[((cell % u_per_buffer) * u_map_size + mt.y) * u_map_size + mt.x];
+            int m = int(lights[cell].w + 0.5);
+            float d = maps[m / u_per_buffer].depth[((m % u_per_buffer) * u_map_size + mt.y) * u_map_size + mt.x];
             if (d > 0.0) {
               float z_map = u_near / d;
               lit = q.z <= z_map + u_bias.x + u_bias.y * texel_per_z * q.z;

@@ -255,13 +255,15 @@ void run_render(const RenderCmd& o) {
                 scene.camera.width, scene.camera.height, scene.luminaires.size(), scene::count(scene).triangles);
     std::printf(
         "estimate    host %s, device %s%s (pixels %s, luminaires %s host + %s device, geometry %s, environment %s "
-        "host + %s device, far-field lights %s device, local environment maps %s host + %s device)\n",
+        "host + %s device, far-field lights %s device, local environment maps %s host + %s device, shadow maps %s "
+        "host + %s device)\n",
         format_bytes(estimate.host).c_str(), format_bytes(estimate.device).c_str(),
         shared ? " (same memory: CPU device)" : "", format_bytes(estimate.per_pixel).c_str(),
         format_bytes(estimate.luminaires_host).c_str(), format_bytes(estimate.luminaires_device).c_str(),
         format_bytes(estimate.geometry).c_str(), format_bytes(estimate.environment_host).c_str(),
         format_bytes(estimate.environment_device).c_str(), format_bytes(estimate.farfield_device).c_str(),
-        format_bytes(estimate.local_host).c_str(), format_bytes(estimate.local_device).c_str());
+        format_bytes(estimate.local_host).c_str(), format_bytes(estimate.local_device).c_str(),
+        format_bytes(estimate.shadow_maps_host).c_str(), format_bytes(estimate.shadow_maps_device).c_str());
     for (const app::InstanceCost& c : app::instance_costs(scene))
       std::printf(
           "instances   %zu of %s share its images and SATs on the device; one more instance: %s (selection "

@@ -37,6 +37,28 @@ RenderEstimate estimate_render(const scene::Scene& s) {
     e.luminaires_host = add_sat(e.luminaires_host, m.host());
     e.luminaires_device = add_sat(e.luminaires_device, m.device());
   }
+  if (s.needs_shadow_maps()) {  // docs/rendering.md "Shadow maps at scale": every instance exact (the worst case)
+    const std::uint64_t texels =
+        static_cast<std::uint64_t>(s.render.shadow_map_size) * static_cast<std::uint64_t>(s.render.shadow_map_size);
+    for (std::size_t i = 0; i < s.luminaires.size(); ++i) {
+      const auto& l = s.luminaires[i];
+      lum::Basis basis;
+      try {
+        basis = l.manifest.empty() ? lum::preset_basis(l.preset) : lum::read_manifest(l.manifest).basis;
+      } catch (const Error& err) {
+        fail(fmt::format("{}: /luminaires/{} ('{}'): {}", s.file.string(), i, l.name, err.what()));
+      }
+      const std::uint64_t cells = static_cast<std::uint64_t>(basis.count[0] + basis.support() - 1) *
+                                  static_cast<std::uint64_t>(basis.count[1] + basis.support() - 1);
+      const std::uint64_t maps = add_sat(mul_sat(mul_sat(cells, texels), 4), add_sat(texels * 4, cells * 16));
+      const std::uint64_t bitmask = mul_sat(pixels, ((cells + 31) / 32) * 4);
+      // GL (llvmpipe: host memory): maps, depth target, lights, the bitmask's buffer and its
+      // readback; the OpenCL pass keeps a copy of the maps on the device; the bitmask is uploaded.
+      e.shadow_maps_host = add_sat(e.shadow_maps_host, add_sat(maps, mul_sat(bitmask, 2)));
+      e.shadow_maps_device =
+          add_sat(e.shadow_maps_device, add_sat(s.render.visibility_pass == "gl" ? 0 : maps, bitmask));
+    }
+  }
   const bool paraboloid = s.render.env_param == "paraboloid";
   const std::size_t kurt_entries = s.geometry.materials.size();  // render::kurt_table: one entry per material
   const auto n = static_cast<std::size_t>(pixels);
@@ -67,12 +89,12 @@ RenderEstimate estimate_render(const scene::Scene& s) {
   e.geometry = mul_sat(scene::count(s).triangles, kBytesPerTriangle);
   e.host = add_sat(
       add_sat(add_sat(add_sat(mul_sat(pixels, kHostBytesPerPixel), e.luminaires_host), e.geometry), e.environment_host),
-      e.local_host);
+      add_sat(e.local_host, e.shadow_maps_host));
   e.device =
       add_sat(add_sat(add_sat(add_sat(add_sat(mul_sat(pixels, kDeviceBytesPerPixel), e.luminaires_device), e.geometry),
                               e.environment_device),
                       e.farfield_device),
-              e.local_device);
+              add_sat(e.local_device, e.shadow_maps_device));
   return e;
 }
 

@@ -25,13 +25,19 @@ namespace nf::app {
 // maps) visibility bits (FarfieldContribution::estimate_bytes). Local environment maps (docs/local-environment.md): per
 // map its own environment, Kurt table and masked camera surfaces on the device
 // (EnvironmentContribution::estimate_local_bytes), ~48 bytes per texel on the host; without a far
-// environment the black stand-in's output too.
+// environment the black stand-in's output too. Shadow maps (visibility shadowmaps, something occludes;
+// docs/rendering.md "Shadow maps at scale"): per instance (W + n - 1)(H + n - 1) maps of
+// shadow_map_size^2 floats, the depth target and the bitmasks (GL buffer and readback on the host,
+// llvmpipe's GL memory being host memory; the OpenCL pass's copy of the maps and the uploaded
+// bitmask on the device), counted for every instance with exact maps: the worst case of culling
+// and shadow_far_distance.
 struct RenderEstimate {
   std::uint64_t host = 0, device = 0;
   std::uint64_t per_pixel = 0, luminaires_host = 0, luminaires_device = 0, geometry = 0;
   std::uint64_t environment_host = 0, environment_device = 0;
   std::uint64_t farfield_device = 0;
   std::uint64_t local_host = 0, local_device = 0;
+  std::uint64_t shadow_maps_host = 0, shadow_maps_device = 0;
 };
 constexpr std::uint64_t kHostBytesPerPixel = 70, kBytesPerTriangle = 100;
 constexpr std::uint64_t kDeviceBytesPerPixel = 200 + render::DeviceFrame::kBytesPerPixel;

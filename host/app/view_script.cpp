@@ -209,6 +209,45 @@ void camera_motion(ScriptContext& x) {
   }
 }
 
+// instance add NAME LUMINAIRE X Y Z [YAW] | move I|NAME X Y Z [YAW] | delete I|NAME
+void check_instance(const Script& s, const ScriptCommand& c) {
+  const std::string& what = c.args[0];
+  const std::size_t first = what == "add" ? 3 : 2;  // the first number
+  if (what == "delete") {
+    if (c.args.size() != 2) fail(fmt::format("{}: instance delete: expected I or NAME", s.where(c)));
+    return;
+  }
+  if (what != "add" && what != "move")
+    fail(fmt::format("{}: instance: expected add, move or delete, got '{}'", s.where(c), excerpt(what)));
+  if (c.args.size() != first + 3 && c.args.size() != first + 4)
+    fail(fmt::format("{}: instance {}: expected {}X Y Z and an optional YAW (degrees)", s.where(c), what,
+                     what == "add" ? "NAME LUMINAIRE " : "I|NAME "));
+  for (std::size_t k = first; k < c.args.size(); ++k) (void)script_number(s, c, k);
+}
+
+void instance_command(ScriptContext& x) {
+  const ScriptCommand& c = x.command;
+  const std::string& what = c.args[0];
+  auto& st = x.state;
+  if (what == "delete") {
+    st.delete_instance(st.instance_index(c.args[1]));
+    return;
+  }
+  const std::size_t first = what == "add" ? 3 : 2;
+  const glm::dvec3 p(x.number(first), x.number(first + 1), x.number(first + 2));
+  const bool yaw = c.args.size() > first + 3;
+  if (what == "add") {
+    LuminaireEdit e;
+    e.translate = p;
+    e.euler = {0.0, yaw ? x.number(first + 3) : 0.0, 0.0};
+    st.add_instance(c.args[1], c.args[2], e);
+    return;
+  }
+  LuminaireEdit& e = st.lums[st.instance_index(c.args[1])];
+  e.translate = p;
+  if (yaw) e.euler.y = x.number(first + 3);
+}
+
 void luminaire_command(ScriptContext& x) {
   const ScriptCommand& c = x.command;
   auto& lums = x.state.lums;
@@ -312,6 +351,15 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "1 translate 0.7 0.72 0.05",
        check_luminaire,
        luminaire_command},
+      {"instance",
+       {A::text, A::text},
+       {A::text, A::text, A::text, A::text, A::text},
+       "add NAME LUMINAIRE X Y Z [YAW] | move I|NAME X Y Z [YAW] | delete I|NAME",
+       "add a luminaire instance (LUMINAIRE: a preset or an instance's name, whose luminaire it shares) at X Y Z "
+       "turned YAW degrees about +y, move one, or delete one; only its shadow maps are rendered",
+       "add extra car2 0.5 0.7 1.0 180",
+       check_instance,
+       instance_command},
       {"material",
        {A::text, A::text},
        {A::text, A::text, A::text, A::text, A::text},

@@ -21,6 +21,10 @@
 //   luminaire I rotate RX RY RZ [N]  absolute Euler angles (degrees, R = Rz Ry Rx, as in
 //                                 scenes); with N, interpolated over N frames
 //   luminaire I intensity V
+//   instance add NAME LUMINAIRE X Y Z [YAW]  a new luminaire instance (a preset, or the luminaire
+//                                 of the instance called LUMINAIRE), turned YAW degrees about +y
+//   instance move I|NAME X Y Z [YAW]  place an instance (its shadow maps alone are re-rendered)
+//   instance delete I|NAME        remove an instance (none left: the image is black, with a note)
 //   material NAME FIELD VALUE...  edit a material (app/material_edit.h: type, base_color, diffuse,
 //                                 metallic, roughness, lobe J ks|r0|mx|my|alpha, add-lobe, remove-lobe)
 //   display image|A|K             what the window shows (K and A in false colour)

@@ -116,6 +116,10 @@ void Viewer::write_image(const fs::path& path, bool confirmed) {
 void Viewer::write_scene(const fs::path& path, bool confirmed) {
   const fs::path json = with_extension(path, ".json", "save-scene");
   refuse_inputs(json, confirmed, "save-scene");
+  if (edited_instances_)
+    fail(
+        "save-scene: luminaire instances were added or deleted in the viewer; saving such a scene is not supported "
+        "(the scene file's luminaires are matched by index)");
   scene::SceneState st;
   st.camera = state_.orbit.camera(render_width(), render_height());
   for (std::size_t i = 0; i < state_.lums.size(); ++i) {

@@ -26,6 +26,7 @@
 #include "core/log.h"
 #include "core/timer.h"
 #include "gl/tonemap.h"
+#include "luminaire/generator.h"
 #include "scene/material_json.h"
 #include "scene/referenced_files.h"
 #include "scene/scene_writer.h"
@@ -118,8 +119,10 @@ Viewer::Viewer(const ViewerOptions& o) : opt_(o) {
   ropt.cl_device = o.cl_device;
   renderer_ = std::make_unique<render::Renderer>(std::move(scene), ropt);
   units_ = image_units(renderer_->scene());
-  for (std::size_t i = 0; i < renderer_->luminaire_count(); ++i)
+  for (std::size_t i = 0; i < renderer_->luminaire_count(); ++i) {
     state_.lums.push_back(edit_of(renderer_->luminaire_transform(i), renderer_->luminaire_intensity(i)));
+    state_.lum_names.push_back(renderer_->luminaire(i).name);
+  }
   state_.lums_home = state_.lums;
   for (const auto& l : original_.luminaires) state_.lums_file.push_back(l.to_world);
 
@@ -236,6 +239,7 @@ void Viewer::sync() {
   render::FrameSettings f = s.frame;
   if (fast_active_) f.visibility = render::Visibility::none;
   try {
+    apply_instance_requests();
     renderer_->set_settings(f);
     renderer_->set_camera(cam);
     for (std::size_t i = 0; i < state_.lums.size(); ++i) {
@@ -261,6 +265,36 @@ void Viewer::sync() {
     state_.redisplay = true;
   synced_camera_ = cam;
   synced_lums_ = ms;
+}
+
+// `instance add` / `instance delete` (ViewerState::instance_requests) in the renderer, in order.
+void Viewer::apply_instance_requests() {
+  auto requests = std::move(state_.instance_requests);
+  state_.instance_requests.clear();
+  for (const auto& q : requests) {
+    if (!q.add) {
+      renderer_->remove_luminaire(q.index);
+      edited_instances_ = true;
+      if (renderer_->luminaire_count() == 0) {
+        const char* note = "no luminaire instances left: the image is black (instance add brings one back)";
+        std::fprintf(stderr, "note: %s\n", note);
+        status(note, false);
+      }
+      continue;
+    }
+    scene::LuminaireRef ref;  // validated by ViewerState::add_instance: an instance's name or a preset
+    ref.preset = q.luminaire;
+    for (std::size_t i = 0; i < renderer_->luminaire_count(); ++i)
+      if (renderer_->luminaire(i).name == q.luminaire) {
+        ref = renderer_->luminaire(i);
+        break;
+      }
+    ref.name = q.name;
+    ref.to_world = q.edit.matrix();
+    ref.intensity = q.edit.intensity;
+    renderer_->add_luminaire(ref);
+    edited_instances_ = true;
+  }
 }
 
 // ---------------------------------------------------------------- actions --------------------

@@ -60,6 +60,7 @@ class Viewer final : public ViewerActions, public ScriptActions {
   void iterate();
   bool scripted() const { return script_.has_value() && !script_->done(); }
   void sync();
+  void apply_instance_requests();
   void render_one();
   void display();
   bool accumulating() const;
@@ -93,6 +94,7 @@ class Viewer final : public ViewerActions, public ScriptActions {
   // what was last pushed into the renderer
   std::optional<scene::Camera> synced_camera_;
   std::vector<glm::dmat4> synced_lums_;
+  bool edited_instances_ = false;  // instances were added or deleted (save-scene refuses then)
   bool moving_ = false, fast_active_ = false, motion_now_ = false;
   std::chrono::steady_clock::time_point last_motion_{};
 

@@ -422,12 +422,15 @@ void Panel::camera() {
 
 void Panel::luminaires() {
   if (s.lums.empty()) {
-    ImGui::TextUnformatted("the scene has no luminaires");
+    ImGui::TextUnformatted("no luminaire instances: the image is black");
+    ImGui::TextDisabled("script: instance add NAME PRESET X Y Z [YAW]");
     return;
   }
   s.selected = std::clamp(s.selected, 0, static_cast<int>(s.lums.size()) - 1);
   const std::size_t i = static_cast<std::size_t>(s.selected);
-  auto label = [this](std::size_t k) { return fmt::format("{}: {}", k, r.luminaire(k).name); };
+  auto label = [this](std::size_t k) {
+    return fmt::format("{}: {}", k, k < s.lum_names.size() ? s.lum_names[k] : std::string());
+  };
   if (ImGui::BeginCombo("luminaire (N)", label(i).c_str())) {
     for (std::size_t k = 0; k < s.lums.size(); ++k)
       if (ImGui::Selectable(label(k).c_str(), k == i)) s.selected = static_cast<int>(k);
@@ -440,6 +443,21 @@ void Panel::luminaires() {
   ImGui::DragScalar("intensity", ImGuiDataType_Double, &e.intensity, 0.01f, &zero, &big, "%.3f");
   e.intensity = std::max(e.intensity, 0.0);
   if (ImGui::Button("reset luminaire")) s.reset_luminaire(static_cast<std::size_t>(s.selected));
+  // Instances come and go (only the new one's shadow maps are rendered; the accumulation restarts).
+  ImGui::SameLine();
+  if (ImGui::Button("duplicate")) {
+    LuminaireEdit copy = e;
+    copy.translate.x += 0.5;
+    std::string name = s.lum_names[i] + " copy";
+    while (std::find(s.lum_names.begin(), s.lum_names.end(), name) != s.lum_names.end()) name += "'";
+    s.add_instance(name, s.lum_names[i], copy);
+    return;
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("delete")) {
+    s.delete_instance(i);
+    return;
+  }
   ImGui::TextDisabled("rotate [rx, ry, rz]: R = Rz Ry Rx, as in scenes");
   ImGui::TextDisabled("Ctrl+left drag: move; Ctrl+right drag: turn");
 }

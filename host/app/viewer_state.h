@@ -41,7 +41,18 @@ struct ViewerState {
   OrbitCamera orbit, home;                     // current and the scene file's camera
   std::vector<LuminaireEdit> lums, lums_home;  // current and the scene file's placements
   std::vector<glm::dmat4> lums_file;           // the scene file's matrices (kept bit for bit)
-  int selected = 0;                            // luminaire edited by the panel and Ctrl+drag
+  std::vector<std::string> lum_names;          // the instances' names (`instance` commands)
+  // `instance add` / `instance delete` (scripts, panel): the handler updates lums, lums_home,
+  // lums_file and lum_names at once and queues the request; the frame loop applies the queue to the
+  // renderer in order (the same indices).
+  struct InstanceRequest {
+    bool add = true;
+    std::string name, luminaire;  // add: the new name and a preset or an instance's name to copy
+    LuminaireEdit edit;           // add: placement
+    std::size_t index = 0;        // delete
+  };
+  std::vector<InstanceRequest> instance_requests;
+  int selected = 0;  // luminaire edited by the panel and Ctrl+drag
   // The scene's materials as the panel and scripts edit them (app/material_edit.h); the frame
   // loop pushes the ones that differ into the renderer (render::Renderer::set_material).
   std::vector<scene::Material> materials;
@@ -66,6 +77,13 @@ struct ViewerState {
   bool quit = false;
 
   void reset_view() { orbit = home; }
+  // The instance called `name_or_index` (its name, else a 0-based index); throws nf::Error.
+  std::size_t instance_index(const std::string& name_or_index) const;
+  // `instance add NAME LUMINAIRE ...` / `instance delete`: the state at once, the renderer on the
+  // next sync (instance_requests). `luminaire`: a preset or an instance's name whose luminaire
+  // the new one shares. Throws nf::Error for a name in use or an index out of range.
+  void add_instance(const std::string& name, const std::string& luminaire, const LuminaireEdit& edit);
+  void delete_instance(std::size_t i);
   void reset_luminaire(std::size_t i);
   // The scene file's matrix while the placement is unchanged (bit for bit), else the edit's.
   glm::dmat4 luminaire_matrix(std::size_t i) const;

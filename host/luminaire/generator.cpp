@@ -346,6 +346,17 @@ Spec scaled_spec(const std::string& name, const GenOptions& options) {
 // W H images of nx ny pixels x channels floats (kept until written), one more image for the
 // writer's conversion buffer (half or float) or the panel's template image, and the acquisition
 // tables: per term and axis count x pixels doubles (acquire_axis), per thread one row of doubles.
+Basis preset_basis(const std::string& name) {
+  if (is_optics_preset(name)) {
+    const OpticsPreset p = optics_preset(name);
+    Basis b;
+    b.kind = p.import.basis;
+    b.count = p.import.grid;
+    return b;
+  }
+  return find_spec(name).basis;
+}
+
 std::uint64_t generate_memory(const std::string& name, const GenOptions& options) {
   if (is_optics_preset(name)) {
     if (!(options.resolution_scale > 0.0 && options.resolution_scale <= 16.0))

@@ -39,6 +39,10 @@ Luminaire generate_preset(const std::string& name, const GenOptions& options = {
 // acquisition tables), from its grid and the resolution scale alone.
 std::uint64_t generate_memory(const std::string& name, const GenOptions& options = {});
 
+// The preset's basis grid (W x H and the kind; origin and cell only for the synthetic presets),
+// from its parameters alone: what the shadow maps' memory estimate needs (W + n - 1) x (H + n - 1).
+Basis preset_basis(const std::string& name);
+
 // The panel preset's parameters (used by closed-form tests): radiance L0 on R = [lo, hi]^2.
 struct PanelSpec {
   double l0 = 100.0;

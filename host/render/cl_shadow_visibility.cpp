@@ -22,7 +22,9 @@ void ClShadowVisibility::upload(const gl::ShadowMaps& maps) {
   std::vector<cl_float4> lights(maps.spec().lights.size());
   for (std::size_t c = 0; c < lights.size(); ++c)
     lights[c] = {{static_cast<float>(maps.spec().lights[c].x), static_cast<float>(maps.spec().lights[c].y),
-                  static_cast<float>(maps.spec().lights[c].z), 0.0f}};
+                  static_cast<float>(maps.spec().lights[c].z),
+                  static_cast<float>(maps.spec().map_of_cell.empty() ? static_cast<int>(c)
+                                                                     : maps.spec().map_of_cell[c])}};  // map index
   maps_ = cl::upload(rt_, depth, "uploading the shadow maps");
   lights_ = cl::upload(rt_, lights, "uploading the shadow maps' reference lights");
   maps_bytes_ = std::max<std::size_t>(depth.size(), 1) * sizeof(float);

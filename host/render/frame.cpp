@@ -195,6 +195,71 @@ void Renderer::set_luminaire_intensity(std::size_t i, double intensity) {
   reset();
 }
 
+std::size_t Renderer::add_luminaire(scene::LuminaireRef ref) {
+  const std::string what = fmt::format("luminaire '{}'", ref.name);
+  if (!scene::is_rigid(ref.to_world, 1e-6))
+    fail(fmt::format("{}: transforms must be rigid (rotation and translation only)", what));
+  scene::check_intensity(ref.intensity, what + ": intensity");
+  const std::string key = luminaire_key(ref);
+  std::size_t src = sources_.size();
+  for (std::size_t s = 0; s < sources_.size(); ++s)
+    if (sources_[s].key == key) src = s;
+  if (src == sources_.size()) {  // a luminaire the scene does not have yet: load it, upload it once
+    LuminaireSet set = load_luminaires({ref}, scene_.file.empty() ? std::string("<scene>") : scene_.file.string(),
+                                       options_.luminaires);
+    LuminaireSource& source = set.sources.at(0);
+    devices_.push_back(std::make_unique<DeviceLuminaire>(*rt_, source.precomputed));
+    source.precomputed.sat = {};
+    source.precomputed.chroma = {};
+    source.instances.clear();
+    sources_.push_back(std::move(source));
+  }
+  const std::size_t i = instances_.size();
+  sources_[src].instances.push_back(i);
+  instances_.push_back({ref.to_world, ref.intensity, src});
+  scene_.luminaires.push_back(std::move(ref));
+  if (step0_ && step0_->uses_shadow_maps()) {  // its maps alone are rendered by the next Step 0
+    context_->make_current();
+    const lum::Precomputed& pc = sources_[src].precomputed;
+    step0_->add_instance(
+        gl::make_shadow_map_spec(pc.params, pc.ref_lights, instances_[i].to_world, settings_.shadow_map_size));
+    if (!gl_visibility_pass()) cl_vis_.push_back(std::make_unique<ClShadowVisibility>(*rt_));
+  }
+  instances_changed();
+  return i;
+}
+
+void Renderer::remove_luminaire(std::size_t i) {
+  if (i >= instances_.size()) fail(fmt::format("luminaire {} out of range ({} instances)", i, instances_.size()));
+  const auto at = [i](auto& v) {
+    if (i < v.size()) v.erase(v.begin() + static_cast<std::ptrdiff_t>(i));
+  };
+  at(instances_);
+  at(scene_.luminaires);
+  for (auto& s : sources_) {  // the source stays loaded (an `add` may use it again)
+    std::erase(s.instances, i);
+    for (auto& k : s.instances) k -= k > i ? 1 : 0;
+  }
+  if (step0_) {
+    context_->make_current();
+    step0_->remove_instance(i);
+  }
+  at(cl_vis_);
+  at(vis_bufs_);
+  at(vis_sizes_);
+  instances_changed();
+}
+
+// After an instance came or went: Step 0 runs again (the luminaire pixels and, with the OpenCL
+// pass, the bitmasks follow the surfaces; only new instances' maps are rendered), the contributions
+// are rebuilt for the new count, and the accumulation restarts.
+void Renderer::instances_changed() {
+  make_contributions_now();
+  warm_ = false;
+  shadows_dirty_ = view_dirty_ = true;
+  reset();
+}
+
 std::size_t Renderer::material_index(const std::string& name) const {
   const auto& ms = scene_.geometry.materials;
   for (std::size_t i = 0; i < ms.size(); ++i)
@@ -244,8 +309,9 @@ void Renderer::build_step0() {
     }
   step0_ = std::make_unique<gl::Step0>(scene_, std::move(specs));
   step0_->set_gl_visibility(gl_visibility_pass());
+  step0_->set_far_distance(settings_.declared.shadow_far_distance);
   cl_vis_.clear();
-  if (!gl_visibility_pass() && step0_->has_shadow_maps())
+  if (!gl_visibility_pass() && step0_->uses_shadow_maps())
     for (std::size_t i = 0; i < instances_.size(); ++i) cl_vis_.push_back(std::make_unique<ClShadowVisibility>(*rt_));
   camera_dirty_ = shadows_dirty_ = true;
   warm_ = false;  // the kernels' visibility option may change
@@ -253,10 +319,8 @@ void Renderer::build_step0() {
 
 void Renderer::run_step0(StepTimes& t) {
   context_->make_current();
-  if (shadows_dirty_ && step0_->has_shadow_maps()) {
-    for (std::size_t i = 0; i < instances_.size(); ++i) step0_->shadow_maps(i)->set_to_world(instances_[i].to_world);
-    step0_->invalidate_shadow_maps();
-  }
+  if (shadows_dirty_ && step0_->has_shadow_maps())  // only the moved instances' maps are re-rendered
+    for (std::size_t i = 0; i < instances_.size(); ++i) step0_->set_instance_transform(i, instances_[i].to_world);
   double cast_ms = 0.0;
   if (camera_.projection == scene::Camera::Projection::fisheye) {
     // The fisheye G-buffer is ray-cast (render/ray_surface.h: a rasteriser draws straight edges,
@@ -284,7 +348,8 @@ void Renderer::run_step0(StepTimes& t) {
   }
   if (step0_->shadow_maps_rendered()) {  // the maps to the device, once per rendering
     Timer timer;
-    for (std::size_t i = 0; i < cl_vis_.size(); ++i) cl_vis_[i]->upload(*step0_->shadow_maps(i));
+    for (std::size_t i = 0; i < cl_vis_.size(); ++i)
+      if (step0_->maps_rendered(i)) cl_vis_[i]->upload(*step0_->shadow_maps(i));
     t.visibility_upload_ms += timer.ms();
   }
   cl_vis_dirty_ = !cl_vis_.empty();
@@ -297,8 +362,24 @@ void Renderer::cl_visibility(StepTimes& t) {
   vis_bufs_.resize(cl_vis_.size());
   vis_sizes_.resize(cl_vis_.size(), 0);
   const int count = static_cast<int>(pixel_count(camera_));
-  for (std::size_t i = 0; i < cl_vis_.size(); ++i)
-    cl_vis_[i]->run(surfaces_buf_, count, *step0_->shadow_maps(i), vis_bufs_[i], vis_sizes_[i]);
+  for (std::size_t i = 0; i < cl_vis_.size(); ++i) {
+    if (step0_->maps_needed(i)) {
+      cl_vis_[i]->run(surfaces_buf_, count, *step0_->shadow_maps(i), vis_bufs_[i], vis_sizes_[i]);
+      continue;
+    }
+    const auto& v = step0_->visibility(i);  // culled (gl/step0.h): the all-lit bitmask, no maps
+    const std::size_t bytes = std::max<std::size_t>(v.size(), 1) * sizeof(std::uint32_t);
+    try {
+      if (vis_sizes_[i] != bytes) {
+        vis_bufs_[i] = ::cl::Buffer(rt_->context(), CL_MEM_READ_WRITE, bytes);
+        vis_sizes_[i] = bytes;
+      }
+      if (!v.empty())
+        rt_->queue().enqueueWriteBuffer(vis_bufs_[i], CL_TRUE, 0, v.size() * sizeof(std::uint32_t), v.data());
+    } catch (const ::cl::Error& e) {
+      cl::check(e.err(), fmt::format("uploading the visibility of luminaire {}", i));
+    }
+  }
   t.visibility_ms += timer.ms();
   cl_vis_dirty_ = false;
 }

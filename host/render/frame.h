@@ -86,6 +86,14 @@ class Renderer {
   // Moves luminaire instance i (rigid, luminaire-local -> world): invalidates its shadow maps.
   void set_luminaire_transform(std::size_t i, const glm::dmat4& to_world);
   void set_luminaire_intensity(std::size_t i, double intensity);
+  // Adds an instance (rigid to_world, intensity); its luminaire is shared with the instances of
+  // the same manifest or preset, or loaded (generated) first. Step 0 renders only its maps; the
+  // contributions are rebuilt for the new count. Returns its index (the last). Throws nf::Error
+  // for a bad luminaire or transform, and nothing changes.
+  std::size_t add_luminaire(scene::LuminaireRef ref);
+  // Removes instance i (the later ones move down by one); the others keep their maps. Without
+  // instances the frame is black (the scene may still have other light).
+  void remove_luminaire(std::size_t i);
   glm::dmat4 luminaire_transform(std::size_t i) const { return instances_.at(i).to_world; }
   double luminaire_intensity(std::size_t i) const { return instances_.at(i).intensity; }
   void reset();  // restart the accumulation (also done by the changes above)
@@ -176,6 +184,7 @@ class Renderer {
     std::size_t source = 0;
   };
   void build_step0();
+  void instances_changed();
   std::vector<LightInstance> lights() const;
   void warm_up();
   void run_step0(StepTimes& t);

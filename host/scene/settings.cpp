@@ -149,6 +149,12 @@ std::vector<Setting> declare() {
       integer(
           "shadow_map_size", "shadow_map_size", 16, 4096, "frame", S0, "pixels per side of each shadow map",
           [](auto& r) -> auto& { return r.shadow_map_size; }),
+      nonnegative_real(
+          "shadow_far_distance", "shadow_far_distance", 1e6, "frame", S0,
+          "metres: luminaire instances farther from the camera get one shadow map for all cells instead of one "
+          "per cell (an approximation: hard shadows from the lens centre; docs/rendering.md); 0 = every instance "
+          "exact",
+          [](auto& r) -> auto& { return r.shadow_far_distance; }),
       choice(
           "visibility_pass", "visibility_pass", {"opencl", "gl"}, "frame", S0,
           "where the shadow maps are tested per pixel: an OpenCL kernel or the GL compute pass (same test)",

@@ -31,6 +31,7 @@ struct RenderSettings {
   std::string mis = "power";                 // none | balance | power: MIS with BRDF samples (docs/mis.md)
   std::string visibility = "shadowmaps";     // none | shadowmaps
   int shadow_map_size = 256;                 // pixels per side of each cell's shadow map, 16..4096
+  double shadow_far_distance = 0.0;          // metres; farther instances: one map for all cells (0 = off)
   // opencl | gl: where Step 0's visibility bitmask is computed (the same test)
   std::string visibility_pass = "opencl";
   std::uint32_t seed = 1;    // sampler seed (random, halton-scrambled)
