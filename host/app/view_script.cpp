@@ -150,9 +150,11 @@ void material_command(ScriptContext& x) {
 }
 
 void check_display(const Script& s, const ScriptCommand& c) {
-  if (!parse_display_mode(c.args[0]))
-    fail(fmt::format("{}: display: expected one of {}, got '{}'", s.where(c), display_mode_names(", "),
-                     excerpt(c.args[0])));
+  if (!parse_display_mode(c.args[0])) {
+    std::string names = display_mode_names(", ");  // "image, A, K or VSGL"
+    names.replace(names.rfind(", "), 2, " or ");
+    fail(fmt::format("{}: display: expected {}, got '{}'", s.where(c), names, excerpt(c.args[0])));
+  }
 }
 
 void check_section(const Script& s, const ScriptCommand& c) {
