@@ -45,7 +45,13 @@ struct ReferenceCmd {
   SceneOverrides overrides;  // --width, --height, the display settings (--exposure, --gamma for --png)
 };
 
-void apply_overrides(const ReferenceCmd& o, scene::Scene& s) { o.overrides.apply(s); }
+void apply_overrides(const ReferenceCmd& o, scene::Scene& s) {
+  // render leaves a bad size to the camera check ("camera: resolution must be 1..16384 ...")
+  const auto& ov = o.overrides;
+  if (ov.has("--width") && ov.width < 1) fail(fmt::format("--width must be >= 1, got {}", ov.width));
+  if (ov.has("--height") && ov.height < 1) fail(fmt::format("--height must be >= 1, got {}", ov.height));
+  ov.apply(s);
+}
 
 std::string stats_json(const ReferenceCmd& o, const scene::Scene& s, const render::ReferenceRun& run,
                        const ref::ReferenceSettings& set, double total_ms) {

@@ -29,8 +29,6 @@ void SceneOverrides::apply(scene::Scene& s) const {
     if (has(decl.cli_name())) scene::set_setting_text(s.render, decl, settings.at(decl.name), decl.cli_name());
   auto& c = s.camera;
   const double aspect = c.aspect();
-  if (has("--width") && width < 1) fail(fmt::format("--width must be >= 1, got {}", width));
-  if (has("--height") && height < 1) fail(fmt::format("--height must be >= 1, got {}", height));
   if (has("--width") && has("--height")) {
     c.width = width;
     c.height = height;
