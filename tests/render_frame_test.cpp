@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <string>
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@
 #include "luminaire/geometry.h"
 #include "render/luminaire_view.h"
 #include "render_support.h"
+#include "scene/settings.h"
 
 namespace {
 
@@ -268,6 +270,89 @@ TEST(RenderFrame, ChangesRestartTheAccumulation) {
   const Image dark = r->accumulated();
   EXPECT_EQ(*std::max_element(dark.pixels.begin(), dark.pixels.end()), 0.0f);
   EXPECT_THROW(r->set_luminaire_intensity(0, -1.0), nf::Error);
+}
+
+// A valid value of setting `s` other than its value in `r`, as text (the first candidate it accepts).
+std::string other_value(const scene::Setting& s, const scene::RenderSettings& r) {
+  const std::string now = s.get(r);
+  std::vector<std::string> candidates = s.choices;
+  if (s.type == scene::SettingType::integer) {
+    const long long v = std::stoll(now);
+    for (const long long c : {v + 1, v - 1, 2 * v, v / 2, static_cast<long long>(s.lo), static_cast<long long>(s.hi)})
+      candidates.push_back(std::to_string(c));
+  }
+  if (s.type == scene::SettingType::real) {
+    const double v = std::stod(now);
+    for (const double c : {2.0 * v, 0.5 * v, s.lo, s.hi}) candidates.push_back(fmt::format("{}", c));
+  }
+  for (const auto& c : candidates) {
+    scene::RenderSettings t = r;
+    try {
+      scene::set_setting_text(t, s, c, s.name);
+      (void)render::frame_settings(t);  // also valid in combination (e.g. mis with method)
+    } catch (const nf::Error&) {
+      continue;
+    }
+    if (s.get(t) != now) return c;
+  }
+  return now;
+}
+
+// The contributions a renderer has, by name.
+std::vector<std::string> contribution_names(const render::Renderer& r) {
+  std::vector<std::string> names;
+  for (const auto& [name, frame] : r.contribution_rows()) names.push_back(name);
+  return names;
+}
+
+// "Why did this change (not) restart the accumulation" has one answer, each setting's declared
+// effect (scene/settings.cpp): for every setting of the registry, a change restarts the
+// accumulation iff its effect is restart or step0, and reruns Step 0 iff it is step0; the
+// contributions are derived from the settings after every change (the list equals a fresh
+// renderer's). It iterates over the registry, so a new setting is covered without a change here.
+TEST(RenderFrame, EverySettingRestartsAsDeclared) {
+  const scene::Scene sc = default_scene("shadowmaps", 24, 14);
+  auto r = make_renderer(sc, 0.125);
+  const scene::RenderSettings base = render::render_settings(r->settings());
+  const std::vector<std::string> base_names = contribution_names(*r);
+  int restarts = 0, step0s = 0, displays = 0;
+  for (const auto& s : scene::settings_table()) {
+    SCOPED_TRACE(s.name);
+    r->set_settings(render::frame_settings(base));
+    r->reset();  // back from a display-only change the accumulation rightly stays: start afresh
+    r->render_frame();
+    r->render_frame();
+    ASSERT_EQ(r->frames(), 2);
+    ASSERT_EQ(contribution_names(*r), base_names);
+    const std::string v = other_value(s, base);
+    ASSERT_NE(v, s.get(base)) << "no other valid value";
+    scene::RenderSettings changed = base;
+    scene::set_setting_text(changed, s, v, s.name);
+    ASSERT_TRUE(!s.applies || s.applies(base)) << "the base scene should be one where every setting applies";
+    r->set_settings(render::frame_settings(changed));
+    const bool restarted = r->frames() == 0;
+    EXPECT_EQ(restarted, s.effect != scene::SettingEffect::display) << "declared " << to_string(s.effect);
+    const render::StepTimes t = r->render_frame();
+    EXPECT_EQ(t.step0_runs > 0, s.effect == scene::SettingEffect::step0) << "declared " << to_string(s.effect);
+    EXPECT_EQ(r->frames(), restarted ? 1 : 3);
+    // the contributions the changed settings need, as a renderer made with them has
+    scene::Scene fresh = sc;
+    fresh.render = changed;
+    if (changed.indirect != base.indirect) {
+      auto f = make_renderer(fresh, 0.125);
+      EXPECT_EQ(contribution_names(*r), contribution_names(*f));
+      EXPECT_NE(contribution_names(*r), base_names);
+    } else {
+      EXPECT_EQ(contribution_names(*r), base_names);
+    }
+    restarts += s.effect == scene::SettingEffect::restart;
+    step0s += s.effect == scene::SettingEffect::step0;
+    displays += s.effect == scene::SettingEffect::display;
+  }
+  // each effect occurs, so each branch above was taken
+  EXPECT_GT(restarts, 0);
+  EXPECT_GT(step0s, 0);
+  EXPECT_GT(displays, 0);
 }
 
 // The pixel cache (docs/sampling.md "Pixel cache") through the whole frame: a renderer that keeps

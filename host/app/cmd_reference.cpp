@@ -19,6 +19,7 @@
 #include "app/output_checks.h"
 #include "app/radiance_output.h"
 #include "app/reference_parts.h"
+#include "app/scene_overrides.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
 #include "core/error.h"
@@ -37,44 +38,19 @@ namespace {
 struct ReferenceCmd {
   std::string scene, out, png, stats, only = "all";
   std::string tile, samples, part;  // a part of the render (docs/cluster.md)
-  int spp = 1024, bounces = 0, width = 0, height = 0;
+  int spp = 1024, bounces = 0;
   std::uint64_t seed = 1;
   unsigned threads = 0;
   bool jitter = false;
-  double exposure = 0.0, gamma = 0.0;
-  std::map<std::string, CLI::Option*> given;
-  bool has(const std::string& name) const {
-    auto it = given.find(name);
-    return it != given.end() && it->second->count() > 0;
-  }
+  SceneOverrides overrides;  // --width, --height, the display settings (--exposure, --gamma for --png)
 };
 
 void apply_overrides(const ReferenceCmd& o, scene::Scene& s) {
-  auto& c = s.camera;
-  const double aspect = c.aspect();
-  if (o.has("--width") && o.width < 1) fail(fmt::format("--width must be >= 1, got {}", o.width));
-  if (o.has("--height") && o.height < 1) fail(fmt::format("--height must be >= 1, got {}", o.height));
-  if (o.has("--width") && o.has("--height")) {
-    c.width = o.width;
-    c.height = o.height;
-  } else if (o.has("--width")) {
-    c.width = o.width;
-    c.height = std::max(1, static_cast<int>(std::lround(o.width / aspect)));
-  } else if (o.has("--height")) {
-    c.height = o.height;
-    c.width = std::max(1, static_cast<int>(std::lround(o.height * aspect)));
-  }
-  if (c.projection == scene::Camera::Projection::fisheye && c.width != c.height)
-    fail(fmt::format("--width/--height: a fisheye camera (camera.projection) needs a square image, got {}x{}", c.width,
-                     c.height));
-  if (o.has("--exposure")) {
-    if (!(o.exposure > 0.0)) fail(fmt::format("--exposure must be > 0, got {}", o.exposure));
-    s.render.tonemap.exposure = o.exposure;
-  }
-  if (o.has("--gamma")) {
-    if (!(o.gamma > 0.0)) fail(fmt::format("--gamma must be > 0, got {}", o.gamma));
-    s.render.tonemap.gamma = o.gamma;
-  }
+  // render leaves a bad size to the camera check ("camera: resolution must be 1..16384 ...")
+  const auto& ov = o.overrides;
+  if (ov.has("--width") && ov.width < 1) fail(fmt::format("--width must be >= 1, got {}", ov.width));
+  if (ov.has("--height") && ov.height < 1) fail(fmt::format("--height must be >= 1, got {}", ov.height));
+  ov.apply(s);
 }
 
 std::string stats_json(const ReferenceCmd& o, const scene::Scene& s, const render::ReferenceRun& run,
@@ -206,13 +182,8 @@ const CommandRegistration reg("reference", [](CLI::App& app) {
   cmd->add_option("--tile", o.tile, "With --part: the pixels x,y,w,h (default: all)");
   cmd->add_option("--samples", o.samples, "With --part: the samples first,count of --spp (default: all)");
   cmd->add_flag("--jitter", o.jitter, "Jitter samples inside each pixel (default: pixel centres, as render)");
-  auto add = [&](const std::string& name, auto& var, const std::string& help) {
-    o.given[name] = cmd->add_option(name, var, help);
-  };
-  add("--width", o.width, "Image width (alone: keeps the scene's aspect ratio)");
-  add("--height", o.height, "Image height (alone: keeps the scene's aspect ratio)");
-  add("--exposure", o.exposure, "Tone mapping exposure for --png (> 0)");
-  add("--gamma", o.gamma, "Tone mapping gamma for --png (> 0)");
+  // the tone mapping of --png and the image size, the same options as render's (app/scene_overrides.h)
+  o.overrides.add_options(cmd, {"display"});
   cmd->callback([] { run_reference_cmd(o); });
 });
 

@@ -36,6 +36,7 @@
 #include "app/radiance_output.h"
 #include "app/render_estimate.h"
 #include "app/render_parts.h"
+#include "app/scene_overrides.h"
 #include "cl/runtime.h"
 #include "core/atomic_file.h"
 #include "core/clock.h"
@@ -69,36 +70,18 @@ struct RenderCmd {
   std::string scale = "log", range;
   std::string part, frames_range, tile;  // render parts (docs/cluster.md)
   bool exact_sums = false;
-  int width = 0, height = 0, frames = 1;
-  std::map<std::string, std::string> settings;  // declared setting name -> its --option text (scene/settings.h)
-  std::map<std::string, CLI::Option*> given;    // option name -> its CLI11 option
+  int frames = 1;
+  SceneOverrides overrides;                   // --width, --height, the declared settings
+  std::map<std::string, CLI::Option*> given;  // option name -> its CLI11 option (others)
   bool dry_run = false;
   bool has(const std::string& name) const {
     auto it = given.find(name);
-    return it != given.end() && it->second->count() > 0;
+    return (it != given.end() && it->second->count() > 0) || overrides.has(name);
   }
 };
 
 // Command-line overrides of the scene's render settings and camera resolution.
-void apply_overrides(const RenderCmd& o, scene::Scene& s) {
-  for (const auto& decl : scene::settings_table())
-    if (o.has(decl.cli_name())) scene::set_setting_text(s.render, decl, o.settings.at(decl.name), decl.cli_name());
-  auto& c = s.camera;
-  const double aspect = c.aspect();
-  if (o.has("--width") && o.has("--height")) {
-    c.width = o.width;
-    c.height = o.height;
-  } else if (o.has("--width")) {  // keep the scene's aspect ratio
-    c.width = o.width;
-    c.height = std::max(1, static_cast<int>(std::lround(o.width / aspect)));
-  } else if (o.has("--height")) {
-    c.height = o.height;
-    c.width = std::max(1, static_cast<int>(std::lround(o.height * aspect)));
-  }
-  if (c.projection == scene::Camera::Projection::fisheye && c.width != c.height)
-    fail(fmt::format("--width/--height: a fisheye camera (camera.projection) needs a square image, got {}x{}", c.width,
-                     c.height));
-}
+void apply_overrides(const RenderCmd& o, scene::Scene& s) { o.overrides.apply(s); }
 
 struct FalseColourRequest {
   std::string quantity, path;  // luminance | illuminance
@@ -403,12 +386,8 @@ const CommandRegistration reg("render", [](CLI::App& app) {
                       "values on a log scale, 0 to a round maximum on a linear one)");
   cmd->add_option("--frames", o.frames, "Progressive frames to accumulate (sequences advance per frame)")
       ->capture_default_str();
-  auto add = [&](const std::string& name, auto& var, const std::string& help) {
-    o.given[name] = cmd->add_option(name, var, help);
-  };
   // one override per declared setting (scene/settings.cpp), validated like the scene file
-  for (const auto& decl : scene::settings_table())
-    add(decl.cli_name(), o.settings[decl.name], fmt::format("{} ({})", decl.doc, decl.range_text()));
+  o.overrides.add_options(cmd);
   cmd->add_flag("--exact-sums", o.exact_sums,
                 "Accumulate the frames in double on the host over a fixed tree (one read-back per frame): the "
                 "image nearfield merge makes of render --part files, bit for bit (docs/cluster.md)");
@@ -418,8 +397,6 @@ const CommandRegistration reg("render", [](CLI::App& app) {
   cmd->add_option("--frames-range", o.frames_range,
                   "With --part: the frames first,count of the --frames (default: all)");
   cmd->add_option("--tile", o.tile, "Not supported for render (the reason is printed; docs/cluster.md)");
-  add("--width", o.width, "Image width (alone: keeps the scene's aspect ratio)");
-  add("--height", o.height, "Image height (alone: keeps the scene's aspect ratio)");
   cmd->callback([] { run_render(o); });
 });
 

@@ -150,8 +150,11 @@ void material_command(ScriptContext& x) {
 }
 
 void check_display(const Script& s, const ScriptCommand& c) {
-  if (c.args[0] != "image" && c.args[0] != "A" && c.args[0] != "K" && c.args[0] != "VSGL")
-    fail(fmt::format("{}: display: expected image, A, K or VSGL, got '{}'", s.where(c), excerpt(c.args[0])));
+  if (!parse_display_mode(c.args[0])) {
+    std::string names = display_mode_names(", ");  // "image, A, K or VSGL"
+    names.replace(names.rfind(", "), 2, " or ");
+    fail(fmt::format("{}: display: expected {}, got '{}'", s.where(c), names, excerpt(c.args[0])));
+  }
 }
 
 void check_section(const Script& s, const ScriptCommand& c) {
@@ -371,16 +374,12 @@ const std::vector<ScriptCommandSpec>& script_commands() {
       {"display",
        {A::text},
        {},
-       "image|A|K|VSGL",
+       display_mode_names("|"),
        "what the window shows",
        "K",
        check_display,
        [](X& x) {
-         const std::string& v = x.text(0);
-         x.state.display = v == "A"      ? DisplayMode::a
-                           : v == "K"    ? DisplayMode::k
-                           : v == "VSGL" ? DisplayMode::vsgl
-                                         : DisplayMode::image;
+         x.state.display = parse_display_mode(x.text(0)).value_or(DisplayMode::image);
          x.state.redisplay = true;
        }},
       {"panel", {A::on_off}, {}, "on|off", "the panel", "off", {}, [](X& x) { x.state.panel = x.on(0); }},

@@ -66,9 +66,7 @@ void ViewerInput::handle_key(const KeyEvent& k, ViewerState& s, ViewerActions& a
         actions.restart();
         return;
       case GLFW_KEY_D:
-        s.display = s.display == DisplayMode::image ? DisplayMode::a
-                    : s.display == DisplayMode::a   ? DisplayMode::k
-                                                    : DisplayMode::image;
+        s.display = next_display_mode(s.display);
         s.redisplay = true;
         return;
       case GLFW_KEY_V:

@@ -52,10 +52,6 @@ void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int mods)
   if (viewer && (action == GLFW_PRESS || action == GLFW_REPEAT)) viewer->queue_key(key, mods, action == GLFW_REPEAT);
 }
 
-bool same_view(const scene::Camera& a, const scene::Camera& b) {
-  return a.position == b.position && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
-}
-
 LuminaireEdit edit_of(const glm::dmat4& m, double intensity) {
   LuminaireEdit e;
   e.translate = glm::dvec3(m[3]);
@@ -228,7 +224,7 @@ void Viewer::sync() {
   std::vector<glm::dmat4> ms;
   for (std::size_t i = 0; i < state_.lums.size(); ++i) ms.push_back(state_.luminaire_matrix(i));
   const bool motion =
-      (synced_camera_ && !same_view(cam, *synced_camera_)) || (!synced_lums_.empty() && ms != synced_lums_);
+      (synced_camera_ && !cam.same_view(*synced_camera_)) || (!synced_lums_.empty() && ms != synced_lums_);
   const auto now = Clock::now();
   if (motion) last_motion_ = now;
   motion_now_ = motion;

@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "app/settings_panel.h"
+#include "render/frame_settings.h"
 #include "render/stats.h"
 #include "scene/material_json.h"
 #include "scene/scene.h"
@@ -87,8 +89,8 @@ struct Panel {
   void draw();
   bool section(const char* title, const char* name, bool open_by_default);
   void combo(const char* label, const char* key, const std::string& current, const std::vector<std::string>& names);
-  void choice(const char* label, const char* key, const std::string& current);
-  void environment(const scene::RenderSettings& d);
+  void settings(const std::vector<std::string>& only);
+  void setting(const SettingWidget& w, const scene::RenderSettings& d);
   void header();
   void rendering();
   void display();
@@ -197,78 +199,50 @@ void Panel::combo(const char* label, const char* key, const std::string& current
   ImGui::EndCombo();
 }
 
-// A choice setting's combo with the values the registry declares (scene/settings.h).
-void Panel::choice(const char* label, const char* key, const std::string& current) {
-  const scene::Setting* setting = scene::find_setting(key);
-  if (setting) combo(label, key, current, setting->choices);
+// The settings widgets, generated from the registry (app/settings_panel.h): the groups of the
+// built contributions, each setting with its declared choices or range and its doc as tooltip.
+void Panel::settings(const std::vector<std::string>& only) {
+  std::vector<std::string> built;
+  for (const auto& [name, frame] : r.contribution_rows()) built.push_back(name);
+  const scene::RenderSettings d = render::render_settings(s.settings.frame);
+  for (const auto& g : setting_widgets(built, only)) {
+    if (only.empty()) {
+      ImGui::Separator();
+      ImGui::TextDisabled("%s", g.name.c_str());
+    }
+    for (const auto& w : g.widgets) setting(w, d);
+  }
 }
 
-// The environment's settings (docs/environment.md), shown when the scene has one.
-void Panel::environment(const scene::RenderSettings& d) {
-  ImGui::Separator();
-  ImGui::TextUnformatted("environment");
-  choice("env glossy", "env_glossy", d.env_glossy);
-  if (d.env_glossy == "regular") {  // eps0 in (0, 0.999] (scene/settings.cpp)
-    float eps = static_cast<float>(d.env_regular_eps);
-    if (ImGui::InputFloat("eps0 (regular)", &eps, 0.01f, 0.1f, "%.3g", ImGuiInputTextFlags_EnterReturnsTrue))
-      a.set("env_regular_eps", fmt::format("{}", std::clamp(eps, 1e-6f, 0.999f)));
-    if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("the regular pattern spans each lobe down to D = eps0 D(peak) (docs/regular-sampling.md)");
+void Panel::setting(const SettingWidget& w, const scene::RenderSettings& d) {
+  const scene::Setting& st = *w.setting;
+  const std::string now = st.get(d);
+  switch (st.type) {
+    case scene::SettingType::choice:
+      combo(st.name.c_str(), st.name.c_str(), now, w.choices);
+      break;
+    case scene::SettingType::integer: {
+      const long long from = std::stoll(now);
+      int value = static_cast<int>(from);
+      if (ImGui::InputInt(st.name.c_str(), &value, 1, 16)) {
+        const long long to = accepted_integer(st, d, from, value);
+        if (to != from) a.set(st.name, std::to_string(to));
+      }
+      break;
+    }
+    case scene::SettingType::real: {
+      double value = std::stod(now);
+      if (ImGui::InputDouble(st.name.c_str(), &value, 0.0, 0.0, "%.4g", ImGuiInputTextFlags_EnterReturnsTrue))
+        a.set(st.name, fmt::format("{}", std::clamp(value, w.lo, w.hi)));  // > lo: the registry's message
+      break;
+    }
   }
-  int n = d.env_samples;
-  if (ImGui::InputInt("env samples N", &n, 1, 16)) a.set("env_samples", std::to_string(std::clamp(n, 1, 4096)));
-  float k = static_cast<float>(d.env_k);
-  if (ImGui::InputFloat("env K (0: per filter)", &k, 0.25f, 1.0f, "%.3g"))
-    a.set("env_k", fmt::format("{}", std::clamp(k, 0.0f, 1e6f)));
-  if (d.env_glossy == "env-fis") choice("env kernel", "env_kernel", d.env_kernel);
-  choice("env filter", "env_filter", d.env_filter);
-  choice("env param", "env_param", d.env_param);
-  choice("env diffuse", "env_diffuse", d.env_diffuse);
-  choice("env visibility", "env_visibility", d.env_visibility);
-  if (d.env_visibility == "sh") {
-    int nv = d.env_visibility_samples;
-    if (ImGui::InputInt("env visibility N_v", &nv, 1, 8))
-      a.set("env_visibility_samples", std::to_string(std::clamp(nv, 1, 256)));
-  }
-  choice("env background", "env_background", d.env_background);
-  ImGui::Separator();
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s (%s)", st.doc.c_str(), st.range_text().c_str());
 }
 
 void Panel::rendering() {
-  const render::FrameSettings& f = s.settings.frame;
-  const render::SamplingSettings& p = f.sampling;
-  combo("method", "method", render::to_string(p.method), render::method_names());
-  combo("sampler", "sampler", render::to_string(p.sampler), render::sampler_names());
-  int spp = p.spp;
-  if (ImGui::InputInt("spp K / frame", &spp, 1, 16)) a.set("spp", std::to_string(std::max(spp, 1)));
-  int kmax = p.k_max;
-  if (ImGui::InputInt("K_max (0: none)", &kmax, 1, 16)) a.set("kmax", std::to_string(std::max(kmax, 0)));
-  combo("balance", "balance", render::to_string(p.balance), render::balance_names());
-  combo("search", "search", render::to_string(p.search), render::search_names());
-  int depth = p.search_depth;
-  if (ImGui::InputInt("search depth (-1: exact)", &depth)) {
-    if (depth == 0) depth = p.search_depth < 0 ? 1 : -1;  // 0 is not a depth: step over it
-    a.set("search_depth", std::to_string(std::clamp(depth, -1, 1024)));
-  }
-  combo("structure", "structure", render::to_string(p.structure), render::structure_names());
-  combo("light selection", "light_selection", render::to_string(p.light_selection),
-        render::light_selection_names());
-  combo("mis", "mis", render::to_string(p.mis), render::mis_names());
-  combo("visibility", "visibility", render::to_string(f.visibility), {"none", "shadowmaps"});
-  int sms = f.shadow_map_size;
-  if (ImGui::InputInt("shadow map size", &sms, 16, 128))
-    a.set("shadow_map_size", std::to_string(std::clamp(sms, 16, 4096)));
-  int seed = static_cast<int>(p.seed);
-  if (ImGui::InputInt("seed", &seed)) a.set("seed", std::to_string(std::max(seed, 0)));
-  if (r.contribution("environment")) environment(f.declared);
-  // one-bounce indirect light (docs/indirect.md); the other vsgl_* settings: `set NAME VALUE`
-  combo("indirect", "indirect", f.declared.indirect, {"none", "vsgl"});
-  if (f.declared.indirect == "vsgl") {
-    combo("VSGL kernel", "vsgl_kernel", f.declared.vsgl_kernel, {"point", "integral"});
-    int nv = f.declared.vsgl_count;
-    if (ImGui::InputInt("VSGLs per luminaire", &nv, 64, 256))
-      a.set("vsgl_count", std::to_string(std::clamp(nv, 64, 4096)));
-  }
+  settings({});
+  ImGui::Separator();
   float scale = static_cast<float>(s.settings.scale);
   if (ImGui::SliderFloat("resolution scale", &scale, static_cast<float>(kMinScale), 1.0f, "%.3f"))
     a.set("scale", fmt::format("{}", scale));
@@ -360,23 +334,20 @@ void Panel::material(const scene::Material& m) {
 }
 
 void Panel::display() {
-  int mode = static_cast<int>(s.display);
-  ImGui::RadioButton("image", &mode, 0);
-  ImGui::SameLine();
-  ImGui::RadioButton("A(p)", &mode, 1);
-  ImGui::SameLine();
-  ImGui::RadioButton("K(p)", &mode, 2);
-  ImGui::SameLine();
-  if (r.contribution("indirect")) {
-    ImGui::RadioButton("VSGLs", &mode, 3);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("instance 0's RSM irradiance with its VSGLs (docs/indirect.md)");
+  DisplayMode mode = s.display;
+  for (const auto& d : display_modes()) {
+    // the VSGL view needs the indirect light; without it the image is shown
+    if (d.mode == DisplayMode::vsgl && !r.contribution("indirect")) {
+      if (mode == d.mode) mode = DisplayMode::image;
+      continue;
+    }
+    if (ImGui::RadioButton(d.label, mode == d.mode)) mode = d.mode;
+    if (*d.tip && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d.tip);
     ImGui::SameLine();
-  } else if (mode == 3) {
-    mode = 0;  // indirect switched off
   }
   if (ImGui::Checkbox("log", &s.false_log)) s.redisplay = true;
-  if (mode != static_cast<int>(s.display)) {
-    s.display = static_cast<DisplayMode>(mode);
+  if (mode != s.display) {
+    s.display = mode;
     s.redisplay = true;
   }
   if (s.display == DisplayMode::vsgl) {
@@ -387,12 +358,7 @@ void Panel::display() {
     ImGui::Text("%s %.4g .. %.4g%s  (black: 0)", s.display == DisplayMode::a ? "A(p) [Y m^2]" : "K(p) [samples]",
                 v.false_range.lo, v.false_range.hi, v.false_range.log_scale ? " (log)" : "");
   }
-  float exposure = static_cast<float>(s.settings.frame.tonemap.exposure);
-  if (ImGui::SliderFloat("exposure", &exposure, 0.01f, 100.0f, "%.3f", ImGuiSliderFlags_Logarithmic))
-    a.set("exposure", fmt::format("{}", std::max(exposure, 1e-4f)));
-  float gamma = static_cast<float>(s.settings.frame.tonemap.gamma);
-  if (ImGui::SliderFloat("gamma", &gamma, 0.5f, 4.0f, "%.2f"))
-    a.set("gamma", fmt::format("{}", std::max(gamma, 0.05f)));
+  settings({"display"});
   readout();
 }
 

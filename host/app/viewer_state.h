@@ -22,6 +22,24 @@ namespace nf::app {
 // vsgl: the VSGL debug view of luminaire instance 0 (app/vsgl_debug_view.h)
 enum class DisplayMode { image, a, k, vsgl };
 
+// The display modes, named once: the name scripts use, the panel's label and tooltip, and whether
+// the D key cycles through it (vsgl needs the indirect light, so it is chosen on purpose).
+struct DisplayModeName {
+  DisplayMode mode;
+  const char* name;   // `display NAME` in scripts
+  const char* label;  // the panel's radio button
+  const char* tip;    // the panel's tooltip (empty: none)
+  bool cycled;        // the D key steps through it
+};
+const std::vector<DisplayModeName>& display_modes();
+const DisplayModeName& display_mode(DisplayMode m);
+// The mode called `name`, nullopt if none.
+std::optional<DisplayMode> parse_display_mode(const std::string& name);
+// "image|A|K|VSGL" (separator `sep`).
+std::string display_mode_names(const std::string& sep);
+// The D key: the next cycled mode after m.
+DisplayMode next_display_mode(DisplayMode m);
+
 // One luminaire's placement as the panel edits it (translate + Euler angles, as scene files).
 struct LuminaireEdit {
   glm::dvec3 translate{0.0}, euler{0.0};

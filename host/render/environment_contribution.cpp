@@ -62,7 +62,7 @@ std::size_t texel_count(const std::vector<glm::ivec2>& dims) {
 struct EnvironmentContribution::Local {
   std::unique_ptr<LocalEnvironmentMap> builder;
   std::unique_ptr<EnvironmentContribution> env;
-  std::string key;  // what `env` was built for (LocalEnvironmentMap::key); empty: nothing built
+  InputKey key;  // what `env` was built for (LocalEnvironmentMap::key); empty: nothing built
   int builds = 0;
   LocalEnvironmentMap::Times times;  // of the last build
   double pixels_ms = 0.0;            // the last search for the object's camera pixels
@@ -475,7 +475,7 @@ void EnvironmentContribution::update_locals(const FrameInputs& in, ContributionF
   }
   std::vector<NfSurface> surfaces;
   for (auto& l : locals_) {
-    const std::string key = l->builder->key(in);
+    const InputKey key = LocalEnvironmentMap::key(in);
     if (key != l->key || !l->env) {
       Timer total;
       FrameSettings ts = in.settings;  // the texels: no far-map visibility, no background

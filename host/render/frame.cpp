@@ -27,11 +27,6 @@ namespace nf::render {
 
 namespace {
 
-bool same_camera(const scene::Camera& a, const scene::Camera& b) {
-  return a.projection == b.projection && a.position == b.position && a.target == b.target && a.up == b.up &&
-         a.fov_y_deg == b.fov_y_deg && a.width == b.width && a.height == b.height && a.near == b.near;
-}
-
 void check_camera(const scene::Camera& c) {
   if (c.width < 1 || c.height < 1 || c.width > 16384 || c.height > 16384)
     fail(fmt::format("camera: resolution must be 1..16384 per side, got {}x{}", c.width, c.height));
@@ -83,20 +78,37 @@ Renderer::Renderer(scene::Scene scene, RendererOptions options)
   }
   for (std::size_t i = 0; i < scene_.luminaires.size(); ++i)
     instances_.push_back({scene_.luminaires[i].to_world, scene_.luminaires[i].intensity, set.source_of[i]});
-  make_contributions_now();
+  update_contributions();
   dframe_ = std::make_unique<DeviceFrame>(*rt_);
   resize(camera_.width, camera_.height);
 }
 
-// The contributions the scene and the settings need (render/contributions.cpp). Some hold GL
-// objects, so the context is current while the old ones go.
-void Renderer::make_contributions_now() {
+// The contributions the scene and the current settings need (render/contributions.cpp), derived
+// again after every settings change: those still needed keep their state, new ones are made and
+// those no longer needed go. Some hold GL objects, so the context is current meanwhile. Returns
+// whether the list changed.
+bool Renderer::update_contributions() {
+  const ContributionContext ctx{*rt_, scene_, settings_};
+  std::vector<std::string> wanted;
+  for (const auto& k : contribution_kinds())
+    if (k.wanted(ctx)) wanted.push_back(k.name);
+  std::vector<std::string> have;
+  for (const auto& c : contributions_) have.push_back(c->name());
+  if (wanted == have && !contributions_.empty()) return false;
+  if (wanted.empty() && have.empty()) return false;
   context_->make_current();
-  contributions_.clear();
+  std::vector<std::unique_ptr<Contribution>> next;
+  for (const auto& k : contribution_kinds()) {
+    if (std::find(wanted.begin(), wanted.end(), k.name) == wanted.end()) continue;
+    auto kept = std::find_if(contributions_.begin(), contributions_.end(),
+                             [&](const auto& c) { return c && c->name() == k.name; });
+    next.push_back(kept != contributions_.end() ? std::move(*kept) : k.make(ctx));
+  }
+  contributions_.clear();  // the ones no longer needed
+  contributions_ = std::move(next);
   contribution_frames_.clear();
-  luminaires_ = nullptr;
-  contributions_ = make_contributions(ContributionContext{*rt_, scene_, settings_});
   luminaires_ = find<LuminaireContribution>();
+  return true;
 }
 
 Contribution* Renderer::contribution(const std::string& name) const {
@@ -131,22 +143,16 @@ void Renderer::resize(int width, int height) {
 
 void Renderer::set_settings(const FrameSettings& s) {
   s.validate();
-  // What the change invalidates comes from the settings' declarations (scene/settings.cpp); the
-  // shadow-map size matters only with shadow maps. The first frame index and the band are not
-  // user settings but change the image too.
-  const scene::SettingEffect effect = scene::change_effect(render_settings(s), render_settings(settings_));
-  const bool rebuild = effect == scene::SettingEffect::step0 &&
-                       (s.visibility != settings_.visibility || s.visibility == Visibility::shadowmaps);
-  const bool changes_image = rebuild || effect == scene::SettingEffect::restart ||
-                             s.sampling.frame != settings_.sampling.frame || s.sampling.band != settings_.sampling.band;
-  if (changes_image) warm_ = false;
-  const bool remake = s.declared.indirect != settings_.declared.indirect;  // a contribution comes or goes
+  // What the change invalidates is each changed setting's declared effect (scene/settings.cpp:
+  // display, restart or step0, and when it applies), the one answer; the first frame index and the
+  // band are not user settings but change the image too.
+  const scene::SettingEffect effect = scene::change_effect(render_settings(settings_), render_settings(s));
+  const bool restart = effect != scene::SettingEffect::display || s.sampling.frame != settings_.sampling.frame ||
+                       s.sampling.band != settings_.sampling.band;
   settings_ = s;
-  if (remake) {
-    make_contributions_now();
-    warm_ = false;
-  }
-  if (rebuild) {
+  settings_.declared = render_settings(s);    // the typed fields may have been set alone
+  if (update_contributions()) warm_ = false;  // a contribution came or went
+  if (effect == scene::SettingEffect::step0) {
     if (step0_) {
       context_->make_current();
       step0_.reset();
@@ -155,7 +161,10 @@ void Renderer::set_settings(const FrameSettings& s) {
     vis_sizes_.clear();
     camera_dirty_ = shadows_dirty_ = true;
   }
-  if (changes_image) reset();
+  if (restart) {
+    warm_ = false;
+    reset();
+  }
 }
 
 void Renderer::set_frame_offset(std::uint32_t offset) {
@@ -165,7 +174,7 @@ void Renderer::set_frame_offset(std::uint32_t offset) {
 
 void Renderer::set_camera(const scene::Camera& c) {
   check_camera(c);
-  if (same_camera(c, camera_)) return;
+  if (c == camera_) return;
   const bool resized = c.width != camera_.width || c.height != camera_.height;
   camera_ = c;
   camera_dirty_ = true;

@@ -196,7 +196,7 @@ class Renderer {
   bool gl_visibility_pass() const { return settings_.declared.visibility_pass == "gl"; }
   void resize(int width, int height);
   void stage() const;
-  void make_contributions_now();
+  bool update_contributions();
 
   scene::Scene scene_;
   RendererOptions options_;

@@ -136,20 +136,10 @@ void LocalEnvironmentMap::set_materials(const std::vector<scene::Material>& mate
   sampler_.set_kurt_table(kurt_table(materials));
 }
 
-std::string LocalEnvironmentMap::key(const FrameInputs& in) const {
-  SamplingSettings s = in.settings.sampling;
-  s.frame = 0;
-  const auto& d = in.settings.declared;
-  std::string k = fmt::format("{}x{}|{}|{}|band={}|{}|{}|{}|{}|{}|{}|{}|", spec_.size, spec_.frames, s.describe(),
-                              to_string(in.settings.visibility), s.band, d.env_glossy, d.env_samples, d.env_k,
-                              d.env_kernel, d.env_filter, d.env_param, d.env_diffuse);
-  for (const auto& li : in.lights) {
-    k += fmt::format("{}/{}/", static_cast<const void*>(li.luminaire), li.visibility ? 1 : 0);
-    const auto* bytes = reinterpret_cast<const unsigned char*>(&li.instance);
-    for (std::size_t i = 0; i < sizeof(NfInstance); ++i) k += fmt::format("{:02x}", bytes[i]);
-    k += "|";
-  }
-  return k;
+InputKey LocalEnvironmentMap::key(const FrameInputs& in) {
+  static const Depends depends{
+      .settings = {"luminaires", "visibility", "environment"}, .lights = true, .light_visibility = true, .band = true};
+  return InputKey(depends, in);
 }
 
 // The map's G-buffer: texel (a, r) looks along w = from_uv((a + 1/2) / W, (r + 1/2) / H) from the

@@ -6,8 +6,8 @@
 // hit), the hits are shaded by the luminaire contribution's kernels exactly as camera pixels are
 // (same sampler, settings and visibility model) plus the far environment's estimators, rays that
 // see a luminaire take its light field L(u -> s) as the camera does (unless "glow": false), and
-// rays that hit nothing take the far environment L_env. The environment contribution pyramids the map and uses it for the
-// object's pixels (render/environment_contribution.h).
+// rays that hit nothing take the far environment L_env. The environment contribution pyramids the map and uses it for
+// the object's pixels (render/environment_contribution.h).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -19,6 +19,7 @@
 #include "reference/environment_map.h"
 #include "reference/ray_scene.h"
 #include "render/contribution.h"
+#include "render/input_key.h"
 #include "render/sampler.h"
 
 namespace nf::render {
@@ -38,10 +39,11 @@ class LocalEnvironmentMap {
   glm::dvec3 centre() const { return centre_; }
   double radius() const { return radius_; }
 
-  // What the map's texels depend on besides the geometry: the luminaire instances (transforms,
-  // intensities, visibility on or off), the sampling settings (the frame index aside), the
-  // environment settings and the map's size and frames. The camera is not part of it.
-  std::string key(const FrameInputs& in) const;
+  // What the map's texels depend on besides the geometry and the map's own size and frames: the
+  // luminaire instances (transforms, intensities, visibility on or off), the light-field sampling
+  // settings and band (the frame index aside), visibility and the environment settings
+  // (render/input_key.h). The camera is not part of it.
+  static InputKey key(const FrameInputs& in);
 
   // Far environment radiance on `count` surfaces of `surfaces` for progressive frame `frame`
   // (float4 each), or nothing when the scene has no far environment.

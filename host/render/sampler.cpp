@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <utility>
 
@@ -102,6 +103,10 @@ NfInstance make_instance(const glm::dmat4& w2l, double intensity) {
 }
 
 NfInstance identity_instance(double intensity) { return make_instance(glm::dmat4(1.0), intensity); }
+
+LightKey::LightKey(const LightInstance& li) : luminaire(li.luminaire), visibility(li.visibility != nullptr) {
+  std::memcpy(instance.data(), &li.instance, sizeof(NfInstance));
+}
 
 ::cl::Buffer upload_surfaces(cl::Runtime& rt, const std::vector<NfSurface>& surfaces) {
   const std::vector<NfSurface> one(1, NfSurface{});
@@ -260,19 +265,15 @@ constexpr int kCacheAlign = 16;                                // the widest lan
 
 int cache_stride(int count) { return (count + kCacheAlign - 1) / kCacheAlign * kCacheAlign; }
 
+}  // namespace
+
 // What A_m(p) depends on besides the surfaces: the luminaire, the instance's transform and the
 // method's box (method, band, lanes through the build options); the cache is laid out by launch
 // slot, so also the surface order (surface_shuffle; its key is fixed).
-std::string cache_key(std::uint64_t view_version, int count, const LightInstance& li, const std::string& opts,
-                      const SamplingSettings& s) {
-  std::string key = fmt::format("{}/{}/{}/{}/{}/{}/", view_version, count, static_cast<const void*>(li.luminaire),
-                                to_string(s.method), s.band, s.surface_shuffle);
-  const auto* bytes = reinterpret_cast<const unsigned char*>(&li.instance);
-  for (std::size_t i = 0; i < sizeof(NfInstance); ++i) key += fmt::format("{:02x}", bytes[i]);
-  return key + opts;
+Sampler::PixelCacheKey Sampler::cache_key(std::uint64_t view_version, int count, const LightInstance& li,
+                                          const std::string& opts, const SamplingSettings& s) {
+  return PixelCacheKey{view_version, count, LightKey(li), s.method, s.band, s.surface_shuffle, opts};
 }
-
-}  // namespace
 
 std::size_t Sampler::cache_bytes() const {
   std::size_t b = 0;
@@ -280,7 +281,7 @@ std::size_t Sampler::cache_bytes() const {
   return b;
 }
 
-int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const std::string& key, int count, int images,
+int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const PixelCacheKey& key, int count, int images,
                         bool enabled) {
   const int stride = cache_stride(count);
   if (cache_.size() <= i) cache_.resize(i + 1);
@@ -295,7 +296,7 @@ int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const std::string& 
     }
     mode = c.key == key ? kCacheRead : kCacheWrite;
     if (mode == kCacheWrite) {
-      c.key.clear();
+      c.key.reset();
       c.pending = key;
     }
   } else {
@@ -413,7 +414,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
     launch_instance(lights[li_index], li_index, surfaces, count, out, s, view_version, use_cache, st, ev);
   cl::call([&] { q.finish(); }, "Sampler: waiting for the device");
   for (auto& c : cache_)
-    if (!c.pending.empty()) c.key = std::exchange(c.pending, std::string());
+    if (c.pending) c.key = std::exchange(c.pending, std::nullopt);
   for (const auto& e : ev.step1) st.step1_ms += cl::Runtime::event_ms(e);
   for (const auto& e : ev.step2) st.step2_ms += cl::Runtime::event_ms(e);
   for (const auto& e : ev.clears) st.other_ms += cl::Runtime::event_ms(e);

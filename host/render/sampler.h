@@ -2,8 +2,10 @@
 // The OpenCL sampling pipeline (paper §6.1 Steps 1 and 2, docs/sampling.md, docs/rendering.md): for a buffer of
 // NfSurface (G-buffer texels or probe points) and a list of luminaire instances it computes,
 // per surface, the reflected radiance of Eq. 14 (RGB), A(p) and the number of samples K(p).
+#include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,6 +42,18 @@ struct LightInstance {
   // kernels/shared/surface.h (NF_VIS_WORDS of (W + n - 1) (H + n - 1) cells).
   const ::cl::Buffer* visibility = nullptr;
   int vis_words = 0;
+};
+
+// A light instance as the kernels see it, for invalidation (render/input_key.h, the pixel cache):
+// its device luminaire, its NfInstance (transform, intensity) bit for bit, whether it has
+// visibility. Equal keys: the same light.
+struct LightKey {
+  const DeviceLuminaire* luminaire = nullptr;
+  std::array<unsigned char, sizeof(NfInstance)> instance{};
+  bool visibility = false;
+  LightKey() = default;
+  explicit LightKey(const LightInstance& li);
+  bool operator==(const LightKey&) const = default;
 };
 
 // Per-kernel device times of one run, from profiling events (milliseconds).
@@ -159,11 +173,24 @@ class Sampler {
   int count_ = 0, capacity_ = 0, dir_capacity_ = 0;
   bool mean_direction_ = false;
   std::map<std::string, ::cl::Kernel> kernels_;
+  // What A_m(p) depends on besides the surfaces' contents (sampler.cpp, cache_key).
+  struct PixelCacheKey {
+    std::uint64_t view_version = 0;
+    int count = 0;
+    LightKey light;
+    Method method = Method::ours;
+    double band = 0.0;
+    int surface_shuffle = 0;
+    std::string options;  // the kernel's build options
+    bool operator==(const PixelCacheKey&) const = default;
+  };
+  static PixelCacheKey cache_key(std::uint64_t view_version, int count, const LightInstance& li,
+                                 const std::string& opts, const SamplingSettings& s);
   struct PixelCache {
     ::cl::Buffer am;  // float [num_images x stride]
     std::size_t bytes = 0;
-    std::string key;      // what the stored A_m(p) were computed for; empty: nothing stored
-    std::string pending;  // the key of a write in flight, valid once the frame has finished
+    std::optional<PixelCacheKey> key;      // what the stored A_m(p) were computed for; none: nothing stored
+    std::optional<PixelCacheKey> pending;  // the key of a write in flight, valid once the frame has finished
   };
   std::vector<PixelCache> cache_;  // one per light instance
   ::cl::Buffer no_cache_;
@@ -173,7 +200,7 @@ class Sampler {
   };
   Selection sel_;
   // Sets the pixel-cache arguments of lf_fused for instance i; returns the mode (kernels/lightfield.cl).
-  int bind_cache(lf_kernels::Fused& k, std::size_t i, const std::string& key, int count, int images, bool enabled);
+  int bind_cache(lf_kernels::Fused& k, std::size_t i, const PixelCacheKey& key, int count, int images, bool enabled);
 };
 
 // Uploads surfaces into a new read-only device buffer.

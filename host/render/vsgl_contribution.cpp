@@ -32,9 +32,10 @@ cl_float4 f4(glm::dvec3 v) {
   return cl_float4{{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z), 0.0f}};
 }
 
-std::string instance_bytes(const NfInstance& in) {
-  return std::string(reinterpret_cast<const char*>(&in), sizeof(NfInstance));
-}
+// What the RSMs and VSGLs depend on: the light-field sampling settings (the RSMs' irradiance is
+// the light-field estimate at the first frame index and band), the indirect settings and the
+// lights; materials through set_materials().
+const Depends kDepends{.settings = {"luminaires", "indirect"}, .lights = true, .first_frame = true, .band = true};
 
 }  // namespace
 
@@ -184,10 +185,7 @@ void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const 
 bool VsglContribution::build(const FrameInputs& in) {
   const VsglSettings vs = vsgl_settings(in.settings);
   SamplingSettings ss = in.settings.sampling;  // fixed frame index: the VSGLs do not flicker by themselves
-  std::string key = fmt::format("{} {} {} {} {} {} | {} | {}", vs.rsm_size, vs.count, vs.kernel, vs.k, vs.points,
-                                vs.shadowed, ss.describe(), ss.frame);
-  for (const auto& l : in.lights)
-    key += instance_bytes(l.instance) + fmt::format("{}", static_cast<const void*>(l.luminaire));
+  const InputKey key(kDepends, in);
   if (key == key_) return false;
   times_ = {};
   const int size = vs.rsm_size;

@@ -19,6 +19,7 @@
 #include "kernels/shared/kurt.h"
 #include "kernels/shared/vsgl.h"
 #include "render/contribution.h"
+#include "render/input_key.h"
 #include "render/vsgl_shadows.h"
 #include "scene/geometry.h"
 
@@ -135,7 +136,7 @@ class VsglContribution final : public Contribution {
   std::unique_ptr<VsglShadows> shadows_;
   ::cl::Buffer vsgl_buf_, out_;
   std::size_t out_bytes_ = 0, pyr_bytes_ = 0;
-  std::string key_;
+  InputKey key_;  // what the RSMs and VSGLs were built from (kDepends)
   VsglBuildTimes times_;
 };
 

@@ -130,6 +130,16 @@ struct Camera {
   int width = 640, height = 360;
   double near = 0.01;  // near clipping distance along the view axis, metres (no far plane)
 
+  // The one camera equality: every field (the Renderer restarts on any difference).
+  bool operator==(const Camera&) const = default;
+  // The same view apart from the image size (the viewer's "did the camera move").
+  bool same_view(const Camera& o) const {
+    Camera sized = o;
+    sized.width = width;
+    sized.height = height;
+    return *this == sized;
+  }
+
   struct Ray {
     glm::dvec3 origin;
     glm::dvec3 direction;  // unit

@@ -101,6 +101,13 @@ Setting closed_real(std::string name, std::string path, double lo, double hi, st
   return s;
 }
 
+// The setting applies only with shadow maps.
+Setting with_shadow_maps(Setting s) {
+  s.applies = [](const RenderSettings& r) { return r.visibility == "shadowmaps"; };
+  s.applies_doc = "with shadow maps";
+  return s;
+}
+
 std::vector<Setting> declare() {
   constexpr auto R = SettingEffect::restart;
   constexpr auto S0 = SettingEffect::step0;
@@ -146,19 +153,19 @@ std::vector<Setting> declare() {
           "visibility", "visibility", {"none", "shadowmaps"}, "frame", S0,
           "luminaire visibility: none or shadow maps at the reference light positions",
           [](auto& r) -> auto& { return r.visibility; }),
-      integer(
+      with_shadow_maps(integer(
           "shadow_map_size", "shadow_map_size", 16, 4096, "frame", S0, "pixels per side of each shadow map",
-          [](auto& r) -> auto& { return r.shadow_map_size; }),
-      nonnegative_real(
+          [](auto& r) -> auto& { return r.shadow_map_size; })),
+      with_shadow_maps(nonnegative_real(
           "shadow_far_distance", "shadow_far_distance", 1e6, "frame", S0,
           "metres: luminaire instances farther from the camera get one shadow map for all cells instead of one "
           "per cell (an approximation: hard shadows from the lens centre; docs/rendering.md); 0 = every instance "
           "exact",
-          [](auto& r) -> auto& { return r.shadow_far_distance; }),
-      choice(
+          [](auto& r) -> auto& { return r.shadow_far_distance; })),
+      with_shadow_maps(choice(
           "visibility_pass", "visibility_pass", {"opencl", "gl"}, "frame", S0,
           "where the shadow maps are tested per pixel: an OpenCL kernel or the GL compute pass (same test)",
-          [](auto& r) -> auto& { return r.visibility_pass; }),
+          [](auto& r) -> auto& { return r.visibility_pass; })),
       integer(
           "seed", "seed", 0, 2147483647, "luminaires", R, "seed of the random and scrambled sequences",
           [](auto& r) -> auto& { return r.seed; }),
@@ -401,8 +408,22 @@ std::vector<std::pair<std::string, std::string>> settings_attributes(const Rende
 SettingEffect change_effect(const RenderSettings& a, const RenderSettings& b) {
   SettingEffect e = SettingEffect::display;
   for (const auto& s : settings_table())
-    if (s.get(a) != s.get(b)) e = std::max(e, s.effect);
+    if (s.get(a) != s.get(b) && (!s.applies || s.applies(a) || s.applies(b))) e = std::max(e, s.effect);
   return e;
+}
+
+std::vector<std::string> settings_key(const RenderSettings& r, const std::vector<std::string>& keys) {
+  for (const auto& k : keys) {
+    const auto& t = settings_table();
+    if (std::none_of(t.begin(), t.end(), [&](const Setting& s) { return s.contribution == k || s.name == k; }))
+      fail(fmt::format("settings_key: '{}' is neither a setting nor a group", k));
+  }
+  std::vector<std::string> out;
+  for (const auto& s : settings_table())
+    if (std::find(keys.begin(), keys.end(), s.contribution) != keys.end() ||
+        std::find(keys.begin(), keys.end(), s.name) != keys.end())
+      out.push_back(s.get(r));
+  return out;
 }
 
 bool same_settings(const RenderSettings& a, const RenderSettings& b) {

@@ -34,13 +34,13 @@ struct RenderSettings {
   double shadow_far_distance = 0.0;          // metres; farther instances: one map for all cells (0 = off)
   // opencl | gl: where Step 0's visibility bitmask is computed (the same test)
   std::string visibility_pass = "opencl";
-  std::uint32_t seed = 1;    // sampler seed (random, halton-scrambled)
-  int lanes = 0;             // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
-  int roulette_block = 16;   // consecutive surfaces sharing the roulette's decisions, 1..1024 (1 = per pixel)
+  std::uint32_t seed = 1;   // sampler seed (random, halton-scrambled)
+  int lanes = 0;            // surfaces per OpenCL work-item: 0 (automatic), 1, 4, 8, 16
+  int roulette_block = 16;  // consecutive surfaces sharing the roulette's decisions, 1..1024 (1 = per pixel)
   int surface_shuffle = 6;  // log2 of the chunk inside which surfaces are visited in random order; 0 = row order
-  int pixel_cache = 1024;    // MiB for A_m(p) kept across progressive frames; 0 = off
+  int pixel_cache = 1024;   // MiB for A_m(p) kept across progressive frames; 0 = off
   std::string light_selection = "auto";  // auto | all | flat (one instance per pixel and frame, q_i(p))
-  TonemapParams tonemap;     // exposure, gamma
+  TonemapParams tonemap;                 // exposure, gamma
   // environment (docs/environment.md)
   std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis | regular
   int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame
@@ -81,6 +81,10 @@ struct Setting {
   std::string doc;                   // one line for --help, the viewer and docs/settings.md
   std::string contribution;          // "luminaires", "frame", "display"
   SettingEffect effect = SettingEffect::restart;
+  // When a change of it counts (empty: always): change_effect() ignores a change unless
+  // applies(before) or applies(after), e.g. the shadow-map size only with shadow maps.
+  std::function<bool(const RenderSettings&)> applies;
+  std::string applies_doc;  // when it applies, in words ("with shadow maps"; docs/settings.md)
   // Reads the value as text ("ours", "64", "0.35"): metadata, the viewer, describe().
   std::function<std::string(const RenderSettings&)> get;
   // Validates and stores a JSON value; errors name `where` (file or option, and pointer).
@@ -104,9 +108,14 @@ void set_setting_text(RenderSettings& r, const Setting& s, const std::string& te
 RenderSettings parse_render_settings(const nlohmann::json& v, const JsonWhere& where);
 // ("nearfield:<name>", value) for every setting: EXR metadata and stats JSON.
 std::vector<std::pair<std::string, std::string>> settings_attributes(const RenderSettings& r);
-// The strongest effect among the settings that differ between a and b (nullopt-like: display
-// when nothing differs).
+// The strongest declared effect among the settings that differ between a and b and apply to
+// either (display when nothing differs). The one answer to "does this change restart the
+// accumulation (restart) or also Step 0 (step0)?" (docs/rendering.md, "Invalidation").
 SettingEffect change_effect(const RenderSettings& a, const RenderSettings& b);
+// The values of the settings a component depends on: every setting whose `contribution` group or
+// name is in `keys` ("luminaires", "visibility"), in table order. Components keep the key their
+// state was built from and rebuild when it differs (render/input_key.h). Unknown keys throw.
+std::vector<std::string> settings_key(const RenderSettings& r, const std::vector<std::string>& keys);
 bool same_settings(const RenderSettings& a, const RenderSettings& b);
 // The table of every setting as Markdown (`nearfield settings`, docs/settings.md).
 std::string settings_markdown();

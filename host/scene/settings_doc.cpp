@@ -12,7 +12,9 @@ std::string settings_markdown() {
       "meaning |\n|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : settings_table())
     md += fmt::format("| `{}` | `{}` | `{}` | {} | `{}` | {} | {} | {} |\n", s.name, s.json_path, s.cli_name(),
-                      s.range_text(), s.get(defaults), to_string(s.effect), s.contribution, s.doc);
+                      s.range_text(), s.get(defaults),
+                      to_string(s.effect) + (s.applies_doc.empty() ? "" : " (" + s.applies_doc + ")"), s.contribution,
+                      s.doc);
   return md;
 }
 

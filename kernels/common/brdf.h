@@ -138,11 +138,15 @@ NF_INLINE float nf_ggx_d(float nh, float alpha) {
 }
 
 /* Half vector about +z with density D(h) cos(theta_h) (Walter et al. 2007, Eq. 35-36):
-   tan^2(theta_h) = alpha^2 u1 / (1 - u1), phi_h = 2 pi u2, written with cos^2 to stay finite. */
+   tan^2(theta_h) = alpha^2 u1 / (1 - u1), phi_h = 2 pi u2, written as cos^2 = (1 - u1) / d and
+   sin^2 = alpha^2 u1 / d with d = 1 + (alpha^2 - 1) u1, both finite. sin is computed directly: the
+   form sqrt(1 - cos^2) in float quantises theta_h near the pole (steps of ~3e-4 rad, the size of
+   alpha at roughness 0.01 or 0.03) and biased such surfaces. The one GGX half-vector sampler:
+   brdf_sample.h's nf_mat_sample is its per-lane form (docs/materials.md). */
 NF_INLINE float3 nf_sample_ggx_h(float u1, float u2, float alpha) {
   const float a2 = alpha * alpha;
-  const float c2 = (1.0f - u1) / fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);
-  const float ct = sqrt(clamp(c2, 0.0f, 1.0f)), st = sqrt(fmax(0.0f, 1.0f - ct * ct));
+  const float d = fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);
+  const float ct = sqrt(clamp((1.0f - u1) / d, 0.0f, 1.0f)), st = sqrt(clamp(a2 * u1 / d, 0.0f, 1.0f));
   const float phi = 2.0f * NF_PI * u2;
   return (float3)(st * cos(phi), st * sin(phi), ct);
 }

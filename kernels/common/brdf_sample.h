@@ -114,9 +114,9 @@ NF_INLINE vf nf_mat_sample(const NfShade* sh, vf u0, vf u1, vf u2, vf* wx, vf* w
   vi bad = (vi)(0); /* draws with no valid direction */
   const vi ggx = sh->brdf == NF_BRDF_GGX;
   if (ANY(ggx)) {
-    /* GGX half vector (brdf.h nf_sample_ggx_h, per lane) reflected about v */
-    /* sin^2 = alpha^2 u1 / (1 + (alpha^2 - 1) u1) directly: sqrt(1 - cos^2) in float would quantise
-       theta_h near the pole (steps of ~3e-4 rad, comparable to alpha = 1e-3) and bias the estimate */
+    /* GGX half vector reflected about v: brdf.h nf_sample_ggx_h per lane (the same formulas, sin
+       computed directly; tests/kernel_brdf_test.cpp tests that one down to alpha 1e-4,
+       tests/mis_brdf_sample_test.cpp this lane form) */
     const vf a2 = sh->alpha * sh->alpha;
     const vf den = fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);
     const vf ct = sqrt(clamp((1.0f - u1) / den, 0.0f, 1.0f)), st = sqrt(clamp(a2 * u1 / den, 0.0f, 1.0f));
