@@ -244,6 +244,7 @@ void Panel::rendering() {
   int kmax = p.k_max;
   if (ImGui::InputInt("K_max (0: none)", &kmax, 1, 16)) a.set("kmax", std::to_string(std::max(kmax, 0)));
   combo("balance", "balance", render::to_string(p.balance), render::balance_names());
+  combo("balance from", "balance_estimate", render::to_string(p.balance_estimate), render::balance_estimate_names());
   combo("search", "search", render::to_string(p.search), render::search_names());
   int depth = p.search_depth;
   if (ImGui::InputInt("search depth (-1: exact)", &depth)) {

@@ -150,7 +150,16 @@ std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool 
       s.search == SearchKind::secant ? NF_SEARCH_SECANT : NF_SEARCH_BINARY, chroma ? 1 : 0, visibility ? 1 : 0, lanes);
   // mis = none adds nothing: the kernels are built exactly as before (bit-identical images)
   if (s.mis != Mis::none) o += fmt::format(" -DNF_MIS={}", s.mis == Mis::balance ? NF_MIS_BALANCE : NF_MIS_POWER);
+  if (block_balance(s)) o += " -DNF_BLOCK_BALANCE=1";
   return o;
+}
+
+// Counts balanced from the block estimates (docs/sampling.md "Balancing from block estimates"): the
+// balanced methods that sample the box (ours, paper, uniform) without MIS, whose BRDF samples need A_m(p)
+// of every image. The equal-count methods and global never compute A_m(p) to balance.
+bool Sampler::block_balance(const SamplingSettings& s) {
+  return s.balance_estimate == BalanceEstimate::blocks && s.mis == Mis::none &&
+         (s.method == Method::ours || s.method == Method::paper || s.method == Method::uniform);
 }
 
 int Sampler::lanes(const SamplingSettings& s) const {
