@@ -65,13 +65,12 @@ struct SamplingSettings {
   Method method = Method::ours;
   SamplerKind sampler = SamplerKind::halton_scrambled;  // white noise per frame (docs/sampling.md)
   Balance balance = Balance::roulette;                  // unbiased default (docs/sampling.md); see docs/sampling.md
+  BalanceEstimate balance_estimate = BalanceEstimate::blocks;  // what K_m(p) is balanced from (docs/sampling.md)
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
   // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,
   // combined by that heuristic (docs/mis.md). Not with method paper (its density is not Y_m / A_m).
   Mis mis = Mis::none;
-  // What K_m(p) is balanced from: block estimates or the exact A_m(p) (docs/sampling.md).
-  BalanceEstimate balance_estimate = BalanceEstimate::blocks;
   int spp = 200;                           // K of Eq. 12, >= 1
   int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
   int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
