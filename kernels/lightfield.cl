@@ -66,11 +66,21 @@
 /* Methods with K / M samples per image instead of the balanced K_m(p) of Eq. 12
    (uniform-equal, ours-equal: common/equal_counts.h). */
 #define NF_EQUAL_COUNTS (NF_METHOD == NF_METHOD_UNIFORM_EQUAL || NF_METHOD == NF_METHOD_OURS_EQUAL)
+/* -DNF_BLOCK_BALANCE=1: balance K_m(p) from the block estimates of A_m(p) (common/block_estimate.h) and
+   compute the exact A_m(p) only for the images that get samples (docs/sampling.md "Balancing from block
+   estimates"). The host sets it for the balanced methods (ours, paper, uniform) without MIS. */
+#ifndef NF_BLOCK_BALANCE
+#define NF_BLOCK_BALANCE 0
+#endif
+#if NF_BLOCK_BALANCE && (NF_EQUAL_COUNTS || NF_METHOD == NF_METHOD_GLOBAL)
+#error "NF_BLOCK_BALANCE applies to the balanced methods ours, paper and uniform only"
+#endif
 /* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
 
+#include "common/block_estimate.h"
 #include "common/brdf.h"
 #include "common/cdf_inversion.h"
 #include "common/equal_counts.h"
@@ -152,6 +162,9 @@ NF_INLINE void nf_slot_surfaces(const NfSampleParams* P, uint first, uint* pix) 
 
 /* ---------------------------------------------------------------- per-pixel context ------- */
 
+/* Visibility words per surface held in private memory (143 cells of car2: 5 words). */
+#define NF_VIS_PRIVATE 8
+
 typedef struct {
   vf px, py, pz; /* luminaire-local position */
   NfShade sh;    /* normal, viewer direction and material at p (common/brdf.h) */
@@ -171,6 +184,15 @@ typedef struct {
   float Xo, Ro;   /* basis grid corner o in pixel coordinates */
   float Hx, Hy;   /* basis cell size in pixels */
   float iHx, iHy; /* 1 / Hx, 1 / Hy */
+#if NF_BLOCK_BALANCE
+  NfBlockLevel blk; /* the block table's level for the lanes' boxes (common/block_estimate.h) */
+#endif
+#if NF_HAS_VIS
+  /* the lanes' visibility words, loaded once per work-item by nf_load_visibility (vwn = 0: not loaded,
+     nf_image reads the buffer) */
+  vu vw[NF_VIS_PRIVATE];
+  int vwn;
+#endif
 } NfCtx;
 
 /* v / |v| for any finite non-zero v (subnormal to FLT_MAX components): the components are divided
@@ -304,6 +326,17 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
     c->gs = SEL((vf)(0.0f), az, gz);
     c->gu = SEL((vf)(0.0f), dpz, gpz);
   }
+#if NF_HAS_VIS
+  c->vwn = 0;
+#endif
+#if NF_BLOCK_BALANCE
+  /* blocks at least as large as the box; the box edges xa, xb are rounded from terms of magnitude up to
+     |Xp| + |Xo| + n Hx W (about 3 ulp), so 1e-5 of that, and 0.1 %, covers them */
+  const float span = fabs(c->Xo) + fabs(c->Ro) + (float)(L->support + L->count_x) * c->Hx +
+                     (float)(L->support + L->count_y) * c->Hy + (float)(L->res_x + L->res_y);
+  const vf size = fmax(c->bw, c->bh) * 1.001f + 1e-5f * (fabs(c->Xp) + fabs(c->Rp) + span);
+  nf_block_level(&c->blk, L->res_x, L->res_y, L->num_images, size);
+#endif
   return c->lit;
 }
 
@@ -344,6 +377,35 @@ NF_INLINE vf nf_visibility(__global const uint* vis, int words, vu pix, vi lit, 
     }
   return CVT_F(count) * (1.0f / (float)(n * n));
 }
+
+#if NF_HAS_VIS
+/* The lanes' visibility words in private memory (when there are at most NF_VIS_PRIVATE per surface):
+   one read of each word per work-item instead of n^2 gathers per image that gets samples. */
+NF_INLINE void nf_load_visibility(NfCtx* c, __global const uint* vis, int words) {
+  c->vwn = words <= NF_VIS_PRIVATE ? words : 0;
+  const vi base = SEL((vi)(0), CVT_I(c->pix) * words, c->lit);
+  for (int w = 0; w < c->vwn; ++w) {
+#if NF_LANES == 1
+    c->vw[w] = vis[base + w];
+#else
+    c->vw[w] = NF_G(vis, base + w, vu);
+#endif
+  }
+}
+
+/* v_m(p) as nf_visibility, from the private words when loaded (the same bits, the same result). */
+NF_INLINE vf nf_visibility_ctx(const NfCtx* c, __global const uint* vis, int words, vi lit, int i, int j, int n,
+                               int cw) {
+  if (c->vwn == 0) return nf_visibility(vis, words, c->pix, lit, i, j, n, cw);
+  vi count = (vi)(0);
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a < n; ++a) {
+      const int bit = (j + b) * cw + (i + a);
+      count += CVT_I((c->vw[bit >> 5] >> (uint)(bit & 31)) & 1U);
+    }
+  return CVT_F(count) * (1.0f / (float)(n * n));
+}
+#endif
 
 /* ---------------------------------------------------------------- boxes and SAT sums ------ */
 
@@ -497,6 +559,44 @@ NF_INLINE vf nf_prepare(const NfCtx* c, const NfLuminaire* L, int m, __global co
 #endif
 }
 
+#if NF_BLOCK_BALANCE
+/* The block estimate of A_m(p) (common/block_estimate.h): the box B_m(p) of nf_box, clipped to the image,
+   on the block table that follows the NfImageInfo entries in `info` (shared/block_table.h). 4 reads of a
+   small table in place of 16 reads of the SAT. > 0 wherever A_m(p) > 0; lanes in the band get 0 (the
+   caller gives them the exact weight). */
+NF_INLINE vf nf_estimate(const NfCtx* c, const NfLuminaire* L, int m, __global const NfImageInfo* info) {
+  const int i = m % L->count_x, j = m / L->count_x, n = L->support;
+  const vf xa = c->Xp + (c->Xo + (float)i * c->Hx - c->Xp) * c->f;
+  const vf xb = c->Xp + (c->Xo + (float)(i + n) * c->Hx - c->Xp) * c->f;
+  const vf ra = c->Rp + (c->Ro - (float)j * c->Hy - c->Rp) * c->f;
+  const vf rb = c->Rp + (c->Ro - (float)(j + n) * c->Hy - c->Rp) * c->f;
+  const vf x0 = clamp(fmin(xa, xb), 0.0f, (float)L->res_x), x1 = clamp(fmax(xa, xb), 0.0f, (float)L->res_x);
+  const vf r0 = clamp(fmin(ra, rb), 0.0f, (float)L->res_y), r1 = clamp(fmax(ra, rb), 0.0f, (float)L->res_y);
+  const NfImageInfo inf = info[m];
+  /* boxes that miss the non-zero pixels: 0 exactly, no reads (as nf_prepare) */
+  const vi ok = c->lit & !c->band & (x1 > x0) & (r1 > r0) & (x1 > (float)inf.col0) & (x0 < (float)inf.col1) &
+                (r1 > (float)inf.row0) & (r0 < (float)inf.row1);
+  if (!ANY(ok)) return (vf)(0.0f);
+  const vf s = nf_block_mass((__global const float*)(info + L->num_images), &c->blk, m, x0, x1, r0, r1, ok);
+  const vf a = s * L->pixel_area;
+  return SEL((vf)(0.0f), a, ok & (a > 0.0f) & isfinite(a));
+}
+#endif
+
+/* The weight that balances K_m(p) (Eq. 12): A_m(p) of nf_prepare (b gets the box), or with
+   NF_BLOCK_BALANCE its block estimate (b is then not set; lanes in the band keep the exact weight, the
+   mean luminance over the box: they are few, and their U-parametrised estimator does not use it). */
+NF_INLINE vf nf_weight(const NfCtx* c, const NfLuminaire* L, int m, __global const long* sat,
+                       __global const float* quantum, __global const NfImageInfo* info, NfBox* b) {
+#if NF_BLOCK_BALANCE
+  vf w = nf_estimate(c, L, m, info);
+  if (ANY(c->band)) w = SEL(w, nf_prepare(c, L, m, sat, quantum, info, b), c->band);
+  return w;
+#else
+  return nf_prepare(c, L, m, sat, quantum, info, b);
+#endif
+}
+
 /* ---------------------------------------------------------------- Step 2: one image ------- */
 
 /* K_m(p) (Eq. 12) from x = K A_m / A: paper rounds (may drop light), min1 keeps >= 1 sample,
@@ -532,6 +632,9 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu slot, int m, int M, vf Am, v
 }
 
 #include "common/lf_mis.h"
+#if NF_BLOCK_BALANCE && NF_MIS != NF_MIS_NONE
+#error "NF_BLOCK_BALANCE: MIS needs A_m(p) of every image (common/lf_mis.h); the host builds MIS exact"
+#endif
 
 /* One sample of image m = (i, j) at p from the 2D point (ux, uy) (Eq. 11 with Eq. 5 in the box,
    Eq. 9 in the band): the lanes in `sband` take the U-parametrised sample of the band, the lanes in
@@ -606,7 +709,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   vi has = K > 0;
 #if NF_HAS_VIS
   const int n = L->support;
-  const vf vm = nf_visibility(vis, P->vis_words, c->pix, has, i, j, n, L->count_x + n - 1);
+  const vf vm = nf_visibility_ctx(c, vis, P->vis_words, has, i, j, n, L->count_x + n - 1);
   has = has & (vm > 0.0f);
   if (!ANY(has)) return;
 #else
@@ -729,7 +832,7 @@ __kernel void lf_step1_image(NF_KERNEL_ARGS, __global float* A_out) {
   NfBox b;
   float a[NF_LANES];
   uint pix[NF_LANES];
-  VSTORE(nf_prepare(&c, &L, P.image, sat, quantum, info, &b), a);
+  VSTORE(nf_weight(&c, &L, P.image, sat, quantum, info, &b), a);
   VSTORE(c.pix, pix);
   for (int l = 0; l < NF_LANES; ++l)
     if (a[l] > 0.0f) A_out[pix[l]] += a[l];
@@ -754,9 +857,17 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   const vf A = VLOAD(a);
   const int m = P.image;
   NfBox b;
-  const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   vf inv_p;
+#if NF_BLOCK_BALANCE
+  /* counts from the estimate, the exact A_m(p) (and the box) only where there are samples */
+  vi K = nf_balance(&P, c.slot, m, L.num_images, nf_weight(&c, &L, m, sat, quantum, info, &b), A, &inv_p);
+  if (!ANY(K > 0)) return;
+  const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+  K = SEL((vi)(0), K, Am > 0.0f);
+#else
+  const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   const vi K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
+#endif
 #if NF_MIS == NF_MIS_NONE
   const vi out = K > 0;
 #else
@@ -826,13 +937,16 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
       a = VLOAD(slot);
     } else {
       NfBox b;
-      a = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      a = nf_weight(&c, &L, m, sat, quantum, info, &b);
       if (cache_mode == NF_CACHE_WRITE) VSTORE(a, slot);
     }
     if (priv) am[m] = a;
     A += a;
   }
   if (!ANY(A > 0.0f)) return;
+#if NF_HAS_VIS
+  nf_load_visibility(&c, vis, P.vis_words);
+#endif
   vf r = (vf)(0.0f), g = (vf)(0.0f), bl = (vf)(0.0f);
   vi total = (vi)(0);
 #if NF_MEAN_DIRECTION
@@ -842,6 +956,21 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     NfBox b;
     vf Am, inv_p;
     vi K;
+#if NF_BLOCK_BALANCE
+    /* K_m from the weight of loop 1 (the block estimate); the exact A_m(p) and the box only for the
+       images that get samples. A_m = 0 where the estimate was not: no samples (they would carry 0). */
+    {
+      const vf Wm = priv ? am[m]
+                    : shared ? VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first)
+                             : nf_weight(&c, &L, m, sat, quantum, info, &b);
+      if (!ANY(Wm > 0.0f)) continue;
+      K = nf_balance(&P, c.slot, m, L.num_images, Wm, A, &inv_p);
+      if (!ANY(K > 0)) continue;
+      Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      K = SEL((vi)(0), K, Am > 0.0f);
+      if (!ANY(K > 0)) continue;
+    }
+#else
     if (priv || shared) {
       Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
       if (!ANY(Am > 0.0f)) continue;
@@ -853,6 +982,7 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
       K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
+#endif
     nf_image(&c, &L, &P, m, K, inv_p, Am, nf_mis_count(&P, M, Am, A), &b, I.intensity, sat, quantum, chroma, vis,
              halton3, &r, &g, &bl NF_DIR_PASS);
     total += K;

@@ -162,17 +162,21 @@ TEST(SamplingKernels, LanesAndStructuresAgree) {
     SamplerKind sampler;
     SearchKind search;
     Balance balance;
+    BalanceEstimate estimate;
     std::vector<int> lanes;
   };
+  // Every value of every option appears in at least one variant, and each variant compares the lanes-1
+  // per-image frame with the fused one and with both structures at a vector width (every width once):
+  // what differs between the structures and widths is compiled per option set, so the options are
+  // combined (each distinct set is one program build, which is most of this test's time).
   const std::vector<Variant> variants{
-      {Method::ours, SamplerKind::random, SearchKind::secant, Balance::roulette, {4, 8, 16}},
-      {Method::ours, SamplerKind::halton, SearchKind::secant, Balance::roulette, {8}},
-      {Method::ours, SamplerKind::halton_scrambled, SearchKind::secant, Balance::roulette, {8}},
-      {Method::ours, SamplerKind::random, SearchKind::binary, Balance::min1, {8}},
-      {Method::ours, SamplerKind::random, SearchKind::secant, Balance::paper, {8}},
-      {Method::paper, SamplerKind::random, SearchKind::secant, Balance::roulette, {8}},
-      {Method::uniform, SamplerKind::random, SearchKind::secant, Balance::roulette, {8}},
-      {Method::global, SamplerKind::random, SearchKind::secant, Balance::roulette, {8}},
+      {Method::ours, SamplerKind::random, SearchKind::secant, Balance::roulette, BalanceEstimate::blocks, {4, 8, 16}},
+      {Method::ours, SamplerKind::halton_scrambled, SearchKind::secant, Balance::roulette, BalanceEstimate::exact, {8}},
+      {Method::ours, SamplerKind::random, SearchKind::binary, Balance::min1, BalanceEstimate::blocks, {8}},
+      {Method::paper, SamplerKind::halton, SearchKind::secant, Balance::paper, BalanceEstimate::blocks, {8}},
+      {Method::uniform, SamplerKind::halton_scrambled, SearchKind::secant, Balance::roulette, BalanceEstimate::blocks,
+       {16}},
+      {Method::global, SamplerKind::random, SearchKind::secant, Balance::roulette, BalanceEstimate::blocks, {8}},
   };
   for (const auto& v : variants) {
     SamplingSettings s;
@@ -180,6 +184,7 @@ TEST(SamplingKernels, LanesAndStructuresAgree) {
     s.sampler = v.sampler;
     s.search = v.search;
     s.balance = v.balance;
+    s.balance_estimate = v.estimate;
     s.spp = 48;
     s.lanes = 1;
     s.structure = Structure::per_image;

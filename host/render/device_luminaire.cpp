@@ -12,6 +12,7 @@
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "kernels/shared/light_select.h"
+#include "render/block_table.h"
 
 namespace nf::render {
 namespace {
@@ -79,7 +80,13 @@ DeviceLuminaire::DeviceLuminaire(cl::Runtime& rt, const lum::Precomputed& pc) : 
   flux_.resize(M);
   for (std::size_t m = 0; m < M; ++m) flux_[m] = info_[m].flux;
   build_selection_table(pc);
-  info_buf_ = upload(rt, info_, "image info", bytes_);
+  // the `info` buffer: the NfImageInfo entries, then the block table (kernels/shared/block_table.h)
+  block_table_ = build_block_table(pc);
+  static_assert(sizeof(NfImageInfo) % sizeof(float) == 0);
+  std::vector<float> info_words(M * (sizeof(NfImageInfo) / sizeof(float)) + block_table_.size());
+  std::memcpy(info_words.data(), info_.data(), M * sizeof(NfImageInfo));
+  std::copy(block_table_.begin(), block_table_.end(), info_words.begin() + M * (sizeof(NfImageInfo) / sizeof(float)));
+  info_buf_ = upload(rt, info_words, "image info and block table", bytes_);
 
   if (rt.info().type == "CPU") {
     // On a CPU device the kernels read host memory: give the SAT (tens of MB, read at random rows)

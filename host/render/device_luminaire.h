@@ -27,7 +27,10 @@ class DeviceLuminaire {
 
   const ::cl::Buffer& sat() const { return sat_; }
   const ::cl::Buffer& quantum() const { return quantum_; }
-  const ::cl::Buffer& info_buffer() const { return info_buf_; }  // NfImageInfo per image
+  // NfImageInfo per image, then the block table (kernels/shared/block_table.h)
+  const ::cl::Buffer& info_buffer() const { return info_buf_; }
+  // The block table alone (host copy; render/block_table.h), for tests.
+  const std::vector<float>& block_table() const { return block_table_; }
   const ::cl::Buffer& chroma() const { return chroma_; }  // a 16-byte placeholder when monochrome
 
   std::size_t bytes() const { return bytes_; }  // device memory held
@@ -47,6 +50,7 @@ class DeviceLuminaire {
   NfLuminaire params_{};
   std::vector<float> flux_;
   std::vector<NfImageInfo> info_;
+  std::vector<float> block_table_;
   double flux_total_ = 0.0;
   std::vector<float> select_table_;
   float select_ta_ = 1.0f, select_tb_ = 1.0f;

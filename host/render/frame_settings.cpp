@@ -32,6 +32,7 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   f.sampling.method = parse_method(r.method, "render.method");
   f.sampling.sampler = parse_sampler(r.sampler, "render.sampler");
   f.sampling.balance = parse_balance(r.balance, "render.balance");
+  f.sampling.balance_estimate = parse_balance_estimate(r.balance_estimate, "render.balance_estimate");
   f.sampling.search = parse_search(r.search, "render.search");
   f.sampling.structure = parse_structure(r.structure, "render.structure");
   f.sampling.mis = parse_mis(r.mis, "render.mis");
@@ -61,6 +62,7 @@ scene::RenderSettings render_settings(const FrameSettings& f) {
   r.search_depth = p.search_depth;
   r.search = to_string(p.search);
   r.balance = to_string(p.balance);
+  r.balance_estimate = to_string(p.balance_estimate);
   r.structure = to_string(p.structure);
   r.mis = to_string(p.mis);
   r.visibility = to_string(f.visibility);

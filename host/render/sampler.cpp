@@ -156,7 +156,16 @@ std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool 
   // mis = none adds nothing: the kernels are built exactly as before (bit-identical images)
   if (s.effective_mis() != Mis::none)
     o += fmt::format(" -DNF_MIS={}", s.effective_mis() == Mis::balance ? NF_MIS_BALANCE : NF_MIS_POWER);
+  if (block_balance(s)) o += " -DNF_BLOCK_BALANCE=1";
   return o;
+}
+
+// Counts balanced from the block estimates (docs/sampling.md "Balancing from block estimates"): the
+// balanced methods that sample the box (ours, paper, uniform) without MIS, whose BRDF samples need A_m(p)
+// of every image. The equal-count methods and global never compute A_m(p) to balance.
+bool Sampler::block_balance(const SamplingSettings& s) {
+  return s.balance_estimate == BalanceEstimate::blocks && s.effective_mis() == Mis::none &&
+         (s.method == Method::ours || s.method == Method::paper || s.method == Method::uniform);
 }
 
 int Sampler::lanes(const SamplingSettings& s) const {

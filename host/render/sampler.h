@@ -120,6 +120,8 @@ class Sampler {
 
   // The -D options the kernels are built with for these settings.
   static std::string build_options(const SamplingSettings& s, bool chroma, bool visibility, int lanes);
+  // Whether the kernels balance K_m(p) from the block estimates (-DNF_BLOCK_BALANCE=1; docs/sampling.md).
+  static bool block_balance(const SamplingSettings& s);
   // Surfaces per work-item for these settings on this device (SamplingSettings::lanes or automatic).
   int lanes(const SamplingSettings& s) const;
 

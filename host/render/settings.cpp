@@ -31,6 +31,8 @@ constexpr Table<Structure, 2> kStructures{{{Structure::per_image, "per-image"}, 
 constexpr Table<LightSelection, 3> kSelections{
     {{LightSelection::automatic, "auto"}, {LightSelection::all, "all"}, {LightSelection::flat, "flat"}}};
 constexpr Table<Mis, 3> kMis{{{Mis::none, "none"}, {Mis::balance, "balance"}, {Mis::power, "power"}}};
+constexpr Table<BalanceEstimate, 2> kBalanceEstimates{
+    {{BalanceEstimate::blocks, "blocks"}, {BalanceEstimate::exact, "exact"}}};
 
 template <typename E, std::size_t N>
 std::string name_of(const Table<E, N>& t, E v) {
@@ -63,6 +65,7 @@ std::string to_string(SearchKind v) { return name_of(kSearches, v); }
 std::string to_string(Structure v) { return name_of(kStructures, v); }
 std::string to_string(LightSelection v) { return name_of(kSelections, v); }
 std::string to_string(Mis v) { return name_of(kMis, v); }
+std::string to_string(BalanceEstimate v) { return name_of(kBalanceEstimates, v); }
 
 Method parse_method(const std::string& s, const std::string& what) { return parse_of(kMethods, s, what); }
 SamplerKind parse_sampler(const std::string& s, const std::string& what) { return parse_of(kSamplers, s, what); }
@@ -73,6 +76,9 @@ LightSelection parse_light_selection(const std::string& s, const std::string& wh
   return parse_of(kSelections, s, what);
 }
 Mis parse_mis(const std::string& s, const std::string& what) { return parse_of(kMis, s, what); }
+BalanceEstimate parse_balance_estimate(const std::string& s, const std::string& what) {
+  return parse_of(kBalanceEstimates, s, what);
+}
 
 std::vector<std::string> method_names() { return names_of(kMethods); }
 std::vector<std::string> sampler_names() { return names_of(kSamplers); }
@@ -85,6 +91,7 @@ bool selects_instances(LightSelection s, std::size_t instances) {
   return s == LightSelection::flat || (s == LightSelection::automatic && instances >= kAutoSelectionInstances);
 }
 std::vector<std::string> mis_names() { return names_of(kMis); }
+std::vector<std::string> balance_estimate_names() { return names_of(kBalanceEstimates); }
 
 void SamplingSettings::validate() const {
   if (spp < 1) fail(fmt::format("sampling: spp (K) must be >= 1, got {}", spp));
@@ -108,6 +115,7 @@ std::string SamplingSettings::describe() const {
       search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure), spp,
       k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame, to_string(light_selection));
   if (effective_mis() != Mis::none) d += " mis=" + to_string(mis);
+  if (balance_estimate != BalanceEstimate::blocks) d += " balance_estimate=" + to_string(balance_estimate);
   return d;
 }
 

@@ -27,6 +27,10 @@ inline constexpr std::size_t kAutoSelectionInstances = 16;
 bool selects_instances(LightSelection s, std::size_t instances);
 // MIS of the light-field samples with BRDF samples (docs/mis.md): off, balance or power heuristic.
 enum class Mis { none, balance, power };
+// What K_m(p) is balanced from (docs/sampling.md "Balancing from block estimates"): the block estimate
+// of A_m(p) (exact A_m(p) only for the images that get samples) or the exact A_m(p) of every image.
+// blocks applies to ours, paper and uniform without MIS; the others always balance from exact.
+enum class BalanceEstimate { blocks, exact };
 
 std::string to_string(Method v);
 std::string to_string(SamplerKind v);
@@ -35,6 +39,7 @@ std::string to_string(SearchKind v);
 std::string to_string(Structure v);
 std::string to_string(LightSelection v);
 std::string to_string(Mis v);
+std::string to_string(BalanceEstimate v);
 
 // Parse the names printed by to_string ("halton-scrambled", "per-image"; '_' is accepted for
 // '-'). Unknown names throw nf::Error listing the valid ones, prefixed by `what` (e.g. "--method").
@@ -45,6 +50,7 @@ SearchKind parse_search(const std::string& s, const std::string& what = "search"
 Structure parse_structure(const std::string& s, const std::string& what = "structure");
 LightSelection parse_light_selection(const std::string& s, const std::string& what = "light_selection");
 Mis parse_mis(const std::string& s, const std::string& what = "mis");
+BalanceEstimate parse_balance_estimate(const std::string& s, const std::string& what = "balance_estimate");
 
 std::vector<std::string> method_names();
 std::vector<std::string> sampler_names();
@@ -53,16 +59,18 @@ std::vector<std::string> search_names();
 std::vector<std::string> structure_names();
 std::vector<std::string> light_selection_names();
 std::vector<std::string> mis_names();
+std::vector<std::string> balance_estimate_names();
 
 struct SamplingSettings {
   Method method = Method::ours;
   SamplerKind sampler = SamplerKind::halton_scrambled;  // white noise per frame (docs/sampling.md)
   Balance balance = Balance::roulette;                  // unbiased default (docs/sampling.md); see docs/sampling.md
+  BalanceEstimate balance_estimate = BalanceEstimate::blocks;  // what K_m(p) is balanced from (docs/sampling.md)
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
   // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,
   // combined by that heuristic (docs/mis.md). Not with method paper (its density is not Y_m / A_m).
-  Mis mis = Mis::power;
+  Mis mis = Mis::none;
   int spp = 200;                           // K of Eq. 12, >= 1
   int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
   int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)

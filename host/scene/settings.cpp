@@ -141,6 +141,12 @@ std::vector<Setting> declare() {
           "rounding of K_m(p) = K A_m / A (min1 and roulette are unbiased)",
           [](auto& r) -> auto& { return r.balance; }),
       choice(
+          "balance_estimate", "balance_estimate", {"blocks", "exact"}, "luminaires", R,
+          "what K_m(p) is balanced from: a 4-read block estimate of A_m(p), with the exact A_m(p) only for the "
+          "images that get samples (blocks), or the exact A_m(p) of every image (exact); both unbiased "
+          "(docs/sampling.md \"Balancing from block estimates\")",
+          [](auto& r) -> auto& { return r.balance_estimate; }),
+      choice(
           "structure", "structure", {"per-image", "fused"}, "luminaires", R,
           "per-image Step 1/2 passes (paper) or one fused pass", [](auto& r) -> auto& { return r.structure; }),
       choice(
