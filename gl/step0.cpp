@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/timer.h"
+#include "luminaire/parallel.h"
 
 namespace nf::gl {
 
@@ -78,16 +79,25 @@ void Step0::cull(const scene::Camera& camera) {
   std::vector<std::pair<glm::dvec3, glm::dvec3>> boxes(
       static_cast<std::size_t>(tiles * tiles),
       {glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max())});
-  for (int y = 0; y < h && culling_; ++y)
-    for (int x = 0; x < w; ++x) {
-      const NfSurface& sf =
-          surfaces_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
-      if (!sf.valid) continue;
-      auto& b = boxes[static_cast<std::size_t>((y * tiles / h) * tiles + x * tiles / w)];
-      const glm::dvec3 p(sf.px, sf.py, sf.pz);
-      b.first = glm::min(b.first, p);
-      b.second = glm::max(b.second, p);
-    }
+  // One job per row of tiles (each writes its own boxes; min/max do not depend on the order).
+  if (culling_)
+    lum::parallel_for(tiles, 0, [&](int ty) {
+      for (int y = ty * h / tiles; y < h; ++y) {
+        if (y * tiles / h != ty) {
+          if (y * tiles / h > ty) break;
+          continue;
+        }
+        for (int x = 0; x < w; ++x) {
+          const NfSurface& sf =
+              surfaces_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+          if (!sf.valid) continue;
+          auto& b = boxes[static_cast<std::size_t>(ty * tiles + x * tiles / w)];
+          const glm::dvec3 p(sf.px, sf.py, sf.pz);
+          b.first = glm::min(b.first, p);
+          b.second = glm::max(b.second, p);
+        }
+      }
+    });
   for (std::size_t i = 0; i < shadow_maps_.size(); ++i) {
     const glm::dvec3 origin(full_specs_[i].to_world[3]);
     const bool far = far_distance_ > 0.0 && glm::length(origin - camera.position) > far_distance_;
