@@ -14,9 +14,14 @@ namespace nf::gl {
 
 GBuffer::GBuffer(int width, int height)
     : fb_(width, height, {GL_RGBA32F, GL_RGBA32F, GL_RGBA32F}, true),
-      program_(build_program("gbuffer.vert.glsl", "gbuffer.frag.glsl")) {}
+      program_(build_program("gbuffer.vert.glsl", "gbuffer.frag.glsl")) {
+  const auto bytes = static_cast<GLsizeiptr>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 16);
+  glCreateBuffers(3, pack_);
+  for (unsigned b : pack_) glNamedBufferData(b, bytes, nullptr, GL_STREAM_READ);
+}
 
 GBuffer::~GBuffer() {
+  glDeleteBuffers(3, pack_);
   if (program_) glDeleteProgram(program_);
 }
 
@@ -37,19 +42,19 @@ void GBuffer::render(const SceneGpu& scene, const scene::Camera& camera) {
 
 namespace {
 
-// Attachment `index` as RGBA floats in GL row order (row 0 = bottom).
-std::vector<float> read_raw(unsigned fbo, int index, int w, int h) {
-  std::vector<float> v(static_cast<std::size_t>(w) * h * 4);
+// Attachment `index` as RGBA floats in GL row order (row 0 = bottom) into pixel-pack buffer `pack`.
+void read_into(unsigned fbo, int index, unsigned pack, int w, int h) {
   glNamedFramebufferReadBuffer(fbo, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + index));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, pack);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, v.data());
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, nullptr);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  return v;
 }
 
 // Output pixel (x, y from the top) from GL row h - 1 - y of the three attachments.
-NfSurface convert_surface(const std::vector<float>& pos, const std::vector<float>& nrm, const std::vector<float>& mat,
+NfSurface convert_surface(const float* pos, const float* nrm, const float* mat,
                           const std::vector<scene::Material>& materials, const scene::Camera& camera, int w, int h,
                           std::size_t x, std::size_t y) {
   const std::size_t i = (static_cast<std::size_t>(h) - 1 - y) * static_cast<std::size_t>(w) + x;
@@ -95,8 +100,19 @@ NfSurface convert_surface(const std::vector<float>& pos, const std::vector<float
 std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>& materials,
                                               const scene::Camera& camera) const {
   const int w = width(), h = height();
-  const std::vector<float> pos = read_raw(fb_.id(), 0, w, h), nrm = read_raw(fb_.id(), 1, w, h),
-                           mat = read_raw(fb_.id(), 2, w, h);
+  const std::size_t bytes = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 16;
+  for (int k = 0; k < 3; ++k) read_into(fb_.id(), k, pack_[k], w, h);
+  const float* data[3] = {nullptr, nullptr, nullptr};
+  for (int k = 0; k < 3; ++k) {
+    data[k] = static_cast<const float*>(
+        glMapNamedBufferRange(pack_[k], 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT));
+    if (!data[k]) {
+      for (int j = 0; j < k; ++j) glUnmapNamedBuffer(pack_[j]);
+      fail(fmt::format("G-buffer read-back: mapping pixel-pack buffer {} failed (GL error 0x{:x})", k,
+                       static_cast<unsigned>(glGetError())));
+    }
+  }
+  const float *pos = data[0], *nrm = data[1], *mat = data[2];
   std::vector<NfSurface> out(static_cast<std::size_t>(w) * h);
   // Rows convert independently, each into its own slots, on every core: the per-pixel conversion in
   // double precision is host work that a moving camera pays every frame.
@@ -105,6 +121,7 @@ std::vector<NfSurface> GBuffer::read_surfaces(const std::vector<scene::Material>
     for (std::size_t x = 0; x < static_cast<std::size_t>(w); ++x)
       out[y * static_cast<std::size_t>(w) + x] = convert_surface(pos, nrm, mat, materials, camera, w, h, x, y);
   });
+  for (unsigned b : pack_) glUnmapNamedBuffer(b);
   return out;
 }
 
@@ -135,7 +152,8 @@ std::vector<MemoryItem> GBuffer::memory() const {
   return {{"gbuffer position (RGBA32F)", px * 16},
           {"gbuffer normal (RGBA32F)", px * 16},
           {"gbuffer material (RGBA32F)", px * 16},
-          {"gbuffer depth (D32F)", px * 4}};
+          {"gbuffer depth (D32F)", px * 4},
+          {"gbuffer read-back (3 pixel-pack buffers)", px * 48}};
 }
 
 }  // namespace nf::gl

@@ -1,7 +1,8 @@
 #pragma once
 // Step 0 G-buffer (Lu et al. 2015 §6.1): the scene's meshes rasterised from the camera into
 // three RGBA32F targets, read back and converted to NfSurface records for OpenCL (no GL/CL
-// sharing on PoCL: readback + upload).
+// sharing on PoCL, nor on NVIDIA's OpenCL with EGL: readback + upload). The read-back goes
+// through three pixel-pack buffers, mapped for the conversion (no copy into client memory).
 //
 //   attachment 0 "position": world position xyz (metres), w = material index + 1 (0: no surface)
 //   attachment 1 "normal":   unit world normal xyz, turned to the side the camera sees
@@ -55,6 +56,7 @@ class GBuffer {
  private:
   Framebuffer fb_;
   unsigned program_ = 0;
+  unsigned pack_[3] = {0, 0, 0};  // pixel-pack buffers, one per attachment (GL_STREAM_READ)
 };
 
 }  // namespace nf::gl
