@@ -263,7 +263,9 @@ void Renderer::remove_luminaire(std::size_t i) {
 // pass, the bitmasks follow the surfaces; only new instances' maps are rendered), the contributions
 // are rebuilt for the new count, and the accumulation restarts.
 void Renderer::instances_changed() {
-  make_contributions_now();
+  context_->make_current();
+  contributions_.clear();  // every contribution holds per-instance state: all made anew
+  update_contributions();
   warm_ = false;
   shadows_dirty_ = view_dirty_ = true;
   reset();
