@@ -115,7 +115,7 @@ std::string SamplingSettings::describe() const {
       search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure), spp,
       k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame, to_string(light_selection));
   if (effective_mis() != Mis::none) d += " mis=" + to_string(mis);
-  if (balance_estimate != BalanceEstimate::blocks) d += " balance_estimate=" + to_string(balance_estimate);
+  if (balance_estimate != BalanceEstimate::exact) d += " balance_estimate=" + to_string(balance_estimate);
   return d;
 }
 
