@@ -161,6 +161,7 @@ TEST(BlockBalance, KernelsComputeTheEstimate) {
   li.luminaire = &dl;
   for (auto st : {Structure::fused, Structure::per_image}) {
     SamplingSettings s;
+    s.balance_estimate = BalanceEstimate::blocks;  // opt-in (docs/sampling.md)
     s.spp = 1;
     s.structure = st;
     sampler.run(buf, static_cast<int>(pts.size()), {&li, 1}, s);
@@ -223,6 +224,7 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
   for (auto bal : {Balance::roulette, Balance::min1})
     for (auto st : {Structure::fused, Structure::per_image}) {
       SamplingSettings s;
+      s.balance_estimate = BalanceEstimate::blocks;  // opt-in (docs/sampling.md)
       s.sampler = SamplerKind::random;
       s.spp = 2;
       s.seed = 77;
