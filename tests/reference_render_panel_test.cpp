@@ -87,9 +87,9 @@ bool expected(const nf::scene::Scene& sc, bool occluder, int x, int y, double& o
 // of R carries the whole value, and a pixel's own sample variance is then too unreliable for a
 // per-pixel z (it underestimates when the sliver was hit rarely); the pooled sum over hundreds of
 // pixels is normal by the central limit theorem and the sample variances sum to an unbiased total.
-void check(bool occluder) {
+void check(bool occluder, nf::ref::MisHeuristic mis = nf::ref::MisHeuristic::none) {
   const auto sc = nf::reftest::scene_from(scene_text(occluder));
-  const auto r = nf::reftest::render(sc, 256);
+  const auto r = nf::reftest::render(sc, 256, 7, 0, nf::ref::Only::all, mis);
   const auto penumbra = [&](int x, int y, double e) {
     double free = 0;
     expected(sc, false, x, y, free);
@@ -119,6 +119,10 @@ void check(bool occluder) {
 
 TEST(ReferenceRenderPanel, LambertPlaneMatchesPolygonFormula) { check(false); }
 TEST(ReferenceRenderPanel, OccluderShadowMatchesClippedPolygon) { check(true); }
+// The reference's MIS of luminaire samples with BRDF (cosine) samples (docs/reference.md "MIS"):
+// the BRDF rays' visibility (the occluder) and their L(u -> s), against the same closed forms.
+TEST(ReferenceRenderPanel, MisPowerMatchesPolygonFormulaWithOccluder) { check(true, nf::ref::MisHeuristic::power); }
+TEST(ReferenceRenderPanel, MisBalanceMatchesPolygonFormula) { check(false, nf::ref::MisHeuristic::balance); }
 
 TEST(ReferenceRenderPanel, DeterministicForASeedWhateverTheThreads) {
   auto sc = nf::reftest::scene_from(scene_text(true));

@@ -21,8 +21,9 @@ inline scene::Scene scene_from(const std::string& json, const std::filesystem::p
 }
 
 inline ref::ReferenceResult render(const scene::Scene& s, int spp, std::uint64_t seed = 7, int bounces = 0,
-                                   ref::Only only = ref::Only::all) {
+                                   ref::Only only = ref::Only::all, ref::MisHeuristic mis = ref::MisHeuristic::none) {
   ref::ReferenceSettings set;
+  set.mis = mis;
   set.spp = spp;
   set.seed = seed;
   set.bounces = bounces;

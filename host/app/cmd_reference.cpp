@@ -84,6 +84,7 @@ ref::ReferenceSettings make_settings(const ReferenceCmd& o, const scene::Scene& 
   set.only = ref::parse_only(o.only);
   set.seed = o.seed;
   set.jitter = o.jitter;
+  set.mis = ref::parse_mis_heuristic(scene.render.mis);  // the registry's `mis` (scene file or --mis)
   set.threads = o.threads;
   set.progress = log::level() != log::Level::quiet;
   set.validate(scene.environment.has_value());  // before any heavy work
@@ -123,6 +124,7 @@ void run_reference_cmd(const ReferenceCmd& o) {
   set.only = ref::parse_only(o.only);
   set.seed = o.seed;
   set.jitter = o.jitter;
+  set.mis = ref::parse_mis_heuristic(scene.render.mis);  // the registry's `mis` (scene file or --mis)
   set.threads = o.threads;
   set.progress = log::level() != log::Level::quiet;
   set.validate(scene.environment.has_value());  // before any heavy work
@@ -182,8 +184,9 @@ const CommandRegistration reg("reference", [](CLI::App& app) {
   cmd->add_option("--tile", o.tile, "With --part: the pixels x,y,w,h (default: all)");
   cmd->add_option("--samples", o.samples, "With --part: the samples first,count of --spp (default: all)");
   cmd->add_flag("--jitter", o.jitter, "Jitter samples inside each pixel (default: pixel centres, as render)");
-  // the tone mapping of --png and the image size, the same options as render's (app/scene_overrides.h)
-  o.overrides.add_options(cmd, {"display"});
+  // the tone mapping of --png, the image size and --mis (MIS of the luminaire samples with BRDF
+  // samples, docs/reference.md), the same options as render's (app/scene_overrides.h)
+  o.overrides.add_options(cmd, {"display", "mis"});
   cmd->callback([] { run_reference_cmd(o); });
 });
 

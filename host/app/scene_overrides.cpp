@@ -12,7 +12,8 @@ namespace nf::app {
 
 void SceneOverrides::add_options(CLI::App* cmd, const std::vector<std::string>& groups) {
   for (const auto& decl : scene::settings_table())
-    if (groups.empty() || std::find(groups.begin(), groups.end(), decl.contribution) != groups.end())
+    if (groups.empty() || std::find(groups.begin(), groups.end(), decl.contribution) != groups.end() ||
+        std::find(groups.begin(), groups.end(), decl.name) != groups.end())
       given[decl.cli_name()] =
           cmd->add_option(decl.cli_name(), settings[decl.name], fmt::format("{} ({})", decl.doc, decl.range_text()));
   given["--width"] = cmd->add_option("--width", width, "Image width (alone: keeps the scene's aspect ratio)");

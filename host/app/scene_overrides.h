@@ -18,7 +18,8 @@ struct SceneOverrides {
   std::map<std::string, CLI::Option*> given;    // option name -> its CLI11 option
 
   // Adds --width, --height and the options of the declared settings in `groups` (registry groups,
-  // Setting::contribution; empty: every setting). `this` must outlive the parse.
+  // Setting::contribution, or single settings by name; empty: every setting). `this` must outlive
+  // the parse.
   void add_options(CLI::App* cmd, const std::vector<std::string>& groups = {});
   bool has(const std::string& option) const;
   // Applies what was given to the scene's render settings and camera; nf::Error names the option.

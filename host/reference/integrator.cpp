@@ -50,11 +50,9 @@ void ReferenceSettings::validate(bool has_environment) const {
 }
 
 std::vector<std::pair<std::string, std::string>> ReferenceSettings::attributes() const {
-  return {{"nearfield:reference_spp", std::to_string(spp)},
-          {"nearfield:reference_bounces", std::to_string(bounces)},
-          {"nearfield:reference_only", to_string(only)},
-          {"nearfield:reference_seed", std::to_string(seed)},
-          {"nearfield:reference_jitter", jitter ? "1" : "0"}};
+  return {{"nearfield:reference_spp", std::to_string(spp)},   {"nearfield:reference_bounces", std::to_string(bounces)},
+          {"nearfield:reference_only", to_string(only)},      {"nearfield:reference_seed", std::to_string(seed)},
+          {"nearfield:reference_jitter", jitter ? "1" : "0"}, {"nearfield:reference_mis", to_string(mis)}};
 }
 
 std::vector<std::uint8_t> ReferenceResult::valid_mask() const {
@@ -160,7 +158,12 @@ class Tracer {
       const dvec3 f = brdf_eval(sp.material, sp.ns, v, ls.direction);
       const double cos = glm::dot(sp.ns, ls.direction);
       if (!(cos > 0.0) || f == dvec3(0.0)) continue;
-      if (visible(sp, ls.direction, ls.distance, c)) sum += ls.weight * f * cos;
+      // MIS (reference/luminaire_mis.h): w_L = h(q_m, p_B) for the pair (m, w) this sample drew.
+      const double w = set_.mis == MisHeuristic::none
+                           ? 1.0
+                           : mis_weight(set_.mis, ls.pdf, brdf_pdf(sp.material, sp.ns, v, ls.direction));
+      if (!(w > 0.0)) continue;
+      if (visible(sp, ls.direction, ls.distance, c)) sum += ls.weight * f * (cos * w);
     }
     // Far-field point lights (reference/farfield_light.h): one deterministic shadow ray each.
     for (const auto& l : scene_.farfield_lights) {
@@ -171,6 +174,21 @@ class Tracer {
       const dvec3 f = brdf_eval(sp.material, sp.ns, v, s.w);
       if (f == dvec3(0.0)) continue;
       if (visible(sp, s.w, s.distance, c)) sum += f * l.colour * (s.intensity * cos / (s.distance * s.distance));
+    }
+    return sum;
+  }
+
+  // The BRDF sample's share of the luminaires (MIS, reference/luminaire_mis.h): for every instance
+  // and image m whose term the direction meets, w_B = h(p_B, q_m) times intensity x C_m Psi_m
+  // (what a camera ray sees), if no surface is nearer than the sampler's shadow-ray target (the
+  // same visibility as the light samples: hit.t vs distance - eps). Times f_r cos / p_B by the caller.
+  dvec3 luminaires_hit(const BrdfSample& bs, const RayHit& hit, const std::vector<LightTable>& tables) {
+    dvec3 sum(0.0);
+    for (std::size_t i = 0; i < lights_.size(); ++i) {
+      if (!light_hit(lights_[i], tables[i], bs.l, hit_)) continue;
+      if (hit.hit && hit.t < hit_.distance - eps_) continue;
+      for (std::size_t k = 0; k < hit_.images.size(); ++k)
+        sum += hit_.radiance[k] * mis_weight(set_.mis, bs.pdf, hit_.pdf[k]);
     }
     return sum;
   }
@@ -197,7 +215,9 @@ class Tracer {
     if (direct_lum)
       sum += luminaires(sp, v, rng, camera_level ? camera_tables_ : bounce_tables_, reuse && camera_level, c);
     if (direct_env) sum += environment_sample(sp, v, rng, c);
-    if (!direct_env && !bounce) return sum;
+    // One BRDF sample serves the environment's MIS, the luminaires' MIS and the bounce.
+    const bool lum_mis = direct_lum && set_.mis != MisHeuristic::none && !lights_.empty();
+    if (!direct_env && !bounce && !lum_mis) return sum;
     const double u0 = rng.next(), u1 = rng.next(), u2 = rng.next();
     const BrdfSample bs = brdf_sample(sp.material, sp.ns, v, u0, u1, u2);
     if (!(bs.pdf > 0.0) || !(glm::dot(sp.ng, bs.l) > 0.0)) return sum;
@@ -205,6 +225,7 @@ class Tracer {
     if (f == dvec3(0.0)) return sum;
     ++c.bounce;
     const RayHit hit = rays_.intersect(sp.p + sp.ng * eps_, bs.l, 0.0, std::numeric_limits<double>::infinity());
+    if (lum_mis) sum += f * luminaires_hit(bs, hit, camera_level ? camera_tables_ : bounce_tables_);
     if (!hit.hit) {
       if (direct_env) {
         const double pe = env_->pdf(bs.l);
@@ -225,6 +246,7 @@ class Tracer {
   const EnvironmentMap* env_;
   const ReferenceSettings& set_;
   std::vector<LightTable> camera_tables_, bounce_tables_;
+  LightHit hit_;  // reused by luminaires_hit
   CameraView view_;
   double eps_;
 };

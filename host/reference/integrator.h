@@ -4,6 +4,9 @@
 // jittered inside the pixel), Embree for every ray, and at the surface it hits
 //   - luminaires: one light-field sample per luminaire instance with a shadow ray (the paper's
 //     "ray-traced reference", Lu et al. 2015 Fig. 7; estimator in reference/light_field_light.h);
+//     with `mis` balance or power, combined with one BRDF sample per point by multiple importance
+//     sampling (reference/luminaire_mis.h): the BRDF ray that reaches a luminaire before any
+//     surface adds its L(u -> s) (as camera rays see it) with the BRDF sample's weight;
 //   - environment: multiple importance sampling (power heuristic) of one BRDF and one map sample,
 //     each with its shadow ray (reference/environment_map.h);
 //   - indirect (bounces = 1): the BRDF-sampled ray that hits a surface y carries y's direct light
@@ -18,6 +21,7 @@
 #include "core/image.h"
 #include "reference/environment_map.h"
 #include "reference/light_field_light.h"
+#include "reference/luminaire_mis.h"
 #include "reference/sample_sums.h"
 #include "scene/scene.h"
 
@@ -32,7 +36,9 @@ struct ReferenceSettings {
   int bounces = 0;  // 0: direct light; 1: plus one bounce of indirect light
   Only only = Only::all;
   std::uint64_t seed = 1;
-  bool jitter = false;   // false: every sample through the pixel centre (as render)
+  bool jitter = false;  // false: every sample through the pixel centre (as render)
+  // Luminaire light samples alone (none) or combined with BRDF samples (the registry's `mis`).
+  MisHeuristic mis = MisHeuristic::none;
   unsigned threads = 0;  // 0 = hardware concurrency
   bool progress = true;  // progress bar on stderr for runs over a second
   // Throws nf::Error naming the bad value (with `has_environment`: whether the scene has one).

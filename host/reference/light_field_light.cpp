@@ -58,7 +58,7 @@ double pixel_luminance(const lum::Luminaire& l, int m, int col, int row) {
   return l.channels == 1 ? c.x : 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
 
-LightSample finish(const LightFieldLight& light, dvec3 p, dvec3 target, dvec3 weight) {
+LightSample finish(const LightFieldLight& light, dvec3 p, dvec3 target, dvec3 weight, double pdf) {
   LightSample out;
   const dvec3 d = target - p;
   const double dist = glm::length(d);
@@ -70,6 +70,7 @@ LightSample finish(const LightFieldLight& light, dvec3 p, dvec3 target, dvec3 we
   out.direction = glm::normalize(w);
   out.distance = dist;
   out.weight = weight * light.intensity;
+  out.pdf = pdf;
   return out;
 }
 
@@ -104,7 +105,7 @@ LightSample sample_s_plane(const LightFieldLight& light, const LightTable& t, in
   const double dist = glm::length(s3 - p);
   const double jac = std::abs(p.z) / (dist * dist * dist);  // dw/ds
   const dvec3 radiance = pixel_value(l, m, col, row) * (phi * psi_factor(l, s, u));
-  return finish(light, p, p.z > 0.0 ? s3 : u3, radiance * (jac * t.total / y));
+  return finish(light, p, p.z > 0.0 ? s3 : u3, radiance * (jac * t.total / y), y / (t.total * jac));
 }
 
 LightSample sample_u_plane(const LightFieldLight& light, const LightTable& t, int m, double weight, double u1,
@@ -121,7 +122,7 @@ LightSample sample_u_plane(const LightFieldLight& light, const LightTable& t, in
   const double jac = (l.delta + p.z) / (dist * dist * dist);  // dw/du
   const double pdf = weight / t.total / sup.area();
   const dvec3 radiance = pixel_value(l, m, px.x, px.y) * (lum::basis_value(l.basis, m, u) * psi_factor(l, s, u));
-  return finish(light, p, p.z > 0.0 ? s3 : u3, radiance * (jac / pdf));
+  return finish(light, p, p.z > 0.0 ? s3 : u3, radiance * (jac / pdf), pdf / jac);
 }
 
 }  // namespace
@@ -157,6 +158,7 @@ void build_table(const LightFieldLight& light, dvec3 p_world, LightTable& t) {
   t.p = dvec3(light.to_local * glm::dvec4(p_world, 1.0));
   t.cdf.clear();
   t.images.clear();
+  t.weight.assign(static_cast<std::size_t>(l.num_images()), 0.0);
   t.total = 0.0;
   t.form = LightTable::Form::none;
   if (!(t.p.z > -l.delta) || !std::isfinite(t.p.x + t.p.y + t.p.z) || !(light.intensity > 0.0)) return;
@@ -168,6 +170,7 @@ void build_table(const LightFieldLight& light, dvec3 p_world, LightTable& t) {
       const double am = lum::box_luminance_integral(*light.precomputed, m, box);
       if (!(am > 0.0)) continue;
       t.total += am;
+      t.weight[static_cast<std::size_t>(m)] = am;
       t.cdf.push_back(t.total);
       t.images.push_back(m);
     }
@@ -184,6 +187,7 @@ void build_table(const LightFieldLight& light, dvec3 p_world, LightTable& t) {
   for (int m = 0; m < count; ++m) {
     const double w = 0.5 / count + (ysum > 0.0 ? 0.5 * y[static_cast<std::size_t>(m)] / ysum : 0.5 / count);
     t.total += w;
+    t.weight[static_cast<std::size_t>(m)] = w;
     t.cdf.push_back(t.total);
     t.images.push_back(m);
   }
@@ -199,6 +203,55 @@ LightSample sample_light(const LightFieldLight& light, const LightTable& t, doub
   if (!(weight > 0.0)) return {};
   if (t.form == LightTable::Form::s_plane) return sample_s_plane(light, t, t.images[k], u1, u2);
   return sample_u_plane(light, t, t.images[k], weight, u1, u2);
+}
+
+bool light_hit(const LightFieldLight& light, const LightTable& t, dvec3 direction_world, LightHit& hit) {
+  hit.images.clear();
+  hit.pdf.clear();
+  hit.radiance.clear();
+  hit.distance = 0.0;
+  if (t.form == LightTable::Form::none || !(t.total > 0.0)) return false;
+  const lum::Luminaire& l = *light.luminaire;
+  const dvec3 d = glm::dmat3(light.to_local) * direction_world;  // rigid: still unit
+  if (!(d.z < 0.0)) return false;
+  const dvec3 p = t.p;
+  const double ts = p.z / -d.z;                                 // s = p + ts d (ts < 0 between the planes)
+  const double rs = std::abs(ts), ru = (l.delta + p.z) / -d.z;  // distances to S and U
+  const dvec2 s(p.x + ts * d.x, p.y + ts * d.y), u(p.x + ru * d.x, p.y + ru * d.y);
+  if (!std::isfinite(s.x + s.y + u.x + u.y)) return false;
+  hit.distance = p.z > 0.0 ? rs : ru;
+  const lum::Basis& b = l.basis;
+  const double gx = (u.x - b.origin.x) / b.cell.x, gy = (u.y - b.origin.y) / b.cell.y;
+  const int n = b.support();
+  // supp Phi_(i,j) = o + [i, i + n] x [j, j + n] cells: i in [gx - n, gx].
+  const int i0 = std::max(0, static_cast<int>(std::floor(gx)) - n),
+            i1 = std::min(b.count[0] - 1, static_cast<int>(std::floor(gx)));
+  const int j0 = std::max(0, static_cast<int>(std::floor(gy)) - n),
+            j1 = std::min(b.count[1] - 1, static_cast<int>(std::floor(gy)));
+  const glm::ivec2 px = lum::pixel_of(l.image, s);
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const int m = j * b.count[0] + i;
+      const double w = t.weight[static_cast<std::size_t>(m)];
+      if (!(w > 0.0)) continue;
+      const lum::Rect sup = lum::support_rect(b, m);
+      if (!(u.x >= sup.lo.x && u.x <= sup.hi.x && u.y >= sup.lo.y && u.y <= sup.hi.y)) continue;
+      double q = 0.0;
+      if (t.form == LightTable::Form::s_plane) {
+        if (px.x < 0 || px.y < 0) continue;  // s outside the image: not in B_m(p), and no light
+        const double y = static_cast<double>(lum::sat_box_sum(*light.precomputed, m, px.x, px.x + 1, px.y, px.y + 1)) *
+                         static_cast<double>(light.precomputed->quantum[static_cast<std::size_t>(m)]);
+        q = std::max(0.0, y) / t.total * rs * rs * rs / std::abs(p.z);
+      } else {
+        q = w / t.total / sup.area() * ru * ru * ru / (l.delta + p.z);
+      }
+      const dvec3 rad = light.intensity * image_radiance(l, m, s, u);
+      if (!(q > 0.0) && rad == dvec3(0.0)) continue;
+      hit.images.push_back(m);
+      hit.pdf.push_back(q);
+      hit.radiance.push_back(rad);
+    }
+  return !hit.images.empty();
 }
 
 double camera_sees(const LightFieldLight& light, dvec3 origin, dvec3 direction, dvec3& radiance) {

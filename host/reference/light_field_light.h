@@ -48,22 +48,43 @@ struct LightFieldLight {
 // Per shading point: the image-selection table, built once per point and reused by its samples.
 struct LightTable {
   enum class Form { none, s_plane, u_plane } form = Form::none;
-  glm::dvec3 p{0.0};        // luminaire-local point
-  std::vector<double> cdf;  // cumulative selection weights per image (last = total)
-  std::vector<int> images;  // the image of each cdf entry
-  double total = 0.0;       // S: A(p) (Y m^2); U: sum of weights
+  glm::dvec3 p{0.0};           // luminaire-local point
+  std::vector<double> cdf;     // cumulative selection weights per image (last = total)
+  std::vector<int> images;     // the image of each cdf entry
+  std::vector<double> weight;  // per image m (all M): its selection weight (S: A_m(p), U: as cdf), 0 if never drawn
+  double total = 0.0;          // S: A(p) (Y m^2); U: sum of weights
 };
 void build_table(const LightFieldLight& light, glm::dvec3 p_world, LightTable& table);
 
 // One sample: direction (world, unit, towards the light), distance to the emitter along it, and
-// the RGB weight L / pdf (to be multiplied by f_r cos V). `valid` false: contributes nothing.
+// the RGB weight L / pdf (to be multiplied by f_r cos V), and pdf: the density (1/sr) with which
+// the sampler drew this (image, direction) pair (the weight's denominator; for MIS).
+// `valid` false: contributes nothing.
 struct LightSample {
   bool valid = false;
   glm::dvec3 direction{0.0};
   double distance = 0.0;
   glm::dvec3 weight{0.0};
+  double pdf = 0.0;
 };
 LightSample sample_light(const LightFieldLight& light, const LightTable& table, double u0, double u1, double u2);
+
+// The light sampler seen from a direction (for MIS with BRDF samples, reference/luminaire_mis.h):
+// where the line from the table's point along w (world, unit) meets the emitter and, for every
+// image m whose term can be non-zero there, the density q_m(w) (1/sr) with which sample_light draws
+// the pair (m, w) and the radiance intensity x C_m(s) Psi_m(u -> s) of that image (camera rays see
+// the sum over m). With s, u the line's points on S and U (r_s = |z| / |w_z|, r_u = (delta + z) / |w_z|):
+//   S form: q_m = [s in B_m(p)] Y_m(s) / A(p) * r_s^3 / |z|        (dw = |z| ds / r_s^3)
+//   U form: q_m = [u in supp Phi_m] (w_m / sum w) / area(supp) * r_u^3 / (delta + z)
+// The distance is that of the sampler's shadow ray: to s above S, to u between the planes.
+// Returns false (and no images) when w does not go towards the planes or meets no support.
+struct LightHit {
+  double distance = 0.0;
+  std::vector<int> images;
+  std::vector<double> pdf;
+  std::vector<glm::dvec3> radiance;
+};
+bool light_hit(const LightFieldLight& light, const LightTable& table, glm::dvec3 direction_world, LightHit& hit);
 
 // A camera ray (world) meeting the instance: as `render`'s luminaire view (docs/rendering.md): the
 // ray travels towards -z local, crosses S at t_S > 0 inside the image rectangle and U at t_U
