@@ -153,7 +153,8 @@ std::vector<Setting> declare() {
           "mis", "mis", {"none", "balance", "power"}, "luminaires", R,
           "multiple importance sampling of the light-field samples with BRDF samples on glossy surfaces "
           "(ggx, kurt: up to K more directions per pixel, fewer for rough GGX): none, balance or power heuristic "
-          "(docs/mis.md)",
+          "(docs/mis.md); nearfield reference (--mis): its own MIS, one BRDF sample per surface point "
+          "(docs/reference.md)",
           [](auto& r) -> auto& { return r.mis; }),
       choice(
           "visibility", "visibility", {"none", "shadowmaps"}, "frame", S0,
