@@ -520,7 +520,8 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
                         int2 cam_wh, __global float4* out, __global const float4* fpyr, __global const int4* flv,
                         int flevels, __global const NfKurtMaterial* kurt, int kurt_count,
                         __global const float4* vis16, __global const float4* lsh16, __global const float4* rpat,
-                        __global const float4* rlob, float reps, float rk) {
+                        __global const float4* rlob, float reps, float rk, __global const float4* shl,
+                        int shl_count) {
   const int p = get_global_id(0);
   if (p >= count) return;
   const EnvMap m = {pyr, lv, levels, rot, fpyr, flv, flevels};
@@ -587,7 +588,12 @@ __kernel void env_shade(__global const NfSurface* surfaces, int count, __global 
   /* sum_k L_k (V cos)_k, clamped to [0, E(n)] */
   lo += wd * (1.0f / NF_PI) * nf_env_vis_irradiance(lsh16, vis16 + 4 * p, nf_sh9_irradiance(sh, n));
 #else
-  lo += wd * (1.0f / NF_PI) * fmax(nf_sh9_irradiance(sh, n), (float3)(0.0f));
+  /* the map's brightest blocks as directional lights (flux Phi_B, direction d_B: shl[2B], shl[2B+1]),
+     the SH holding the rest (docs/environment.md, "Small bright lights"; render/env_sh_lights.h):
+     E(n) = sum A_l L'_lm Y_lm(n) + sum_B Phi_B max(n.d_B, 0) */
+  float3 e = fmax(nf_sh9_irradiance(sh, n), (float3)(0.0f));
+  for (int b = 0; b < shl_count; ++b) e += shl[2 * b + 1].xyz * fmax(dot(n, shl[2 * b].xyz), 0.0f);
+  lo += wd * (1.0f / NF_PI) * e;
 #endif
 #else
   /* cosine sampling, p = (n.l) / pi: f_d (n.l) / p = w_d (with F at v.h for GGX) */

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include <fmt/format.h>
@@ -102,11 +103,20 @@ TEST(EnvironmentHorizon, LambertPlaneDiffuse) {
   const Stats mc = stats(nf::envtest::shade(env, s, rs));
   std::printf("exact %.6f  mc %.6f +- %.6f (%+.3f %%)\n", want, mc.mean, mc.se, 100 * (mc.mean / want - 1));
   rs.env_diffuse = "sh";
+  const Stats lights = stats(nf::envtest::shade(env, s, rs));  // default: the brightest blocks as lights
+  setenv("NEARFIELD_ENV_SH_LIGHTS", "0", 1);                   // the order-2 SH alone
   const Stats sh = stats(nf::envtest::shade(env, s, rs));
+  unsetenv("NEARFIELD_ENV_SH_LIGHTS");
   const double want_sh = rho * sh_irradiance_up() / kPi;
-  std::printf("sh %.6f, its order-2 value %.6f (%+.3f %% from exact)\n", sh.mean, want_sh, 100 * (want_sh / want - 1));
+  std::printf("sh %.6f, its order-2 value %.6f (%+.3f %% from exact); with the lights %+.3f %%\n", sh.mean, want_sh,
+              100 * (want_sh / want - 1), 100 * (lights.mean / want - 1));
   EXPECT_LT(std::abs(mc.mean - want), 4.5 * mc.se);
   EXPECT_NEAR(sh.mean, want_sh, 1e-4 * want_sh);
+  // the default takes the 64 brightest texels of the band (384 texels) out as lights; the SH of
+  // the rest (a band with gaps) is still far off (+40 % measured against +52 %): what is required
+  // is that the lights do not make it worse (docs/environment.md, "Small bright lights": a band
+  // this long needs more lights than the default)
+  EXPECT_LE(std::abs(lights.mean - want), std::abs(sh.mean - want));
 }
 
 // env_diffuse sh with the pre-integrated diffuse Fresnel (kernels/common/diffuse_fresnel.h): under

@@ -280,6 +280,8 @@ void EnvironmentContribution::build() {
   for (const auto& s : sh_)
     shf.push_back(cl_float4{{static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z), 0}});
   sh_buf_ = cl::upload(rt_, shf, "uploading the environment SH coefficients");
+  sh_lights_ = brightest_blocks(map_, 256);
+  shl_count_ = -1;
   if (param_ == "paraboloid") build_paraboloid();
   build_ms_ = timer.ms();
 }
@@ -571,15 +573,36 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
     wh = cl_int2{{c.width, c.height}};
   }
   const bool par = param_ == "paraboloid";
+  // sh diffuse without SH visibility: the brightest blocks as lights, the SH without them
+  const int shl = d.env_diffuse == "sh" && d.env_visibility != "sh"
+                      ? std::min(sh_light_count(), static_cast<int>(sh_lights_.size()))
+                      : 0;
+  if (shl != shl_count_) {
+    std::vector<cl_float4> sf, lf;
+    for (const auto& s : residual_sh(sh_, sh_lights_, shl))
+      sf.push_back(cl_float4{{static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z), 0}});
+    for (int i = 0; i < shl; ++i) {
+      const ShLight& l = sh_lights_[static_cast<std::size_t>(i)];
+      lf.push_back(
+          cl_float4{{static_cast<float>(l.dir.x), static_cast<float>(l.dir.y), static_cast<float>(l.dir.z), 0}});
+      lf.push_back(
+          cl_float4{{static_cast<float>(l.flux.x), static_cast<float>(l.flux.y), static_cast<float>(l.flux.z), 0}});
+    }
+    if (lf.empty()) lf.push_back(cl_float4{{0, 0, 0, 0}});
+    shr_buf_ = cl::upload(rt_, sf, "uploading the environment SH without its lights");
+    shl_buf_ = cl::upload(rt_, lf, "uploading the environment SH lights");
+    shl_count_ = shl;
+  }
   // regular's patterns; any valid buffer otherwise (the kernel reads them only with NF_ENV_GLOSSY 5)
   const bool regular = regular_bytes_ > 0;
   shade_.bind(in.surfaces, in.count, pyr_, lv_, levels(),
-              cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}}, sh_buf_,
+              cl_float2{{static_cast<float>(map_.rotation_cos()), static_cast<float>(map_.rotation_sin())}}, shr_buf_,
               rows_, cols_, puv_, d.env_samples, static_cast<float>(resolved_k(d.env_k, filter_)),
               static_cast<cl_uint>(in.frame), static_cast<cl_uint>(d.seed), cf, cr, cu, wh, out_, par ? ppyr_ : pyr_,
               par ? plv_ : lv_, par ? paraboloid_levels() : levels(), kurt_, kurt_count_, *vis.coeffs, *vis.lsh,
               regular ? rpat_ : pyr_, regular ? rlob_ : pyr_, static_cast<float>(d.env_regular_eps),
-              static_cast<float>(d.env_k > 0.0 ? d.env_k : 1.0));  // regular: no per-filter K
+              static_cast<float>(d.env_k > 0.0 ? d.env_k : 1.0),  // regular: no per-filter K
+              shl_buf_, shl_count_);
   const ::cl::Event ev = rt_.launch(shade_.get(), ::cl::NDRange(static_cast<std::size_t>(std::max(in.count, 1))));
   cl::call([&] { ev.wait(); }, "environment kernel");
   f.step2_ms += cl::Runtime::event_ms(ev);
@@ -595,7 +618,7 @@ std::size_t EnvironmentContribution::device_bytes() const {
   std::size_t local = 0;
   for (const auto& l : locals_)
     if (l->env) local += l->env->device_bytes() + (l->any ? local_surface_bytes(l->pixels.size()) : 0);
-  return pyr_bytes_ + ppyr_bytes_ + table_bytes_ + out_bytes_ + 9 * 16 +
+  return pyr_bytes_ + ppyr_bytes_ + table_bytes_ + out_bytes_ + 2 * 9 * 16 + 32 * std::max(shl_count_, 1) +
          kurt_table_bytes(static_cast<std::size_t>(kurt_count_)) + vis_.device_bytes() + local + regular_bytes_;
 }
 

@@ -15,6 +15,7 @@
 #include "kernels/shared/kurt.h"
 #include "reference/environment_map.h"
 #include "render/contribution.h"
+#include "render/env_sh_lights.h"
 #include "render/env_visibility.h"
 #include "render/environment_kernels.h"
 
@@ -128,6 +129,9 @@ class EnvironmentContribution final : public Contribution {
   int kurt_count_ = 0;
   std::size_t pyr_bytes_ = 0, table_bytes_ = 0, out_bytes_ = 0, ppyr_bytes_ = 0;
   std::array<glm::dvec3, 9> sh_{};
+  std::vector<ShLight> sh_lights_;  // the brightest blocks, by decreasing flux (render/env_sh_lights.h)
+  int shl_count_ = -1;              // lights in shl_buf_; shr_buf_: the SH without them
+  ::cl::Buffer shr_buf_, shl_buf_;
   double build_ms_ = 0.0, pyramid_ms_ = 0.0, paraboloid_ms_ = 0.0;
   bool build_reported_ = false;
   std::string options_;

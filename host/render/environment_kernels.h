@@ -20,9 +20,9 @@ using IntegralDebug = cl::TypedKernel<Buf, Buf, cl_int, Buf, cl_int, cl_float, B
 using SampleDebug = cl::TypedKernel<Buf, Buf, Buf, Buf, cl_float2, cl_uint, cl_int, Buf>;
 // env_shade(surfaces, count, pyr, lv, levels, rot, sh, rows, cols, puv,
 //           n_samples, k_bias, frame, seed, cam_f, cam_r, cam_u, cam_wh, out,
-//           fpyr, flv, flevels, kurt, kurt_count, vis16, lsh16, rpat, rlob, reps, rk)
+//           fpyr, flv, flevels, kurt, kurt_count, vis16, lsh16, rpat, rlob, reps, rk, shl, shl_count)
 using Shade = cl::TypedKernel<Buf, cl_int, Buf, Buf, cl_int, cl_float2, Buf, Buf, Buf, Buf,                       //
                               cl_int, cl_float, cl_uint, cl_uint, cl_float4, cl_float4, cl_float4, cl_int2, Buf,  //
-                              Buf, Buf, cl_int, Buf, cl_int, Buf, Buf, Buf, Buf, cl_float, cl_float>;
+                              Buf, Buf, cl_int, Buf, cl_int, Buf, Buf, Buf, Buf, cl_float, cl_float, Buf, cl_int>;
 
 }  // namespace nf::render::env_kernels
