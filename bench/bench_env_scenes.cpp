@@ -172,18 +172,14 @@ bool in_list(const std::string& list, const std::string& name) {
   return list.empty() || ("," + list + ",").find("," + name + ",") != std::string::npos;
 }
 
-// The light count of env_diffuse sh (render/env_sh_lights.h): -1 the default, else the
-// development override NEARFIELD_ENV_SH_LIGHTS (read at every frame).
-void sh_lights(int count) {
-  if (count < 0)
-    unsetenv("NEARFIELD_ENV_SH_LIGHTS");
-  else
-    setenv("NEARFIELD_ENV_SH_LIGHTS", std::to_string(count).c_str(), 1);
+// The light count of env_diffuse sh: -1 the declared default, else env_sh_lights.
+void sh_lights(nf::scene::RenderSettings& d, int count) {
+  d.env_sh_lights = count < 0 ? nf::scene::RenderSettings{}.env_sh_lights : count;
 }
 
 struct Method {
   std::string label, glossy, kernel, diffuse = "sh";
-  int sh_lights = -1;  // NEARFIELD_ENV_SH_LIGHTS; -1: the default (unset)
+  int sh_lights = -1;  // env_sh_lights; -1: the default
 };
 
 // Glossy methods (with the default `sh` diffuse), then the unbiased pair (`mc` diffuse and glossy).
@@ -220,7 +216,6 @@ void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::
       ref.from_cache ? "cached, rendered in " : "", ref.result.stats.render_ms / 1000.0, noise, 100.0 * se));
   const nf::bench::ReferenceImage cmp(ref.result.image, ref.result.valid_mask(), scene.render.tonemap);
   nf::render::Renderer renderer(scene, {});
-  sh_lights(-1);  // each target starts with the default (a method may have set the override)
   auto frame = [&](const std::string& label, auto&& configure, int n, int nv) {
     nf::render::FrameSettings f = renderer.settings();
     configure(f.declared);
@@ -233,7 +228,8 @@ void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::
     const nf::scene::RenderSettings& now = renderer.settings().declared;
     row.is_default = now.env_glossy == defaults.env_glossy && now.env_kernel == defaults.env_kernel &&
                      now.env_diffuse == defaults.env_diffuse && now.env_samples == defaults.env_samples &&
-                     now.env_visibility == defaults.env_visibility && !std::getenv("NEARFIELD_ENV_SH_LIGHTS");
+                     now.env_visibility == defaults.env_visibility &&
+                     now.env_sh_lights == defaults.env_sh_lights;
     std::printf("%-10s %-26s %-17s N %4d Nv %3d  dE %7.3f  relMSE %.3e  bias %+.4f  %7.1f ms%s\n", t.name.c_str(),
                 t.hdri.c_str(), label.c_str(), n, nv, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.ms,
                 row.is_default ? "  (defaults)" : "");
@@ -260,7 +256,7 @@ void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::
                              Diffuse{"diffuse-sh sh-lights-0", "sh", 0}}) {
       warm_up([&](nf::scene::RenderSettings& d) {
         d.env_diffuse = m.diffuse;
-        sh_lights(m.sh_lights);
+        sh_lights(d, m.sh_lights);
       });
       // sh has no samples: one frame at the default N
       for (int n : m.diffuse == std::string("sh") ? std::vector<int>{defaults.env_samples} : parse_list<int>(o.samples))
@@ -269,7 +265,7 @@ void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::
             [&](nf::scene::RenderSettings& d) {
               d.env_diffuse = m.diffuse;
               d.env_samples = n;
-              sh_lights(m.sh_lights);
+              sh_lights(d, m.sh_lights);
             },
             n, 0);
     }
@@ -308,7 +304,7 @@ void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::
       d.env_kernel = m.kernel;
       d.env_diffuse = m.diffuse;
       d.env_samples = 1;
-      sh_lights(shl);
+      sh_lights(d, shl);
     });
     for (int n : parse_list<int>(o.samples))
       frame(
@@ -318,7 +314,7 @@ void run_target(const Target& t, const Options& o, std::vector<Row>& rows, std::
             d.env_kernel = m.kernel;
             d.env_diffuse = m.diffuse;
             d.env_samples = n;
-            sh_lights(shl);
+            sh_lights(d, shl);
           },
           n, 0);
   }

@@ -4,7 +4,7 @@
 Reads RESULTS_DIR/environment_scenes.csv (written by bench_env_scenes; default bench/results) and
 writes RESULTS_DIR/environment_sh_lights.md: for the glossy floor (fis, N = 32, sh diffuse) and
 the Lambert floor (sh diffuse), the relative bias of the total light against the reference with
-the SH alone (the `sh-lights-0` rows: NEARFIELD_ENV_SH_LIGHTS=0, the behaviour before) and with
+the SH alone (the `sh-lights-0` rows: env_sh_lights 0, the behaviour before) and with
 the default 64 lights, the reference's standard error beside them, and the rel. MSE of both.
 Usage: bench/env_sh_lights_table.py [RESULTS_DIR]
 """
@@ -33,7 +33,7 @@ def main():
         "",
         "From environment_scenes.csv (bench_env_scenes; machine, load and references in "
         "environment_scenes.md). N = 32, fis glossy, sh diffuse, one frame; before = "
-        "NEARFIELD_ENV_SH_LIGHTS=0 in the same run. Written by bench/env_sh_lights_table.py.",
+        "env_sh_lights 0 in the same run. Written by bench/env_sh_lights_table.py.",
         "",
         "| target | HDRI | roughness | bias before | bias after | reference s.e. | rel. MSE before | after |",
         "|---|---|---|---|---|---|---|---|",

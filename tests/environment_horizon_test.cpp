@@ -104,9 +104,8 @@ TEST(EnvironmentHorizon, LambertPlaneDiffuse) {
   std::printf("exact %.6f  mc %.6f +- %.6f (%+.3f %%)\n", want, mc.mean, mc.se, 100 * (mc.mean / want - 1));
   rs.env_diffuse = "sh";
   const Stats lights = stats(nf::envtest::shade(env, s, rs));  // default: the brightest blocks as lights
-  setenv("NEARFIELD_ENV_SH_LIGHTS", "0", 1);                   // the order-2 SH alone
+  rs.env_sh_lights = 0;                                        // the order-2 SH alone
   const Stats sh = stats(nf::envtest::shade(env, s, rs));
-  unsetenv("NEARFIELD_ENV_SH_LIGHTS");
   const double want_sh = rho * sh_irradiance_up() / kPi;
   std::printf("sh %.6f, its order-2 value %.6f (%+.3f %% from exact); with the lights %+.3f %%\n", sh.mean, want_sh,
               100 * (want_sh / want - 1), 100 * (lights.mean / want - 1));

@@ -10,9 +10,9 @@
 //    centre is at least 5 degrees from every test normal's horizon, checked below), the sky blocks
 //    that are also taken out (64 blocks in all) are as exact, and the SH of the rest is exact for a
 //    linear sky; so 1.5 % leaves room for the float SH and the blocks of sky at the horizons. With
-//    the order-2 SH alone (NEARFIELD_ENV_SH_LIGHTS=0, the behaviour before) these lamps give errors of
+//    the order-2 SH alone (env_sh_lights 0, the behaviour before) these lamps give errors of
 //    10-80 % (printed); the test fails there.
-//  - With NEARFIELD_ENV_SH_LIGHTS=0 the result still equals the order-2 value (the same map's SH, computed here in
+//  - With env_sh_lights 0 the result still equals the order-2 value (the same map's SH, computed here in
 //  double).
 #include <gtest/gtest.h>
 
@@ -123,11 +123,9 @@ TEST(EnvironmentShLights, LambertAgainstQuadrature) {
   std::vector<NfSurface> s;
   for (const dvec3& n : ns) s.push_back(nf::envtest::surface(n, n, NF_BRDF_LAMBERT, 1.0, 0.0, dvec3(rho)));
   nf::scene::RenderSettings rs;  // defaults: env_diffuse sh (64 lights)
-  unsetenv("NEARFIELD_ENV_SH_LIGHTS");
   const auto got = nf::envtest::shade(env, s, rs);
-  setenv("NEARFIELD_ENV_SH_LIGHTS", "0", 1);  // the order-2 SH alone
+  rs.env_sh_lights = 0;  // the order-2 SH alone
   const auto sh_only = nf::envtest::shade(env, s, rs);
-  unsetenv("NEARFIELD_ENV_SH_LIGHTS");
   double worst = 0, worst_sh = 0;
   for (std::size_t i = 0; i < ns.size(); ++i) {
     const double want = rho / kPi * irradiance(map, ns[i]);

@@ -2,12 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <string>
-
-#include <fmt/format.h>
-
-#include "core/error.h"
 
 namespace nf::render {
 
@@ -33,16 +27,6 @@ std::array<double, 9> sh9(glm::dvec3 d) {
 double luminance(glm::dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 }  // namespace
-
-int sh_light_count() {
-  const char* e = std::getenv("NEARFIELD_ENV_SH_LIGHTS");
-  if (!e || !*e) return 64;
-  char* end = nullptr;
-  const long v = std::strtol(e, &end, 10);
-  if (*end != '\0' || v < 0 || v > 256)
-    nf::fail(fmt::format("NEARFIELD_ENV_SH_LIGHTS={}: not an integer in 0..256", e));
-  return static_cast<int>(v);
-}
 
 std::vector<ShLight> brightest_blocks(const ref::EnvironmentMap& map, int max_count) {
   const int w = map.width(), h = map.height();

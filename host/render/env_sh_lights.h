@@ -27,10 +27,6 @@ struct ShLight {
 // texels are too large for a point approximation).
 std::vector<ShLight> brightest_blocks(const ref::EnvironmentMap& map, int max_count);
 
-// How many lights env_diffuse sh uses: 64, or NEARFIELD_ENV_SH_LIGHTS (0..256) when set, a
-// development override for before/after measurements (0: the order-2 SH alone, as before).
-int sh_light_count();
-
 // The SH coefficients with the first `count` lights' point projections Phi_B Y_lm(d_B) removed.
 std::array<glm::dvec3, 9> residual_sh(const std::array<glm::dvec3, 9>& sh, const std::vector<ShLight>& lights,
                                       int count);

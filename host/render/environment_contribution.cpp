@@ -575,7 +575,7 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
   const bool par = param_ == "paraboloid";
   // sh diffuse without SH visibility: the brightest blocks as lights, the SH without them
   const int shl = d.env_diffuse == "sh" && d.env_visibility != "sh"
-                      ? std::min(sh_light_count(), static_cast<int>(sh_lights_.size()))
+                      ? std::min(d.env_sh_lights, static_cast<int>(sh_lights_.size()))
                       : 0;
   if (shl != shl_count_) {
     std::vector<cl_float4> sf, lf;

@@ -239,6 +239,11 @@ std::vector<Setting> declare() {
           "env_diffuse", "env_diffuse", {"sh", "mc"}, "environment", R,
           "environment diffuse term: order-2 SH irradiance or cosine-sampled Monte Carlo",
           [](auto& r) -> auto& { return r.env_diffuse; }),
+      integer(
+          "env_sh_lights", "env_sh_lights", 0, 256, "environment", R,
+          "env_diffuse sh: the map's brightest blocks (at most 2.8 degrees) taken out of the order-2 SH and shaded "
+          "as directional lights; 0 = the SH alone (docs/environment.md)",
+          [](auto& r) -> auto& { return r.env_sh_lights; }),
       choice(
           "env_background", "env_background", {"show", "hide"}, "environment", R,
           "camera rays that miss the geometry see the environment (show) or black (hide)",

@@ -51,6 +51,7 @@ struct RenderSettings {
   std::string env_filter = "box";       // box | gauss4 | gauss6 (pyramid filter)
   std::string env_param = "latlong";    // latlong | paraboloid (filtered pyramid's parametrisation)
   std::string env_diffuse = "sh";       // sh | mc
+  int env_sh_lights = 64;               // brightest map blocks taken out of the SH as lights, 0..256
   std::string env_background = "show";  // show | hide
   std::string env_visibility = "none";  // none | sh (Krivanek and Colbert 2008 §5.2, docs/env_visibility.md)
   int env_visibility_samples = 16;      // N_v, shadow-map directions of the SH visibility, 1..256
