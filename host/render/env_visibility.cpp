@@ -80,7 +80,8 @@ void EnvVisibility::project(const ref::EnvironmentMap& map, const ::cl::Buffer& 
 }
 
 void EnvVisibility::prepare(const FrameInputs& in) {
-  if (scene::choice_value<scene::EnvVisibilityKind>(in.settings.declared.env_visibility) != scene::EnvVisibilityKind::sh)
+  if (scene::choice_value<scene::EnvVisibilityKind>(in.settings.declared.env_visibility) !=
+      scene::EnvVisibilityKind::sh)
     return;
   if (!fit_) fit_ = {rt_, "env_visibility.cl", "env_vis_fit"};
   if (!projected_) (void)rt_.kernel("env_visibility.cl", "env_sh16_rows");

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-
 namespace nf::render {
 
 std::string to_string(Visibility v) { return scene::choice_name(v); }
@@ -23,7 +22,8 @@ FrameSettings::FrameSettings(const scene::RenderSettings& r)
 void FrameSettings::validate() const {
   sampling.validate();
   const scene::RenderSettings r = render_settings(*this);
-  for (const char* name : {"visibility", "shadow_map_size", "exposure", "gamma"}) scene::check_setting(r, name, "frame");
+  for (const char* name : {"visibility", "shadow_map_size", "exposure", "gamma"})
+    scene::check_setting(r, name, "frame");
 }
 
 FrameSettings frame_settings(const scene::RenderSettings& r) {

@@ -59,7 +59,7 @@ std::vector<std::string> balance_estimate_names();
 // them, their defaults and ranges). Default-constructed from the declared defaults; `frame` and
 // `band` are not user settings.
 struct SamplingSettings {
-  SamplingSettings();                                       // the declared defaults
+  SamplingSettings();                                         // the declared defaults
   explicit SamplingSettings(const scene::RenderSettings& r);  // r's values (r validated by the registry)
   // Writes the bound fields back into r (the inverse of the constructor).
   void write(scene::RenderSettings& r) const;
@@ -73,16 +73,16 @@ struct SamplingSettings {
   // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,
   // combined by that heuristic (docs/mis.md). Not with method paper (its density is not Y_m / A_m).
   Mis mis;
-  int spp;                   // spp: K of Eq. 12
-  int k_max;                 // kmax: cap on K_m(p); 0 = no cap (K)
-  int search_depth;          // search_depth: CDF evaluations per 1D inversion; < 0 = unlimited (exact)
-  std::uint32_t seed;        // seed: random and scrambled sequences
-  std::uint32_t frame = 0;   // progressive frame index: advances every sequence
-  double band = 0.05;        // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
-  int lanes;                 // lanes: surfaces per work-item (1, 4, 8, 16); 0 = automatic
-  int roulette_block;        // roulette_block (docs/sampling.md "Roulette blocks")
-  int surface_shuffle;       // surface_shuffle (docs/sampling.md "Surface order")
-  int pixel_cache_mib;       // pixel_cache (docs/sampling.md "Pixel cache"); 0 = recompute every frame
+  int spp;                         // spp: K of Eq. 12
+  int k_max;                       // kmax: cap on K_m(p); 0 = no cap (K)
+  int search_depth;                // search_depth: CDF evaluations per 1D inversion; < 0 = unlimited (exact)
+  std::uint32_t seed;              // seed: random and scrambled sequences
+  std::uint32_t frame = 0;         // progressive frame index: advances every sequence
+  double band = 0.05;              // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
+  int lanes;                       // lanes: surfaces per work-item (1, 4, 8, 16); 0 = automatic
+  int roulette_block;              // roulette_block (docs/sampling.md "Roulette blocks")
+  int surface_shuffle;             // surface_shuffle (docs/sampling.md "Surface order")
+  int pixel_cache_mib;             // pixel_cache (docs/sampling.md "Pixel cache"); 0 = recompute every frame
   LightSelection light_selection;  // light_selection
 
   // Each bound field checked by its declaration in the registry (the messages a scene file gets,

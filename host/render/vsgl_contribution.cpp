@@ -54,7 +54,8 @@ VsglSettings vsgl_settings(const FrameSettings& f) {
                  : NF_VSGL_POINTS_HAMMERSLEY;
   s.shadowed = d.vsgl_shadowed;
   // as declared (scene/settings.cpp): settings set in code are checked like a scene file's
-  for (const char* name : {"rsm_size", "vsgl_count", "vsgl_k", "vsgl_shadowed"}) scene::check_setting(d, name, "indirect");
+  for (const char* name : {"rsm_size", "vsgl_count", "vsgl_k", "vsgl_shadowed"})
+    scene::check_setting(d, name, "indirect");
   return s;
 }
 

@@ -57,8 +57,8 @@ enum class VsglKernel { point, integral };
 enum class VsglPoints { hammersley, fibonacci };
 
 // The tables, found by overload on the enum type: choice_table(E{}).
-#define NF_CHOICE_TABLE(E, ...)                                              \
-  inline constexpr ChoiceName<E> k##E##Names[] = {__VA_ARGS__};             \
+#define NF_CHOICE_TABLE(E, ...)                                 \
+  inline constexpr ChoiceName<E> k##E##Names[] = {__VA_ARGS__}; \
   constexpr std::span<const ChoiceName<E>> choice_table(E) { return k##E##Names; }
 
 NF_CHOICE_TABLE(Method, {Method::ours, "ours"}, {Method::paper, "paper"}, {Method::uniform, "uniform"},

@@ -119,12 +119,11 @@ std::vector<Setting> declare() {
   constexpr long long kMaxSpp = 1 << 24;
   return {
       choice<Method>(
-          "method", "method", "luminaires", R,
-          "how samples are drawn on the light-field images (docs/sampling.md)",
+          "method", "method", "luminaires", R, "how samples are drawn on the light-field images (docs/sampling.md)",
           [](auto& r) -> auto& { return r.method; }),
       choice<SamplerKind>(
-          "sampler", "sampler", "luminaires", R,
-          "where the 2D sample points come from", [](auto& r) -> auto& { return r.sampler; }),
+          "sampler", "sampler", "luminaires", R, "where the 2D sample points come from",
+          [](auto& r) -> auto& { return r.sampler; }),
       integer(
           "spp", "spp", 1, kMaxSpp, "luminaires", R, "K: samples per pixel per frame (Eq. 12)",
           [](auto& r) -> auto& { return r.spp; }),
@@ -141,8 +140,7 @@ std::vector<Setting> declare() {
           "search", "search", "luminaires", R, "CDF inversion: modified secant or bisection",
           [](auto& r) -> auto& { return r.search; }),
       choice<Balance>(
-          "balance", "balance", "luminaires", R,
-          "rounding of K_m(p) = K A_m / A (min1 and roulette are unbiased)",
+          "balance", "balance", "luminaires", R, "rounding of K_m(p) = K A_m / A (min1 and roulette are unbiased)",
           [](auto& r) -> auto& { return r.balance; }),
       choice<BalanceEstimate>(
           "balance_estimate", "balance_estimate", "luminaires", R,
@@ -151,8 +149,8 @@ std::vector<Setting> declare() {
           "(docs/sampling.md \"Balancing from block estimates\")",
           [](auto& r) -> auto& { return r.balance_estimate; }),
       choice<Structure>(
-          "structure", "structure", "luminaires", R,
-          "per-image Step 1/2 passes (paper) or one fused pass", [](auto& r) -> auto& { return r.structure; }),
+          "structure", "structure", "luminaires", R, "per-image Step 1/2 passes (paper) or one fused pass",
+          [](auto& r) -> auto& { return r.structure; }),
       choice<Mis>(
           "mis", "mis", "luminaires", R,
           "multiple importance sampling of the light-field samples with BRDF samples on glossy surfaces "
@@ -276,8 +274,8 @@ std::vector<Setting> declare() {
           "vsgl_k", "vsgl_k", 1e6, "indirect", R, "K: PDF mass K/N_v per integral kernel (Eq. 3)",
           [](auto& r) -> auto& { return r.vsgl_k; }),
       choice<VsglPoints>(
-          "vsgl_points", "vsgl_points", "indirect", R,
-          "stratified point set warped to the VSGL centres", [](auto& r) -> auto& { return r.vsgl_points; }),
+          "vsgl_points", "vsgl_points", "indirect", R, "stratified point set warped to the VSGL centres",
+          [](auto& r) -> auto& { return r.vsgl_points; }),
       integer(
           "vsgl_shadowed", "vsgl_shadowed", 0, 4096, "indirect", R,
           "per instance, the k strongest VSGLs get cube shadow maps (0: unshadowed; maps capped at 1 GiB)",

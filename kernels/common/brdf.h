@@ -145,12 +145,12 @@ NF_INLINE float nf_ggx_d(float nh, float alpha) {
    The one GGX half-vector sampler, written once for a type T: nf_ggx_h_cos_sin (float, used by
    nf_sample_ggx_h) and nf_ggx_h_cos_sin_v (vf, per lane: brdf_sample.h's nf_mat_sample). Tested by
    tests/kernel_brdf_test.cpp (chi-square, down to alpha 1e-4) and tests/mis_brdf_sample_test.cpp. */
-#define NF_DEFINE_GGX_H_COS_SIN(NAME, T)                                       \
-  NF_INLINE void NAME(T u1, T alpha, T* cos_h, T* sin_h) {                     \
-    const T a2 = alpha * alpha;                                                \
-    const T d = fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);                         \
-    *cos_h = sqrt(clamp((1.0f - u1) / d, 0.0f, 1.0f));                         \
-    *sin_h = sqrt(clamp(a2 * u1 / d, 0.0f, 1.0f));                             \
+#define NF_DEFINE_GGX_H_COS_SIN(NAME, T)                   \
+  NF_INLINE void NAME(T u1, T alpha, T* cos_h, T* sin_h) { \
+    const T a2 = alpha * alpha;                            \
+    const T d = fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);     \
+    *cos_h = sqrt(clamp((1.0f - u1) / d, 0.0f, 1.0f));     \
+    *sin_h = sqrt(clamp(a2 * u1 / d, 0.0f, 1.0f));         \
   }
 NF_DEFINE_GGX_H_COS_SIN(nf_ggx_h_cos_sin, float)
 NF_DEFINE_GGX_H_COS_SIN(nf_ggx_h_cos_sin_v, vf)
