@@ -101,8 +101,10 @@ class KernelLightFields {
           "kernels/shadow_visibility.cl; {:.1f} s)",
           scene.render.shadow_map_size, scene.render.shadow_map_size, timer.ms() * 1e-3);
     } else {
-      visibility = scene.render.visibility == "none" ? "light fields: none (the scene's render.visibility is none)"
-                                                     : "light fields: none needed (nothing in the scene can occlude)";
+      visibility =
+          nf::scene::choice_value<nf::scene::Visibility>(scene.render.visibility) == nf::scene::Visibility::none
+              ? "light fields: none (the scene's render.visibility is none)"
+              : "light fields: none needed (nothing in the scene can occlude)";
     }
     for (std::size_t i = 0; i < scene.luminaires.size(); ++i) {
       render::LightInstance li;

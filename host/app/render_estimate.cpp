@@ -55,11 +55,15 @@ RenderEstimate estimate_render(const scene::Scene& s) {
       // GL (llvmpipe: host memory): maps, depth target, lights, the bitmask's buffer and its
       // readback; the OpenCL pass keeps a copy of the maps on the device; the bitmask is uploaded.
       e.shadow_maps_host = add_sat(e.shadow_maps_host, add_sat(maps, mul_sat(bitmask, 2)));
-      e.shadow_maps_device =
-          add_sat(e.shadow_maps_device, add_sat(s.render.visibility_pass == "gl" ? 0 : maps, bitmask));
+      e.shadow_maps_device = add_sat(
+          e.shadow_maps_device,
+          add_sat(scene::choice_value<scene::VisibilityPass>(s.render.visibility_pass) == scene::VisibilityPass::gl
+                      ? 0
+                      : maps,
+                  bitmask));
     }
   }
-  const bool paraboloid = s.render.env_param == "paraboloid";
+  const bool paraboloid = scene::choice_value<scene::EnvParam>(s.render.env_param) == scene::EnvParam::paraboloid;
   const std::size_t kurt_entries = s.geometry.materials.size();  // render::kurt_table: one entry per material
   const auto n = static_cast<std::size_t>(pixels);
   if (s.environment) {

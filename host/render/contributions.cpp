@@ -24,7 +24,8 @@ const std::vector<ContributionKind>& contribution_kinds() {
        }},
       {"indirect",
        [](const ContributionContext& c) {
-         return !c.scene.luminaires.empty() && c.settings.declared.indirect == "vsgl";
+         return !c.scene.luminaires.empty() &&
+                scene::choice_value<scene::Indirect>(c.settings.declared.indirect) == scene::Indirect::vsgl;
        },
        [](const ContributionContext& c) { return std::make_unique<VsglContribution>(c.rt, c.scene); }},
   };

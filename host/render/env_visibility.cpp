@@ -80,7 +80,9 @@ void EnvVisibility::project(const ref::EnvironmentMap& map, const ::cl::Buffer& 
 }
 
 void EnvVisibility::prepare(const FrameInputs& in) {
-  if (in.settings.declared.env_visibility != "sh") return;
+  if (scene::choice_value<scene::EnvVisibilityKind>(in.settings.declared.env_visibility) !=
+      scene::EnvVisibilityKind::sh)
+    return;
   if (!fit_) fit_ = {rt_, "env_visibility.cl", "env_vis_fit"};
   if (!projected_) (void)rt_.kernel("env_visibility.cl", "env_sh16_rows");
 }
@@ -90,11 +92,11 @@ EnvVisibility::Frame EnvVisibility::run(const FrameInputs& in, const ref::Enviro
   Frame f;
   f.coeffs = f.lsh = &off_args_;
   const auto& d = in.settings.declared;
-  if (d.env_visibility != "sh") return f;
+  if (scene::choice_value<scene::EnvVisibilityKind>(d.env_visibility) != scene::EnvVisibilityKind::sh) return f;
   if (!in.scene_gpu || !in.geometry)
     fail("env_visibility sh: needs the scene's geometry on the GPU (render it through the frame's Renderer)");
   const int n = d.env_visibility_samples, size = in.settings.shadow_map_size;
-  if (n < 1 || n > 256) fail(fmt::format("env_visibility_samples must be in 1..256, got {}", n));
+  scene::check_setting(d, "env_visibility_samples", "environment");
   const double map_bytes = static_cast<double>(n) * size * size * sizeof(float);
   if (map_bytes > 1024.0 * 1024.0 * 1024.0)
     fail(

@@ -46,7 +46,7 @@ class EnvVisibility {
   };
   // Compiles the kernels when env_visibility is sh (before frames are timed).
   void prepare(const FrameInputs& in);
-  // Does nothing but hand out dummies unless in.settings.declared.env_visibility == "sh"; then
+  // Does nothing but hand out dummies unless env_visibility is sh; then
   // (re)builds what changed (needs in.scene_gpu and in.geometry, and the GL context current) and
   // runs the fit on in.surfaces unless they, the count and the maps are those of the last fit
   // (in.view_version, 0 = always refit). `pyr`, `lv`: the environment's level-0 texels and level table.

@@ -18,22 +18,39 @@
 namespace nf::render {
 namespace {
 
-int glossy_index(const std::string& s) {
-  if (s == "mc") return 0;
-  if (s == "fis") return 1;
-  if (s == "fis-rotated") return 2;
-  if (s == "env-is") return 3;
-  if (s == "env-fis") return 4;
-  if (s == "regular") return 5;
-  fail(fmt::format("env_glossy: unknown estimator '{}' (mc | fis | fis-rotated | env-is | env-fis | regular)",
-                   excerpt(s)));
+using scene::EnvFilter;
+using scene::EnvGlossy;
+using scene::EnvParam;
+
+// The kernel codes of the typed choices (environment.cl NF_ENV_GLOSSY, env_pyramid's filter).
+int glossy_index(EnvGlossy g) {
+  switch (g) {
+    case EnvGlossy::mc:
+      return 0;
+    case EnvGlossy::fis:
+      return 1;
+    case EnvGlossy::fis_rotated:
+      return 2;
+    case EnvGlossy::env_is:
+      return 3;
+    case EnvGlossy::env_fis:
+      return 4;
+    case EnvGlossy::regular:
+      return 5;
+  }
+  return 0;
 }
 
-int filter_index(const std::string& s) {
-  if (s == "box") return 0;
-  if (s == "gauss4") return 1;
-  if (s == "gauss6") return 2;
-  fail(fmt::format("env_filter: unknown filter '{}' (box | gauss4 | gauss6)", excerpt(s)));
+int filter_index(EnvFilter f) {
+  switch (f) {
+    case EnvFilter::box:
+      return 0;
+    case EnvFilter::gauss4:
+      return 1;
+    case EnvFilter::gauss6:
+      return 2;
+  }
+  return 0;
 }
 
 // Level sizes from (w, h) down to the top: halved (rounded down, at least 1) until 1 x 1 for the
@@ -192,9 +209,9 @@ int EnvironmentContribution::regular_samples(int material, int lobe) const {
   return i < regular_counts_.size() ? regular_counts_[i] : 0;
 }
 
-double EnvironmentContribution::resolved_k(double env_k, const std::string& filter) {
+double EnvironmentContribution::resolved_k(double env_k, EnvFilter filter) {
   if (env_k > 0.0) return env_k;
-  return filter == "box" ? 4.0 : 1.0;
+  return filter == EnvFilter::box ? 4.0 : 1.0;
 }
 
 std::size_t EnvironmentContribution::estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels) {
@@ -282,7 +299,7 @@ void EnvironmentContribution::build() {
   sh_buf_ = cl::upload(rt_, shf, "uploading the environment SH coefficients");
   sh_lights_ = brightest_blocks(map_, 256);
   shl_count_ = -1;
-  if (param_ == "paraboloid") build_paraboloid();
+  if (param_ == EnvParam::paraboloid) build_paraboloid();
   build_ms_ = timer.ms();
 }
 
@@ -371,7 +388,10 @@ std::vector<glm::vec4> EnvironmentContribution::sample_map_debug(int count, std:
 }
 
 void EnvironmentContribution::set_filter(const std::string& filter) {
-  filter_index(filter);  // validates
+  set_filter(scene::choice_value<EnvFilter>(filter, "env_filter"));
+}
+
+void EnvironmentContribution::set_filter(EnvFilter filter) {
   if (filter == filter_) return;
   filter_ = filter;
   build();
@@ -379,11 +399,13 @@ void EnvironmentContribution::set_filter(const std::string& filter) {
 }
 
 void EnvironmentContribution::set_param(const std::string& param) {
-  if (param != "latlong" && param != "paraboloid")
-    fail(fmt::format("env_param: unknown parametrisation '{}' (latlong | paraboloid)", excerpt(param)));
+  set_param(scene::choice_value<EnvParam>(param, "env_param"));
+}
+
+void EnvironmentContribution::set_param(EnvParam param) {
   if (param == param_) return;
   param_ = param;
-  if (param_ == "paraboloid") {  // built while in use only
+  if (param_ == EnvParam::paraboloid) {  // built while in use only
     build_paraboloid();
     build_ms_ += paraboloid_ms_;
     build_reported_ = false;
@@ -398,7 +420,8 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
   const auto& d = in.settings.declared;
   set_filter(d.env_filter);  // first: a new filter with a new parametrisation builds once
   set_param(d.env_param);
-  if (d.env_glossy == "regular") {
+  const EnvGlossy glossy = scene::choice_value<EnvGlossy>(d.env_glossy);
+  if (glossy == EnvGlossy::regular) {
     set_regular(d.env_samples, d.env_regular_eps);
   } else if (regular_bytes_ > 0) {  // patterns only while in use
     rpat_ = ::cl::Buffer();
@@ -410,10 +433,13 @@ void EnvironmentContribution::prepare(const FrameInputs& in) {
     return fmt::format(
         "-DNF_ENV_GLOSSY={} -DNF_ENV_DIFFUSE={} -DNF_ENV_BACKGROUND={} -DNF_ENV_KERNEL={} -DNF_ENV_PARAM={} "
         "-DNF_ENV_VIS={}",
-        glossy_index(d.env_glossy), d.env_diffuse == "mc" ? 1 : 0, background ? 1 : 0,
-        d.env_kernel == "integral" ? 1 : 0, param_ == "paraboloid" ? 1 : 0, vis ? 1 : 0);
+        glossy_index(glossy), scene::choice_value<scene::EnvDiffuse>(d.env_diffuse) == scene::EnvDiffuse::mc ? 1 : 0,
+        background ? 1 : 0, scene::choice_value<scene::EnvKernel>(d.env_kernel) == scene::EnvKernel::integral ? 1 : 0,
+        param_ == EnvParam::paraboloid ? 1 : 0, vis ? 1 : 0);
   };
-  const std::string options = options_for(d.env_background != "hide", d.env_visibility == "sh");
+  const std::string options =
+      options_for(scene::choice_value<scene::EnvBackground>(d.env_background) != scene::EnvBackground::hide,
+                  scene::choice_value<scene::EnvVisibilityKind>(d.env_visibility) == scene::EnvVisibilityKind::sh);
   if (options != options_ || !shade_) {
     shade_ = env_kernels::Shade(rt_, "environment.cl", "env_shade", options);
     options_ = options;
@@ -438,8 +464,8 @@ ContributionFrame EnvironmentContribution::add(const FrameInputs& in, std::vecto
     // the object's pixels read the local map: no far-map visibility (the map holds the scene's
     // occluders) and no background (the far pass draws it)
     FrameSettings ls = in.settings;
-    ls.declared.env_visibility = "none";
-    ls.declared.env_background = "hide";
+    ls.declared.env_visibility = scene::choice_name(scene::EnvVisibilityKind::none);
+    ls.declared.env_background = scene::choice_name(scene::EnvBackground::hide);
     for (auto& l : locals_) {
       if (!l->any) continue;
       const FrameInputs local{.rt = in.rt,
@@ -481,8 +507,8 @@ void EnvironmentContribution::update_locals(const FrameInputs& in, ContributionF
     if (key != l->key || !l->env) {
       Timer total;
       FrameSettings ts = in.settings;  // the texels: no far-map visibility, no background
-      ts.declared.env_visibility = "none";
-      ts.declared.env_background = "hide";
+      ts.declared.env_visibility = scene::choice_name(scene::EnvVisibilityKind::none);
+      ts.declared.env_background = scene::choice_name(scene::EnvBackground::hide);
       const LocalEnvironmentMap::FarShade far_shade = [&](const ::cl::Buffer& buf, int count, std::uint32_t frame) {
         const FrameInputs t{.rt = in.rt,
                             .surfaces = buf,
@@ -572,9 +598,10 @@ std::vector<glm::vec4> EnvironmentContribution::shade(const FrameInputs& in, Con
     cu = cl_float4{{static_cast<float>(up.x), static_cast<float>(up.y), static_cast<float>(up.z), 0}};
     wh = cl_int2{{c.width, c.height}};
   }
-  const bool par = param_ == "paraboloid";
+  const bool par = param_ == EnvParam::paraboloid;
   // sh diffuse without SH visibility: the brightest blocks as lights, the SH without them
-  const int shl = d.env_diffuse == "sh" && d.env_visibility != "sh"
+  const int shl = scene::choice_value<scene::EnvDiffuse>(d.env_diffuse) == scene::EnvDiffuse::sh &&
+                          scene::choice_value<scene::EnvVisibilityKind>(d.env_visibility) != scene::EnvVisibilityKind::sh
                       ? std::min(d.env_sh_lights, static_cast<int>(sh_lights_.size()))
                       : 0;
   if (shl != shl_count_) {

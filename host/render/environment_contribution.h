@@ -51,10 +51,12 @@ class EnvironmentContribution final : public Contribution {
 
   // Rebuilds the pyramids with `box`, `gauss4` or `gauss6` (docs/environment.md) when it differs;
   // prepare() calls it with the env_filter setting.
-  void set_filter(const std::string& filter);
+  void set_filter(scene::EnvFilter filter);
+  void set_filter(const std::string& filter);  // by name ("gauss4")
   // `latlong` or `paraboloid`: the pyramid the filtered lookups read (the paraboloid one is built
   // on first use, and rebuilt with the filter); prepare() calls it with env_param.
-  void set_param(const std::string& param);
+  void set_param(scene::EnvParam param);
+  void set_param(const std::string& param);  // by name ("paraboloid")
   // The Kurt material table (one entry per scene material, render/kurt_table.h).
   void set_kurt_table(const std::vector<NfKurtMaterial>& table);
   // env_glossy regular (docs/regular-sampling.md): builds the patterns (render/regular_pattern.h)
@@ -65,7 +67,7 @@ class EnvironmentContribution final : public Contribution {
   // Samples of the pattern in use for Kurt lobe `lobe` of table entry `material` (-1, -1: GGX).
   int regular_samples(int material, int lobe) const;
   // K for a filter: env_k, or when env_k is 0 the per-filter default (box 4, gauss4/gauss6 1).
-  static double resolved_k(double env_k, const std::string& filter);
+  static double resolved_k(double env_k, scene::EnvFilter filter);
   // Device bytes of the environment for a W x H map (both pyramids, tables, `pixels` outputs):
   // the `render --dry-run` estimate (without env_glossy regular's patterns: 16 bytes per pattern sample).
   static std::size_t estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels);
@@ -135,8 +137,8 @@ class EnvironmentContribution final : public Contribution {
   double build_ms_ = 0.0, pyramid_ms_ = 0.0, paraboloid_ms_ = 0.0;
   bool build_reported_ = false;
   std::string options_;
-  std::string filter_ = "box";
-  std::string param_ = "latlong";
+  scene::EnvFilter filter_ = scene::EnvFilter::box;
+  scene::EnvParam param_ = scene::EnvParam::latlong;
   env_kernels::Shade shade_;
   EnvVisibility vis_;
   bool has_far_ = true;  // false: the scene has no environment, the far map is black

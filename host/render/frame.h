@@ -193,7 +193,9 @@ class Renderer {
   void update_view(StepTimes& t, bool keep_version = false);
   void upload_visibility(StepTimes& t);
   void cl_visibility(StepTimes& t);
-  bool gl_visibility_pass() const { return settings_.declared.visibility_pass == "gl"; }
+  bool gl_visibility_pass() const {
+    return scene::choice_value<scene::VisibilityPass>(settings_.declared.visibility_pass) == scene::VisibilityPass::gl;
+  }
   void resize(int width, int height);
   void stage() const;
   bool update_contributions();

@@ -1,110 +1,114 @@
 #include "render/settings.h"
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
-#include <algorithm>
-#include <array>
-#include <utility>
+#include <cstdint>
+#include <type_traits>
 
 #include "core/error.h"
-#include "core/excerpt.h"
 
 namespace nf::render {
 namespace {
 
-template <typename E, std::size_t N>
-using Table = std::array<std::pair<E, const char*>, N>;
-
-constexpr Table<Method, 6> kMethods{{{Method::ours, "ours"},
-                                     {Method::paper, "paper"},
-                                     {Method::uniform, "uniform"},
-                                     {Method::uniform_equal, "uniform-equal"},
-                                     {Method::ours_equal, "ours-equal"},
-                                     {Method::global, "global"}}};
-constexpr Table<SamplerKind, 3> kSamplers{{{SamplerKind::halton, "halton"},
-                                           {SamplerKind::halton_scrambled, "halton-scrambled"},
-                                           {SamplerKind::random, "random"}}};
-constexpr Table<Balance, 3> kBalances{
-    {{Balance::paper, "paper"}, {Balance::min1, "min1"}, {Balance::roulette, "roulette"}}};
-constexpr Table<SearchKind, 2> kSearches{{{SearchKind::secant, "secant"}, {SearchKind::binary, "binary"}}};
-constexpr Table<Structure, 2> kStructures{{{Structure::per_image, "per-image"}, {Structure::fused, "fused"}}};
-constexpr Table<LightSelection, 3> kSelections{
-    {{LightSelection::automatic, "auto"}, {LightSelection::all, "all"}, {LightSelection::flat, "flat"}}};
-constexpr Table<Mis, 3> kMis{{{Mis::none, "none"}, {Mis::balance, "balance"}, {Mis::power, "power"}}};
-constexpr Table<BalanceEstimate, 2> kBalanceEstimates{
-    {{BalanceEstimate::blocks, "blocks"}, {BalanceEstimate::exact, "exact"}}};
-
-template <typename E, std::size_t N>
-std::string name_of(const Table<E, N>& t, E v) {
-  for (const auto& [e, n] : t)
-    if (e == v) return n;
-  return "?";
-}
-
-template <typename E, std::size_t N>
-std::vector<std::string> names_of(const Table<E, N>& t) {
-  std::vector<std::string> out;
-  for (const auto& [e, n] : t) out.emplace_back(n);
-  return out;
-}
-
-template <typename E, std::size_t N>
-E parse_of(const Table<E, N>& t, std::string s, const std::string& what) {
-  std::replace(s.begin(), s.end(), '_', '-');
-  for (const auto& [e, n] : t)
-    if (s == n) return e;
-  fail(fmt::format("{}: unknown value '{}' (valid: {})", what, excerpt(s), fmt::join(names_of(t), ", ")));
+// The one binding between SamplingSettings' typed fields and the declared settings: f(name,
+// declared field, typed field) for each, in the registry's order.
+template <typename R, typename S, typename F>
+void bind(R& r, S& s, F&& f) {
+  f("method", r.method, s.method);
+  f("sampler", r.sampler, s.sampler);
+  f("spp", r.spp, s.spp);
+  f("kmax", r.kmax, s.k_max);
+  f("search_depth", r.search_depth, s.search_depth);
+  f("search", r.search, s.search);
+  f("balance", r.balance, s.balance);
+  f("balance_estimate", r.balance_estimate, s.balance_estimate);
+  f("structure", r.structure, s.structure);
+  f("mis", r.mis, s.mis);
+  f("seed", r.seed, s.seed);
+  f("lanes", r.lanes, s.lanes);
+  f("roulette_block", r.roulette_block, s.roulette_block);
+  f("surface_shuffle", r.surface_shuffle, s.surface_shuffle);
+  f("pixel_cache", r.pixel_cache, s.pixel_cache_mib);
+  f("light_selection", r.light_selection, s.light_selection);
 }
 
 }  // namespace
 
-std::string to_string(Method v) { return name_of(kMethods, v); }
-std::string to_string(SamplerKind v) { return name_of(kSamplers, v); }
-std::string to_string(Balance v) { return name_of(kBalances, v); }
-std::string to_string(SearchKind v) { return name_of(kSearches, v); }
-std::string to_string(Structure v) { return name_of(kStructures, v); }
-std::string to_string(LightSelection v) { return name_of(kSelections, v); }
-std::string to_string(Mis v) { return name_of(kMis, v); }
-std::string to_string(BalanceEstimate v) { return name_of(kBalanceEstimates, v); }
+std::string to_string(Method v) { return scene::choice_name(v); }
+std::string to_string(SamplerKind v) { return scene::choice_name(v); }
+std::string to_string(Balance v) { return scene::choice_name(v); }
+std::string to_string(SearchKind v) { return scene::choice_name(v); }
+std::string to_string(Structure v) { return scene::choice_name(v); }
+std::string to_string(LightSelection v) { return scene::choice_name(v); }
+std::string to_string(Mis v) { return scene::choice_name(v); }
+std::string to_string(BalanceEstimate v) { return scene::choice_name(v); }
 
-Method parse_method(const std::string& s, const std::string& what) { return parse_of(kMethods, s, what); }
-SamplerKind parse_sampler(const std::string& s, const std::string& what) { return parse_of(kSamplers, s, what); }
-Balance parse_balance(const std::string& s, const std::string& what) { return parse_of(kBalances, s, what); }
-SearchKind parse_search(const std::string& s, const std::string& what) { return parse_of(kSearches, s, what); }
-Structure parse_structure(const std::string& s, const std::string& what) { return parse_of(kStructures, s, what); }
+Method parse_method(const std::string& s, const std::string& what) { return scene::choice_value<Method>(s, what); }
+SamplerKind parse_sampler(const std::string& s, const std::string& what) {
+  return scene::choice_value<SamplerKind>(s, what);
+}
+Balance parse_balance(const std::string& s, const std::string& what) { return scene::choice_value<Balance>(s, what); }
+SearchKind parse_search(const std::string& s, const std::string& what) {
+  return scene::choice_value<SearchKind>(s, what);
+}
+Structure parse_structure(const std::string& s, const std::string& what) {
+  return scene::choice_value<Structure>(s, what);
+}
 LightSelection parse_light_selection(const std::string& s, const std::string& what) {
-  return parse_of(kSelections, s, what);
+  return scene::choice_value<LightSelection>(s, what);
 }
-Mis parse_mis(const std::string& s, const std::string& what) { return parse_of(kMis, s, what); }
+Mis parse_mis(const std::string& s, const std::string& what) { return scene::choice_value<Mis>(s, what); }
 BalanceEstimate parse_balance_estimate(const std::string& s, const std::string& what) {
-  return parse_of(kBalanceEstimates, s, what);
+  return scene::choice_value<BalanceEstimate>(s, what);
 }
 
-std::vector<std::string> method_names() { return names_of(kMethods); }
-std::vector<std::string> sampler_names() { return names_of(kSamplers); }
-std::vector<std::string> balance_names() { return names_of(kBalances); }
-std::vector<std::string> search_names() { return names_of(kSearches); }
-std::vector<std::string> structure_names() { return names_of(kStructures); }
-std::vector<std::string> light_selection_names() { return names_of(kSelections); }
+std::vector<std::string> method_names() { return scene::choice_names<Method>(); }
+std::vector<std::string> sampler_names() { return scene::choice_names<SamplerKind>(); }
+std::vector<std::string> balance_names() { return scene::choice_names<Balance>(); }
+std::vector<std::string> search_names() { return scene::choice_names<SearchKind>(); }
+std::vector<std::string> structure_names() { return scene::choice_names<Structure>(); }
+std::vector<std::string> light_selection_names() { return scene::choice_names<LightSelection>(); }
+std::vector<std::string> mis_names() { return scene::choice_names<Mis>(); }
+std::vector<std::string> balance_estimate_names() { return scene::choice_names<BalanceEstimate>(); }
+
 bool selects_instances(LightSelection s, std::size_t instances) {
   if (instances < 2) return false;
   return s == LightSelection::flat || (s == LightSelection::automatic && instances >= kAutoSelectionInstances);
 }
-std::vector<std::string> mis_names() { return names_of(kMis); }
-std::vector<std::string> balance_estimate_names() { return names_of(kBalanceEstimates); }
+
+SamplingSettings::SamplingSettings() : SamplingSettings(scene::RenderSettings{}) {}
+
+SamplingSettings::SamplingSettings(const scene::RenderSettings& r) {
+  bind(r, *this, [](const char* name, const auto& declared, auto& typed) {
+    using T = std::remove_reference_t<decltype(typed)>;
+    if constexpr (std::is_enum_v<T>)
+      typed = scene::choice_value<T>(declared, std::string("render.") + name);
+    else
+      typed = static_cast<T>(declared);
+  });
+}
+
+void SamplingSettings::write(scene::RenderSettings& r) const {
+  bind(r, *this, [](const char*, auto& declared, const auto& typed) {
+    using T = std::remove_cvref_t<decltype(typed)>;
+    using D = std::remove_reference_t<decltype(declared)>;
+    if constexpr (std::is_enum_v<T>)
+      declared = scene::choice_name(typed);
+    else
+      declared = static_cast<D>(typed);
+  });
+}
 
 void SamplingSettings::validate() const {
-  if (spp < 1) fail(fmt::format("sampling: spp (K) must be >= 1, got {}", spp));
-  if (k_max < 0) fail(fmt::format("sampling: k_max must be >= 0 (0 = no cap), got {}", k_max));
+  // Every bound field but the seed (any 32-bit seed is valid here; the scene file's range is the
+  // JSON integer's) as the registry declares it.
+  scene::RenderSettings r;
+  write(r);
+  bind(r, *this, [&](const char* name, const auto&, const auto& typed) {
+    using T = std::remove_cvref_t<decltype(typed)>;
+    (void)name;
+    if constexpr (!std::is_same_v<T, std::uint32_t>) scene::check_setting(r, name, "sampling");
+  });
   if (!(band >= 0.0 && band < 1.0)) fail(fmt::format("sampling: band must be in [0, 1), got {}", band));
-  if (lanes != 0 && lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16)
-    fail(fmt::format("sampling: lanes must be 0 (automatic), 1, 4, 8 or 16, got {}", lanes));
-  if (roulette_block < 1 || roulette_block > 1024)
-    fail(fmt::format("sampling: roulette_block must be 1..1024, got {}", roulette_block));
-  if (surface_shuffle < 0 || surface_shuffle > 20)
-    fail(fmt::format("sampling: surface_shuffle must be 0..20, got {}", surface_shuffle));
-  if (pixel_cache_mib < 0 || pixel_cache_mib > 1048576)
-    fail(fmt::format("sampling: pixel_cache must be 0..1048576 MiB, got {}", pixel_cache_mib));
 }
 
 std::string SamplingSettings::describe() const {

@@ -5,32 +5,26 @@
 #include <string>
 #include <vector>
 
+#include "scene/choices.h"
+#include "scene/settings.h"
+#include "scene/settings_check.h"
+
 namespace nf::render {
 
-// What draws the samples s_k (docs/sampling.md, "Methods").
-enum class Method { ours, paper, uniform, uniform_equal, ours_equal, global };
-// Where the 2D sample points come from. (Named SamplerKind: `Sampler` is the pipeline class.)
-enum class SamplerKind { halton, halton_scrambled, random };
-// How K_m(p) = K A_m / A is rounded (Eq. 12). `roulette` and `min1` are unbiased.
-enum class Balance { paper, min1, roulette };
-// CDF inversion: modified secant (paper §5) or the bisection baseline.
-enum class SearchKind { secant, binary };
-// Per-image passes as in the paper (Step 1 per image, Step 2 per image) or one fused pass.
-enum class Structure { per_image, fused };
-// Many instances (docs/sampling.md "Light selection"): every instance at every pixel (`all`), or one
-// instance per pixel and frame drawn with probability q_i(p) from a flat per-pixel CDF (`flat`);
-// `automatic` ("auto") is `flat` from kAutoSelectionInstances instances on, `all` below (measured
-// crossover of the equal-time error, bench/results/selection/README.md).
-enum class LightSelection { all, flat, automatic };
+// The choice enums and their names are declared with the settings (scene/choices.h).
+using scene::Balance;
+using scene::BalanceEstimate;
+using scene::LightSelection;
+using scene::Method;
+using scene::Mis;
+using scene::SamplerKind;
+using scene::SearchKind;
+using scene::Structure;
+
 inline constexpr std::size_t kAutoSelectionInstances = 16;
-// Whether a frame with `instances` luminaire instances selects one per pixel.
+// Whether a frame with `instances` luminaire instances selects one per pixel (`auto`: from
+// kAutoSelectionInstances instances on).
 bool selects_instances(LightSelection s, std::size_t instances);
-// MIS of the light-field samples with BRDF samples (docs/mis.md): off, balance or power heuristic.
-enum class Mis { none, balance, power };
-// What K_m(p) is balanced from (docs/sampling.md "Balancing from block estimates"): the block estimate
-// of A_m(p) (exact A_m(p) only for the images that get samples) or the exact A_m(p) of every image.
-// blocks applies to ours, paper and uniform without MIS; the others always balance from exact.
-enum class BalanceEstimate { blocks, exact };
 
 std::string to_string(Method v);
 std::string to_string(SamplerKind v);
@@ -61,36 +55,39 @@ std::vector<std::string> light_selection_names();
 std::vector<std::string> mis_names();
 std::vector<std::string> balance_estimate_names();
 
+// The light-field contribution's typed view of its declared settings (scene/settings.cpp declares
+// them, their defaults and ranges). Default-constructed from the declared defaults; `frame` and
+// `band` are not user settings.
 struct SamplingSettings {
-  Method method = Method::ours;
-  SamplerKind sampler = SamplerKind::halton_scrambled;  // white noise per frame (docs/sampling.md)
-  Balance balance = Balance::roulette;                  // unbiased default (docs/sampling.md); see docs/sampling.md
-  BalanceEstimate balance_estimate = BalanceEstimate::exact;  // what K_m(p) is balanced from (docs/sampling.md)
-  SearchKind search = SearchKind::secant;
-  Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
+  SamplingSettings();                                         // the declared defaults
+  explicit SamplingSettings(const scene::RenderSettings& r);  // r's values (r validated by the registry)
+  // Writes the bound fields back into r (the inverse of the constructor).
+  void write(scene::RenderSettings& r) const;
+
+  Method method;                     // method
+  SamplerKind sampler;               // sampler
+  Balance balance;                   // balance
+  BalanceEstimate balance_estimate;  // balance_estimate
+  SearchKind search;                 // search
+  Structure structure;               // structure
   // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,
   // combined by that heuristic (docs/mis.md). Not with method paper (its density is not Y_m / A_m).
-  Mis mis = Mis::none;
-  int spp = 200;                           // K of Eq. 12, >= 1
-  int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
-  int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
-  std::uint32_t seed = 1;                  // random and scrambled sequences
-  std::uint32_t frame = 0;                 // progressive frame index: advances every sequence
-  double band = 0.05;                      // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
-  int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
-  // Consecutive surfaces sharing the roulette's uniform number per image and frame (balance roulette,
-  // the equal-count rotation); 1 = per pixel (docs/sampling.md "Roulette blocks").
-  int roulette_block = 16;
-  // log2 of the chunks of consecutive surfaces visited in a fixed pseudo-random order (0 = row
-  // order): scatters roulette blocks and lanes over the image (docs/sampling.md "Surface order").
-  int surface_shuffle = 6;
-  // Device memory (MiB) for the per-pixel cache of A_m(p) across progressive frames of the same
-  // view (docs/sampling.md "Pixel cache"); 0 = recompute every frame. Above it: recomputation.
-  int pixel_cache_mib = 1024;
-  // With several instances: K is the pixel's budget over all of them (flat) or per instance (all).
-  LightSelection light_selection = LightSelection::automatic;
+  Mis mis;
+  int spp;                         // spp: K of Eq. 12
+  int k_max;                       // kmax: cap on K_m(p); 0 = no cap (K)
+  int search_depth;                // search_depth: CDF evaluations per 1D inversion; < 0 = unlimited (exact)
+  std::uint32_t seed;              // seed: random and scrambled sequences
+  std::uint32_t frame = 0;         // progressive frame index: advances every sequence
+  double band = 0.05;              // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
+  int lanes;                       // lanes: surfaces per work-item (1, 4, 8, 16); 0 = automatic
+  int roulette_block;              // roulette_block (docs/sampling.md "Roulette blocks")
+  int surface_shuffle;             // surface_shuffle (docs/sampling.md "Surface order")
+  int pixel_cache_mib;             // pixel_cache (docs/sampling.md "Pixel cache"); 0 = recompute every frame
+  LightSelection light_selection;  // light_selection
 
-  void validate() const;         // throws nf::Error naming the bad field
+  // Each bound field checked by its declaration in the registry (the messages a scene file gets,
+  // prefixed "sampling."), and band; throws nf::Error naming the bad field.
+  void validate() const;
   // `mis` as the kernels get it: method paper has no light-strategy density, so it samples without
   // MIS whatever `mis` says (docs/mis.md).
   Mis effective_mis() const { return method == Method::paper ? Mis::none : mis; }

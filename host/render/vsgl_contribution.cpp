@@ -44,15 +44,18 @@ VsglSettings vsgl_settings(const FrameSettings& f) {
   VsglSettings s;
   s.rsm_size = d.rsm_size;
   s.count = d.vsgl_count;
-  s.kernel = d.vsgl_kernel == "point" ? NF_VSGL_KERNEL_POINT : NF_VSGL_KERNEL_INTEGRAL;
+  // the kernel codes of the typed choices (shared/vsgl.h)
+  s.kernel = scene::choice_value<scene::VsglKernel>(d.vsgl_kernel) == scene::VsglKernel::point
+                 ? NF_VSGL_KERNEL_POINT
+                 : NF_VSGL_KERNEL_INTEGRAL;
   s.k = d.vsgl_k;
-  s.points = d.vsgl_points == "fibonacci" ? NF_VSGL_POINTS_FIBONACCI : NF_VSGL_POINTS_HAMMERSLEY;
-  if (s.rsm_size < 2 || (s.rsm_size & (s.rsm_size - 1)) != 0)
-    fail(fmt::format("rsm_size: must be a power of two >= 2, got {}", s.rsm_size));
-  if (s.count < 1) fail(fmt::format("vsgl_count: must be >= 1, got {}", s.count));
-  if (!(s.k > 0.0) || !std::isfinite(s.k)) fail(fmt::format("vsgl_k: must be > 0, got {}", s.k));
+  s.points = scene::choice_value<scene::VsglPoints>(d.vsgl_points) == scene::VsglPoints::fibonacci
+                 ? NF_VSGL_POINTS_FIBONACCI
+                 : NF_VSGL_POINTS_HAMMERSLEY;
   s.shadowed = d.vsgl_shadowed;
-  if (s.shadowed < 0) fail(fmt::format("vsgl_shadowed: must be >= 0, got {}", s.shadowed));
+  // as declared (scene/settings.cpp): settings set in code are checked like a scene file's
+  for (const char* name : {"rsm_size", "vsgl_count", "vsgl_k", "vsgl_shadowed"})
+    scene::check_setting(d, name, "indirect");
   return s;
 }
 

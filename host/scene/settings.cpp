@@ -11,6 +11,8 @@
 
 #include "core/error.h"
 #include "core/excerpt.h"
+#include "scene/choices.h"
+#include "scene/settings_check.h"
 
 namespace nf::scene {
 namespace {
@@ -19,15 +21,15 @@ using json = nlohmann::json;
 using Check = std::function<void(double, const JsonWhere&)>;
 
 // Binds a setting to a field through `ref`, a generic lambda returning a reference to the field
-// of a (const or not) RenderSettings.
-template <typename Ref>
-Setting choice(std::string name, std::string path, std::vector<std::string> choices, std::string contribution,
-               SettingEffect effect, std::string doc, Ref ref) {
+// of a (const or not) RenderSettings. A choice's values are the names of its enum E (scene/choices.h).
+template <typename E, typename Ref>
+Setting choice(std::string name, std::string path, std::string contribution, SettingEffect effect, std::string doc,
+               Ref ref) {
   Setting s;
   s.name = std::move(name);
   s.json_path = std::move(path);
   s.type = SettingType::choice;
-  s.choices = std::move(choices);
+  s.choices = choice_names<E>();
   s.contribution = std::move(contribution);
   s.effect = effect;
   s.doc = std::move(doc);
@@ -103,7 +105,9 @@ Setting closed_real(std::string name, std::string path, double lo, double hi, st
 
 // The setting applies only with shadow maps.
 Setting with_shadow_maps(Setting s) {
-  s.applies = [](const RenderSettings& r) { return r.visibility == "shadowmaps"; };
+  s.applies = [](const RenderSettings& r) {
+    return choice_value<Visibility>(r.visibility, "visibility") == Visibility::shadowmaps;
+  };
   s.applies_doc = "with shadow maps";
   return s;
 }
@@ -114,13 +118,12 @@ std::vector<Setting> declare() {
   constexpr auto D = SettingEffect::display;
   constexpr long long kMaxSpp = 1 << 24;
   return {
-      choice(
-          "method", "method", {"ours", "paper", "uniform", "uniform-equal", "ours-equal", "global"}, "luminaires", R,
-          "how samples are drawn on the light-field images (docs/sampling.md)",
+      choice<Method>(
+          "method", "method", "luminaires", R, "how samples are drawn on the light-field images (docs/sampling.md)",
           [](auto& r) -> auto& { return r.method; }),
-      choice(
-          "sampler", "sampler", {"halton", "halton-scrambled", "random"}, "luminaires", R,
-          "where the 2D sample points come from", [](auto& r) -> auto& { return r.sampler; }),
+      choice<SamplerKind>(
+          "sampler", "sampler", "luminaires", R, "where the 2D sample points come from",
+          [](auto& r) -> auto& { return r.sampler; }),
       integer(
           "spp", "spp", 1, kMaxSpp, "luminaires", R, "K: samples per pixel per frame (Eq. 12)",
           [](auto& r) -> auto& { return r.spp; }),
@@ -133,31 +136,30 @@ std::vector<Setting> declare() {
           [](double v, const JsonWhere& w) {
             if (v == 0.0) w.fail("must be -1 (unlimited) or 1..1024");
           }),
-      choice(
-          "search", "search", {"secant", "binary"}, "luminaires", R, "CDF inversion: modified secant or bisection",
+      choice<SearchKind>(
+          "search", "search", "luminaires", R, "CDF inversion: modified secant or bisection",
           [](auto& r) -> auto& { return r.search; }),
-      choice(
-          "balance", "balance", {"paper", "min1", "roulette"}, "luminaires", R,
-          "rounding of K_m(p) = K A_m / A (min1 and roulette are unbiased)",
+      choice<Balance>(
+          "balance", "balance", "luminaires", R, "rounding of K_m(p) = K A_m / A (min1 and roulette are unbiased)",
           [](auto& r) -> auto& { return r.balance; }),
-      choice(
-          "balance_estimate", "balance_estimate", {"blocks", "exact"}, "luminaires", R,
+      choice<BalanceEstimate>(
+          "balance_estimate", "balance_estimate", "luminaires", R,
           "what K_m(p) is balanced from: a 4-read block estimate of A_m(p), with the exact A_m(p) only for the "
           "images that get samples (blocks), or the exact A_m(p) of every image (exact); both unbiased "
           "(docs/sampling.md \"Balancing from block estimates\")",
           [](auto& r) -> auto& { return r.balance_estimate; }),
-      choice(
-          "structure", "structure", {"per-image", "fused"}, "luminaires", R,
-          "per-image Step 1/2 passes (paper) or one fused pass", [](auto& r) -> auto& { return r.structure; }),
-      choice(
-          "mis", "mis", {"none", "balance", "power"}, "luminaires", R,
+      choice<Structure>(
+          "structure", "structure", "luminaires", R, "per-image Step 1/2 passes (paper) or one fused pass",
+          [](auto& r) -> auto& { return r.structure; }),
+      choice<Mis>(
+          "mis", "mis", "luminaires", R,
           "multiple importance sampling of the light-field samples with BRDF samples on glossy surfaces "
           "(ggx, kurt: up to K more directions per pixel, fewer for rough GGX): none, balance or power heuristic "
           "(docs/mis.md); nearfield reference (--mis): its own MIS, one BRDF sample per surface point "
           "(docs/reference.md)",
           [](auto& r) -> auto& { return r.mis; }),
-      choice(
-          "visibility", "visibility", {"none", "shadowmaps"}, "frame", S0,
+      choice<Visibility>(
+          "visibility", "visibility", "frame", S0,
           "luminaire visibility: none or shadow maps at the reference light positions",
           [](auto& r) -> auto& { return r.visibility; }),
       with_shadow_maps(integer(
@@ -169,8 +171,8 @@ std::vector<Setting> declare() {
           "per cell (an approximation: hard shadows from the lens centre; docs/rendering.md); 0 = every instance "
           "exact",
           [](auto& r) -> auto& { return r.shadow_far_distance; })),
-      with_shadow_maps(choice(
-          "visibility_pass", "visibility_pass", {"opencl", "gl"}, "frame", S0,
+      with_shadow_maps(choice<VisibilityPass>(
+          "visibility_pass", "visibility_pass", "frame", S0,
           "where the shadow maps are tested per pixel: an OpenCL kernel or the GL compute pass (same test)",
           [](auto& r) -> auto& { return r.visibility_pass; })),
       integer(
@@ -198,14 +200,14 @@ std::vector<Setting> declare() {
           "pixel_cache", "pixel_cache", 0, 1048576, "luminaires", R,
           "MiB of device memory for A_m(p) kept across progressive frames (0 = recompute every frame)",
           [](auto& r) -> auto& { return r.pixel_cache; }),
-      choice(
-          "light_selection", "light_selection", {"auto", "all", "flat"}, "luminaires", R,
+      choice<LightSelection>(
+          "light_selection", "light_selection", "luminaires", R,
           "several luminaire instances: all = every instance at every pixel with K samples each; flat = K is the "
           "pixel's budget, one instance per pixel and frame drawn with probability q_i(p) from a flat CDF, "
           "weighted 1/q_i; auto = flat from 16 instances on, all below (docs/sampling.md \"Light selection\")",
           [](auto& r) -> auto& { return r.light_selection; }),
-      choice(
-          "env_glossy", "env_glossy", {"mc", "fis", "fis-rotated", "env-is", "env-fis", "regular"}, "environment", R,
+      choice<EnvGlossy>(
+          "env_glossy", "env_glossy", "environment", R,
           "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling, "
           "filtered map sampling, Luksch 2014 regular pattern (docs/regular-sampling.md)",
           [](auto& r) -> auto& { return r.env_glossy; }),
@@ -223,20 +225,20 @@ std::vector<Setting> declare() {
           "K: level bias of the filtered lookup, l = log4(K W H / (N p J)); 0 = per filter (box 4, gauss 1); "
           "regular: factor on its samples' solid angle (0 = 1)",
           [](auto& r) -> auto& { return r.env_k; }),
-      choice(
-          "env_kernel", "env_kernel", {"point", "integral"}, "environment", R,
+      choice<EnvKernel>(
+          "env_kernel", "env_kernel", "environment", R,
           "env-fis kernel size: point density (Tokuyoshi Eq. 1) or integrated density by bisection (Eq. 3)",
           [](auto& r) -> auto& { return r.env_kernel; }),
-      choice(
-          "env_filter", "env_filter", {"box", "gauss4", "gauss6"}, "environment", R,
+      choice<EnvFilter>(
+          "env_filter", "env_filter", "environment", R,
           "filter of the environment pyramid: 2x2 box, 4x4 (1 3 3 1)/8 or 6x6 (1 5 10 10 5 1)/32 binomial",
           [](auto& r) -> auto& { return r.env_filter; }),
-      choice(
-          "env_param", "env_param", {"latlong", "paraboloid"}, "environment", R,
+      choice<EnvParam>(
+          "env_param", "env_param", "environment", R,
           "parametrisation of the filtered pyramid: the map's lat-long grid or a dual paraboloid about +-y",
           [](auto& r) -> auto& { return r.env_param; }),
-      choice(
-          "env_diffuse", "env_diffuse", {"sh", "mc"}, "environment", R,
+      choice<EnvDiffuse>(
+          "env_diffuse", "env_diffuse", "environment", R,
           "environment diffuse term: order-2 SH irradiance or cosine-sampled Monte Carlo",
           [](auto& r) -> auto& { return r.env_diffuse; }),
       integer(
@@ -244,20 +246,20 @@ std::vector<Setting> declare() {
           "env_diffuse sh: the map's brightest blocks (at most 2.8 degrees) taken out of the order-2 SH and shaded "
           "as directional lights; 0 = the SH alone (docs/environment.md)",
           [](auto& r) -> auto& { return r.env_sh_lights; }),
-      choice(
-          "env_background", "env_background", {"show", "hide"}, "environment", R,
+      choice<EnvBackground>(
+          "env_background", "env_background", "environment", R,
           "camera rays that miss the geometry see the environment (show) or black (hide)",
           [](auto& r) -> auto& { return r.env_background; }),
-      choice(
-          "env_visibility", "env_visibility", {"none", "sh"}, "environment", R,
+      choice<EnvVisibilityKind>(
+          "env_visibility", "env_visibility", "environment", R,
           "environment visibility: none or order-4 SH of V cos fitted to N_v shadow maps",
           [](auto& r) -> auto& { return r.env_visibility; }),
       integer(
           "env_visibility_samples", "env_visibility_samples", 1, 256, "environment", R,
           "N_v: shadow-map directions (env-map importance sampled) of the SH visibility",
           [](auto& r) -> auto& { return r.env_visibility_samples; }),
-      choice(
-          "indirect", "indirect", {"none", "vsgl"}, "indirect", R,
+      choice<Indirect>(
+          "indirect", "indirect", "indirect", R,
           "one-bounce indirect light from the luminaires: none or VSGLs (Tokuyoshi 2016)",
           [](auto& r) -> auto& { return r.indirect; }),
       integer(
@@ -270,16 +272,16 @@ std::vector<Setting> declare() {
       integer(
           "vsgl_count", "vsgl_count", 64, 4096, "indirect", R, "N_v: VSGLs per luminaire instance",
           [](auto& r) -> auto& { return r.vsgl_count; }),
-      choice(
-          "vsgl_kernel", "vsgl_kernel", {"point", "integral"}, "indirect", R,
+      choice<VsglKernel>(
+          "vsgl_kernel", "vsgl_kernel", "indirect", R,
           "VSGL kernel size: point density (Eq. 1, totals Eq. 4) or PDF integral (Eq. 3, totals Eq. 5)",
           [](auto& r) -> auto& { return r.vsgl_kernel; }),
       positive_real(
           "vsgl_k", "vsgl_k", 1e6, "indirect", R, "K: PDF mass K/N_v per integral kernel (Eq. 3)",
           [](auto& r) -> auto& { return r.vsgl_k; }),
-      choice(
-          "vsgl_points", "vsgl_points", {"hammersley", "fibonacci"}, "indirect", R,
-          "stratified point set warped to the VSGL centres", [](auto& r) -> auto& { return r.vsgl_points; }),
+      choice<VsglPoints>(
+          "vsgl_points", "vsgl_points", "indirect", R, "stratified point set warped to the VSGL centres",
+          [](auto& r) -> auto& { return r.vsgl_points; }),
       integer(
           "vsgl_shadowed", "vsgl_shadowed", 0, 4096, "indirect", R,
           "per instance, the k strongest VSGLs get cube shadow maps (0: unshadowed; maps capped at 1 GiB)",
@@ -365,6 +367,13 @@ std::string setting_names_text() {
 void set_setting_text(RenderSettings& r, const Setting& s, const std::string& text, const std::string& where) {
   const JsonWhere w{"", where};
   s.set(r, parse_text(s, text, w), w);
+}
+
+void check_setting(const RenderSettings& r, const std::string& name, const std::string& where) {
+  const Setting* s = find_setting(name);
+  if (s == nullptr) fail(fmt::format("check_setting: no setting '{}'", name));
+  RenderSettings copy = r;  // the value is written back unchanged when it passes
+  set_setting_text(copy, *s, s->get(r), where + "." + s->name);
 }
 
 RenderSettings parse_render_settings(const json& v, const JsonWhere& where) {

@@ -141,12 +141,24 @@ NF_INLINE float nf_ggx_d(float nh, float alpha) {
    tan^2(theta_h) = alpha^2 u1 / (1 - u1), phi_h = 2 pi u2, written as cos^2 = (1 - u1) / d and
    sin^2 = alpha^2 u1 / d with d = 1 + (alpha^2 - 1) u1, both finite. sin is computed directly: the
    form sqrt(1 - cos^2) in float quantises theta_h near the pole (steps of ~3e-4 rad, the size of
-   alpha at roughness 0.01 or 0.03) and biased such surfaces. The one GGX half-vector sampler:
-   brdf_sample.h's nf_mat_sample is its per-lane form (docs/materials.md). */
+   alpha at roughness 0.01 or 0.03) and biased such surfaces (docs/materials.md).
+   The one GGX half-vector sampler, written once for a type T: nf_ggx_h_cos_sin (float, used by
+   nf_sample_ggx_h) and nf_ggx_h_cos_sin_v (vf, per lane: brdf_sample.h's nf_mat_sample). Tested by
+   tests/kernel_brdf_test.cpp (chi-square, down to alpha 1e-4) and tests/mis_brdf_sample_test.cpp. */
+#define NF_DEFINE_GGX_H_COS_SIN(NAME, T)                   \
+  NF_INLINE void NAME(T u1, T alpha, T* cos_h, T* sin_h) { \
+    const T a2 = alpha * alpha;                            \
+    const T d = fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);     \
+    *cos_h = sqrt(clamp((1.0f - u1) / d, 0.0f, 1.0f));     \
+    *sin_h = sqrt(clamp(a2 * u1 / d, 0.0f, 1.0f));         \
+  }
+NF_DEFINE_GGX_H_COS_SIN(nf_ggx_h_cos_sin, float)
+NF_DEFINE_GGX_H_COS_SIN(nf_ggx_h_cos_sin_v, vf)
+#undef NF_DEFINE_GGX_H_COS_SIN
+
 NF_INLINE float3 nf_sample_ggx_h(float u1, float u2, float alpha) {
-  const float a2 = alpha * alpha;
-  const float d = fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);
-  const float ct = sqrt(clamp((1.0f - u1) / d, 0.0f, 1.0f)), st = sqrt(clamp(a2 * u1 / d, 0.0f, 1.0f));
+  float ct, st;
+  nf_ggx_h_cos_sin(u1, alpha, &ct, &st);
   const float phi = 2.0f * NF_PI * u2;
   return (float3)(st * cos(phi), st * sin(phi), ct);
 }

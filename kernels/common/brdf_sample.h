@@ -114,12 +114,9 @@ NF_INLINE vf nf_mat_sample(const NfShade* sh, vf u0, vf u1, vf u2, vf* wx, vf* w
   vi bad = (vi)(0); /* draws with no valid direction */
   const vi ggx = sh->brdf == NF_BRDF_GGX;
   if (ANY(ggx)) {
-    /* GGX half vector reflected about v: brdf.h nf_sample_ggx_h per lane (the same formulas, sin
-       computed directly; tests/kernel_brdf_test.cpp tests that one down to alpha 1e-4,
-       tests/mis_brdf_sample_test.cpp this lane form) */
-    const vf a2 = sh->alpha * sh->alpha;
-    const vf den = fmax(1.0f + (a2 - 1.0f) * u1, 1e-30f);
-    const vf ct = sqrt(clamp((1.0f - u1) / den, 0.0f, 1.0f)), st = sqrt(clamp(a2 * u1 / den, 0.0f, 1.0f));
+    /* GGX half vector reflected about v: brdf.h's one sampler, per lane (nf_ggx_h_cos_sin_v) */
+    vf ct, st;
+    nf_ggx_h_cos_sin_v(u1, sh->alpha, &ct, &st);
     const vf hx0 = st * cos(phi), hy0 = st * sin(phi);
     const vf hx = hx0 * tx + hy0 * bx + ct * sh->nx, hy = hx0 * ty + hy0 * by + ct * sh->ny,
              hz = hx0 * tz + hy0 * bz + ct * sh->nz;
