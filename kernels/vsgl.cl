@@ -113,6 +113,38 @@ __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4*
   for (int k = 0; k < NQ; ++k) pyr[NQ * t + k] = q[k];
 }
 
+/* The normal class of a texel's VPL (docs/indirect.md "Clusters split by normal"): the dominant
+   world axis of its normal, signed with 6 classes (c = 2 a + (n_a < 0)), unsigned with 3, and 0
+   with 1. The normal is the direction of the diffuse Toksvig sum q2 (2/3 n, App. B.1), or, for a
+   texel without a diffuse lobe (a metal), of the specular one q3 (the mirror direction, the only
+   direction it keeps); a texel with neither is in class 0. Any class rule keeps the energy (each
+   class's VSGLs carry exactly its PDF mass, Eq. 5); the rule only decides which VPLs may share a
+   lobe and a position Gaussian. */
+NF_INLINE int nf_vsgl_class(float4 q2, float4 q3, int classes) {
+  if (classes <= 1) return 0;
+  const float3 d = q2.w > 0.0f ? q2.xyz : q3.xyz;
+  const float3 a = fabs(d);
+  if (!(a.x > 0.0f || a.y > 0.0f || a.z > 0.0f)) return 0;
+  const int ax = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  if (classes < 6) return ax;
+  const float v = ax == 0 ? d.x : (ax == 1 ? d.y : d.z);
+  return 2 * ax + (v < 0.0f ? 1 : 0);
+}
+
+/* Splits level 0 of the pyramid of class 0 (as vsgl_texels wrote it, every texel) into the level 0
+   of `classes` pyramids of `stride` texels each: texel t goes to its class (nf_vsgl_class) and is
+   zero in the others. In place: each work item reads and writes only its own texel. */
+__kernel void vsgl_split(__global float4* pyr, const int size, const int classes, const int stride) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= size || y >= size) return;
+  const int t = y * size + x;
+  float4 q[NQ];
+  for (int k = 0; k < NQ; ++k) q[k] = pyr[NQ * t + k];
+  const int c = nf_vsgl_class(q[2], q[3], classes);
+  for (int cl = 0; cl < classes; ++cl)
+    for (int k = 0; k < NQ; ++k) pyr[NQ * (cl * stride + t) + k] = cl == c ? q[k] : (float4)(0.0f);
+}
+
 /* Level k + 1 from level k: each texel is the sum of its 2x2 children (sizes are powers of two). */
 __kernel void vsgl_pyramid_down(__global float4* pyr, const int src_off, const int src_size, const int dst_off) {
   const int x = get_global_id(0), y = get_global_id(1), ds = src_size / 2;
@@ -185,9 +217,10 @@ NF_INLINE float nf_vsgl_mass(__global const float4* pyr, __global const int* off
       planar Gaussian; docs/indirect.md). */
 __kernel void vsgl_generate(__global const float4* pyr, __global const int* off, const int size0, const int levels,
                             const int n, const int kernel_kind, const float kk, const int points, const float4 origin,
-                            __global NfVsgl* out) {
+                            __global NfVsgl* out, const int out_off) {
   const int i = get_global_id(0);
   if (i >= n) return;
+  out += out_off;
   NfVsgl g;
   g.mu_x = g.mu_y = g.mu_z = 0.0f;
   g.sigma2 = 1.0f;
