@@ -152,17 +152,17 @@ void VsglContribution::ensure_gl(int size) {
 }
 
 void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size,
-                                  const RsmView& view, const ::cl::Buffer& pyr, const ::cl::Buffer* dir) {
+                                  const RsmView& view, const ::cl::Buffer& pyr, const ::cl::Buffer* dir, int classes) {
   vsgl_kernels::Texels k(rt_, "vsgl.cl", "vsgl_texels");
   const float pix = static_cast<float>(2.0 * view.tan_half / size);
   k.bind(surf, irradiance, kurt_buf_, static_cast<int>(kurt_.size()), size, f4(view.origin), f4(view.forward), pix, pyr,
-         dir ? *dir : irradiance, dir ? 1 : 0);
+         dir ? *dir : irradiance, dir ? 1 : 0, classes, static_cast<int>(pyramid_texels(size)));
   rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
 }
 
-std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size, int classes) {
+std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size, int classes, bool split) {
   const int stride = static_cast<int>(pyramid_texels(size));
-  if (classes > 1) {
+  if (classes > 1 && !split) {
     vsgl_kernels::Split k(rt_, "vsgl.cl", "vsgl_split");
     k.bind(pyr, size, classes, stride);
     rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
@@ -272,8 +272,8 @@ bool VsglContribution::build(const FrameInputs& in) {
     timer.reset();
     r.classes = vs.classes;
     r.pyr = pyramid_buffer(size, r.classes);
-    run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr, &sampler_.direction());
-    r.offsets = run_pyramid(r.pyr, size, r.classes);
+    run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr, &sampler_.direction(), r.classes);
+    r.offsets = run_pyramid(r.pyr, size, r.classes, true);
     cl::call([&] { rt_.queue().finish(); }, "VSGL pyramid");
     times_.pyramid_ms += timer.ms();
     // keep E for introspection (the sampler's buffer is reused by the next instance)
@@ -333,7 +333,7 @@ std::vector<NfVsgl> VsglContribution::generate(const std::vector<glm::vec4>& lev
   const ::cl::Buffer pyr = pyramid_buffer(size, classes);
   cl::call([&] { rt_.queue().enqueueWriteBuffer(pyr, CL_TRUE, 0, level0.size() * sizeof(cl_float4), level0.data()); },
            "uploading RSM quantities");
-  const std::vector<int> off = run_pyramid(pyr, size, classes);
+  const std::vector<int> off = run_pyramid(pyr, size, classes, false);
   if (levels_out) {
     levels_out->clear();
     for (std::size_t k = 0; k < off.size(); ++k) {

@@ -119,10 +119,11 @@ class VsglContribution final : public Contribution {
   // dir: the estimator's sum_k w_k l_k per texel (Sampler::direction()), or null: w' is the
   // direction to the U grid's centre (texel_quantities, docs/indirect.md "Incident direction").
   void run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size, const RsmView& view,
-                  const ::cl::Buffer& pyr, const ::cl::Buffer* dir = nullptr);
-  // Splits level 0 of class 0 into `classes` pyramids and sums every class's levels; returns
-  // the level offsets of class 0 (class c's are these + c pyramid_texels(size)).
-  std::vector<int> run_pyramid(const ::cl::Buffer& pyr, int size, int classes);
+                  const ::cl::Buffer& pyr, const ::cl::Buffer* dir = nullptr, int classes = 1);
+  // Splits level 0 of class 0 into `classes` pyramids (unless `split`: vsgl_texels did, by the
+  // surface normals) and sums every class's levels; returns the level offsets of class 0 (class
+  // c's are these + c pyramid_texels(size)).
+  std::vector<int> run_pyramid(const ::cl::Buffer& pyr, int size, int classes, bool split);
   // N_v = s.count VSGLs into out, shared among the classes by vsgl_class_counts.
   void run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size, int classes, glm::dvec3 origin,
                     const VsglSettings& s, const ::cl::Buffer& out);

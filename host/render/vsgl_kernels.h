@@ -8,8 +8,9 @@ namespace nf::render::vsgl_kernels {
 
 using Buf = ::cl::Buffer;
 
-// vsgl_texels(surf, irradiance, kurt, kurt_count, size, origin, fwd, pix, pyr, dir, has_dir)
-using Texels = cl::TypedKernel<Buf, Buf, Buf, cl_int, cl_int, cl_float4, cl_float4, cl_float, Buf, Buf, cl_int>;
+// vsgl_texels(surf, irradiance, kurt, kurt_count, size, origin, fwd, pix, pyr, dir, has_dir, classes, stride)
+using Texels =
+    cl::TypedKernel<Buf, Buf, Buf, cl_int, cl_int, cl_float4, cl_float4, cl_float, Buf, Buf, cl_int, cl_int, cl_int>;
 // vsgl_pyramid_down(pyr, src_off, src_size, dst_off)
 using PyramidDown = cl::TypedKernel<Buf, cl_int, cl_int, cl_int>;
 // vsgl_split(pyr, size, classes, stride)
