@@ -6,9 +6,9 @@
 // a Lambert floor and GGX floors (dielectric and metal, roughness 0.5). Required for every floor:
 // within 5 % + 3 reference standard errors (the target; measured 0.995, 0.996 and
 // 0.984 with one pyramid, 0.973, 0.973 and 0.942 with the clusters split by normal, vsgl_split
-// axis, docs/indirect.md "Clusters split by normal"; before the hemisphere-normalised diffuse lobes 0.876 and 0.879 for the first two, and
-// 1.098 for the metal floor until the specular VPL's reflectance became the GGX lobe's albedo
-// instead of F0, kernels/common/ggx_albedo.h).
+// axis, docs/indirect.md "Clusters split by normal"; before the hemisphere-normalised diffuse
+// lobes 0.876 and 0.879 for the first two, and 1.098 for the metal floor until the specular VPL's
+// reflectance became the GGX lobe's albedo instead of F0, kernels/common/ggx_albedo.h).
 // False-failure rate: with one pyramid the measured ratios were within 1.6 % of 1, so a failure
 // needed the reference's mean to move by 3.4 % + 3 sigma, i.e. > 5 sigma (se 0.95-1.5 %): < 1e-6.
 // With the split the metal floor's 0.942 leaves 5.4 % of its 9.6 % margin (3.5 sigma): a
