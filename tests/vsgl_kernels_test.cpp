@@ -695,8 +695,11 @@ TEST(VsglSplit, CornerClustersMatchTheVplGather) {
       power += g.power;
     }
     EXPECT_NEAR(power / c.power, 1.0, 1e-4);
-    if (classes == 1) EXPECT_GT(mixed, 0) << "the corner case must mix the planes without the split";
-    if (classes == 6) EXPECT_EQ(mixed, 0) << "a VSGL mixes the floor's and the wall's VPLs";
+    if (classes == 1) {
+      EXPECT_GT(mixed, 0) << "the corner case must mix the planes without the split";
+    } else {
+      EXPECT_EQ(mixed, 0) << "a VSGL mixes the floor's and the wall's VPLs";
+    }
     const auto got = vsgl().shade(c.px, v);
     std::vector<double> err(c.px.size(), 0.0), light(c.px.size(), 0.0);  // sum_i L_pi 12 sigma_i^2 / r_pi^2, sum_i L_pi
     for (const auto& g : v) {
@@ -712,7 +715,7 @@ TEST(VsglSplit, CornerClustersMatchTheVplGather) {
       double a = 0.0, b = 0.0, e = 0.0, l = 0.0;
       for (int k = 12 * gi; k < 12 * gi + 12; ++k) {
         const std::size_t kk = static_cast<std::size_t>(k);
-        ASSERT_TRUE(std::isfinite(got[kk].y));
+        ASSERT_TRUE(std::isfinite(got[kk].y)) << "receiver " << k;
         a += got[kk].y;
         b += c.want[kk];
         e += err[kk];
@@ -721,7 +724,9 @@ TEST(VsglSplit, CornerClustersMatchTheVplGather) {
       const double tol = 1e-2 + e / l;
       std::printf("corner, %d class(es), %s: VSGL / VPL %.4f, tol %.4f (%d mixed clusters)\n", classes, group[gi],
                   a / b, tol, mixed);
-      if (classes == 6) EXPECT_NEAR(a / b, 1.0, tol) << group[gi];
+      if (classes == 6) {
+        EXPECT_NEAR(a / b, 1.0, tol) << group[gi];
+      }
     }
   }
 }
