@@ -51,10 +51,22 @@ struct Options {
   int width = 160, height = 90, ref_spp = 256, spp = 64, rsm = 256, flicker_frames = 60;
   double step = 0.01;
   bool refresh = false;
-  std::string decompose;  // N_v values of the deficit decomposition ("" = none)
-  int merge = 1;          // texel blocks per shadow ray of the shadowed VPL gather (1: a ray per texel)
-  std::string images;     // folder for PNGs of the reference and each VSGL image ("" = none)
+  std::string decompose;       // N_v values of the deficit decomposition ("" = none)
+  int merge = 1;               // texel blocks per shadow ray of the shadowed VPL gather (1: a ray per texel)
+  std::string images;          // folder for PNGs of the reference and each VSGL image ("" = none)
+  std::string split = "axis";  // vsgl_split values of the kernel sweep and the decomposition, comma-separated
 };
+
+std::vector<std::string> parse_words(const std::string& s) {
+  std::vector<std::string> v;
+  std::size_t pos = 0;
+  while (pos < s.size()) {
+    const std::size_t end = std::min(s.find(',', pos), s.size());
+    v.push_back(s.substr(pos, end - pos));
+    pos = end + 1;
+  }
+  return v;
+}
 
 std::vector<int> parse_list(const std::string& s) {
   std::vector<int> v;
@@ -74,7 +86,7 @@ nf::Image difference(const nf::Image& a, const nf::Image& b) {
 }
 
 struct Row {
-  std::string kernel;
+  std::string kernel, split;
   int count = 0;
   nf::bench::ErrorMetrics e;
   double build_ms = 0, rsm_ms = 0, light_ms = 0, pyramid_ms = 0, generate_ms = 0, shade_ms = 0;
@@ -96,6 +108,9 @@ int main(int argc, char** argv) {
   app.add_option(
       "--decompose", o.decompose,
       "N_v values (integral kernels) of the deficit decomposition against the brute-force VPLs (empty: none)");
+  app.add_option("--split", o.split,
+                 "vsgl_split values (none, axis), comma-separated: the kernel sweep and the "
+                 "decomposition's VSGL rows run once per value");
   app.add_option("--merge", o.merge, "RSM texel blocks (merge^2) per shadow ray of the shadowed VPL gather");
   app.add_option("--ref-spp", o.ref_spp, "Reference samples per pixel");
   app.add_option("--spp", o.spp, "Light-field samples per RSM texel and pixel");
@@ -147,9 +162,13 @@ int main(int argc, char** argv) {
 
     nf::render::Renderer renderer(scene, {});
     int shadowed = 0;  // vsgl_shadowed of the next frames
+    const std::vector<std::string> splits = parse_words(o.split);
+    if (splits.empty()) nf::fail("--split: no value");
+    std::string split = splits.front();  // vsgl_split of the next frames
     auto frame = [&](const std::string& indirect, const std::string& kernel, int count) {
       nf::render::FrameSettings f = renderer.settings();
       f.declared.vsgl_shadowed = shadowed;
+      f.declared.vsgl_split = split;
       f.sampling.spp = o.spp;
       f.declared.indirect = indirect;
       f.declared.vsgl_kernel = kernel;
@@ -169,32 +188,35 @@ int main(int argc, char** argv) {
     };
     save("reference", ref.result.image);
     std::vector<Row> rows;
-    for (const std::string kernel : {"point", "integral"})
-      for (int count : parse_list(o.counts)) {
-        const nf::Image all = frame("vsgl", kernel, count);
-        auto* v = dynamic_cast<nf::render::VsglContribution*>(renderer.contribution("indirect"));
-        Row row;
-        row.kernel = kernel;
-        row.count = count;
-        const nf::Image only = difference(all, direct);
-        row.e = cmp.compare(only);
-        save(fmt::format("vsgl-{}-{}", kernel, count), only);
-        const auto& t = v->build_times();
-        row.build_ms = t.total();
-        row.rsm_ms = t.rsm_ms;
-        row.light_ms = t.light_ms;
-        row.pyramid_ms = t.pyramid_ms;
-        row.generate_ms = t.generate_ms;
-        for (const auto& c : renderer.stats().contributions)
-          if (c.name == "indirect") row.shade_ms = c.step2_ms;
-        std::printf(
-            "%-8s N_v %5d  dE %.3f  relMSE %.3e  bias %+.4f  build %.0f ms (rsm %.0f light %.0f pyr %.0f gen "
-            "%.1f) shade %.0f ms\n",
-            kernel.c_str(), count, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.build_ms, row.rsm_ms, row.light_ms,
-            row.pyramid_ms, row.generate_ms, row.shade_ms);
-        std::fflush(stdout);
-        rows.push_back(row);
-      }
+    for (const std::string& sp : splits)
+      for (const std::string kernel : {"point", "integral"})
+        for (int count : parse_list(o.counts)) {
+          split = sp;
+          const nf::Image all = frame("vsgl", kernel, count);
+          auto* v = dynamic_cast<nf::render::VsglContribution*>(renderer.contribution("indirect"));
+          Row row;
+          row.kernel = kernel;
+          row.split = sp;
+          row.count = count;
+          const nf::Image only = difference(all, direct);
+          row.e = cmp.compare(only);
+          save(fmt::format("vsgl-{}-{}-{}", kernel, count, sp), only);
+          const auto& t = v->build_times();
+          row.build_ms = t.total();
+          row.rsm_ms = t.rsm_ms;
+          row.light_ms = t.light_ms;
+          row.pyramid_ms = t.pyramid_ms;
+          row.generate_ms = t.generate_ms;
+          for (const auto& c : renderer.stats().contributions)
+            if (c.name == "indirect") row.shade_ms = c.step2_ms;
+          std::printf(
+              "%-8s split %-4s N_v %5d  dE %.3f  relMSE %.3e  bias %+.4f  build %.0f ms (rsm %.0f light %.0f pyr "
+              "%.0f gen %.1f) shade %.0f ms\n",
+              kernel.c_str(), sp.c_str(), count, row.e.delta_e, row.e.rel_mse, row.e.rel_bias, row.build_ms, row.rsm_ms,
+              row.light_ms, row.pyramid_ms, row.generate_ms, row.shade_ms);
+          std::fflush(stdout);
+          rows.push_back(row);
+        }
 
     // Shadowed VSGLs: integral kernels, N_v = --shadowed-count, vsgl_shadowed in --shadowed.
     std::vector<Row> srows;
@@ -225,6 +247,7 @@ int main(int argc, char** argv) {
       srows.push_back(row);
     }
     shadowed = 0;
+    split = splits.front();
 
     // The deficit's decomposition (docs/indirect.md, "Where the default scene's deficit comes from"):
     // per receiver region, the reference's one-bounce light, the brute-force VPLs of the same RSMs
@@ -280,16 +303,19 @@ int main(int argc, char** argv) {
       cols.push_back({"VPLs, unshadowed, diffuse lobes", vd});
       cols.push_back({"VPLs, unshadowed, specular lobes", vs});
       cols.push_back({"VPLs, unshadowed, diffuse lobes as the SG of App. A (+ specular)", vg});
-      for (int count : parse_list(o.decompose))
-        for (int k : {0, count}) {
-          shadowed = k;
-          const nf::Image only = difference(frame("vsgl", "integral", count), direct);
-          Totals t;
-          for (std::size_t p = 0; p < px.size(); ++p)
-            if (valid[p] && px[p].valid) t.add(region(p), lum3(&only.pixels[3 * p]));
-          cols.push_back({fmt::format("VSGL N_v {}{}", count, k ? ", all shadowed" : ""), t});
-        }
+      for (const std::string& sp : splits)
+        for (int count : parse_list(o.decompose))
+          for (int k : {0, count}) {
+            shadowed = k;
+            split = sp;
+            const nf::Image only = difference(frame("vsgl", "integral", count), direct);
+            Totals t;
+            for (std::size_t p = 0; p < px.size(); ++p)
+              if (valid[p] && px[p].valid) t.add(region(p), lum3(&only.pixels[3 * p]));
+            cols.push_back({fmt::format("VSGL N_v {}, vsgl_split {}{}", count, sp, k ? ", all shadowed" : ""), t});
+          }
       shadowed = 0;
+      split = splits.front();
       std::string md = fmt::format(
           "# VSGL deficit decomposition, default scene {}x{}, RSM {}^2\n\nVPLs: {} (flux {:.4g} W; with the area "
           "clamp at 1e-3 instead of 0.05: {:.4g} W, {:+.2f} %); shadowed gather: one shadow ray per {}x{} texel "
@@ -412,26 +438,26 @@ int main(int argc, char** argv) {
       return 0;
     }
     std::ofstream csv(fs::path(o.out) / "vsgl.csv");
-    csv << "kernel,count,delta_e,delta_e_max,rel_mse,rel_bias,build_ms,rsm_ms,light_ms,pyramid_ms,generate_ms,"
+    csv << "kernel,split,count,delta_e,delta_e_max,rel_mse,rel_bias,build_ms,rsm_ms,light_ms,pyramid_ms,generate_ms,"
            "shade_ms\n";
     for (const auto& r : rows)
-      csv << fmt::format("{},{},{:.6f},{:.6f},{:.6e},{:.6e},{:.1f},{:.1f},{:.1f},{:.1f},{:.2f},{:.1f}\n", r.kernel,
-                         r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms, r.rsm_ms,
-                         r.light_ms, r.pyramid_ms, r.generate_ms, r.shade_ms);
+      csv << fmt::format("{},{},{},{:.6f},{:.6f},{:.6e},{:.6e},{:.1f},{:.1f},{:.1f},{:.1f},{:.2f},{:.1f}\n", r.kernel,
+                         r.split, r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms,
+                         r.rsm_ms, r.light_ms, r.pyramid_ms, r.generate_ms, r.shade_ms);
     std::ofstream md(fs::path(o.out) / "vsgl.md");
     md << "# VSGL one-bounce indirect light against the CPU reference\n\n";
     md << fmt::format("Date {}, {} ({} cores), {}; GL {}; {}x{}, RSM {}^2, K = {} per texel; {}; total {:.0f} s.\n\n",
                       mi.date_utc, mi.cpu_model, mi.cores, mi.cl_device.name, renderer.gl_renderer(), o.width, o.height,
                       o.rsm, o.spp, o.quick ? "quick mode" : "full", total.ms() / 1000.0);
     for (const auto& n : notes) md << "- " << n << "\n";
-    md << "\n| kernel | N_v | mean dE76 | max dE76 | rel. MSE | rel. bias | build ms (RSM / light / pyramid / "
-          "generate) | shade ms |\n|---|---|---|---|---|---|---|---|\n";
+    md << "\n| kernel | vsgl_split | N_v | mean dE76 | max dE76 | rel. MSE | rel. bias | build ms (RSM / light / "
+          "pyramid / generate) | shade ms |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : rows)
       md << fmt::format(
-          "| {} | {} | {:.3f} | {:.2f} | {:.3e} | {:+.4f} | {:.0f} ({:.0f} / {:.0f} / {:.0f} / {:.1f}) | "
+          "| {} | {} | {} | {:.3f} | {:.2f} | {:.3e} | {:+.4f} | {:.0f} ({:.0f} / {:.0f} / {:.0f} / {:.1f}) | "
           "{:.0f} |\n",
-          r.kernel, r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms, r.rsm_ms, r.light_ms,
-          r.pyramid_ms, r.generate_ms, r.shade_ms);
+          r.kernel, r.split, r.count, r.e.delta_e, r.e.delta_e_max, r.e.rel_mse, r.e.rel_bias, r.build_ms, r.rsm_ms,
+          r.light_ms, r.pyramid_ms, r.generate_ms, r.shade_ms);
     if (!flicker.empty()) {
       md << fmt::format(
           "\nFlicker (N_v = 256, luminaire 0 moving {} m per frame, {} frames): mean frame-to-frame "

@@ -54,6 +54,24 @@ NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt,
   *rs = fmax(*rs, (float3)(0.0f));
 }
 
+/* The normal class of a texel's VPL (docs/indirect.md "Clusters split by normal"): the dominant
+   world axis of its normal, signed with 6 classes (c = 2 a + (n_a < 0)), unsigned with 3, and 0
+   with 1. vsgl_texels classifies by the surface normal itself; vsgl_split (quantities given without
+   their surfaces) by the direction of the diffuse Toksvig sum q2 (2/3 n, App. B.1), or, for a
+   texel without a diffuse lobe (a metal), of the specular one q3 (the mirror direction, the only
+   direction they keep); a texel with neither is in class 0. Any class rule keeps the energy (each
+   class's VSGLs carry exactly its PDF mass, Eq. 5); the rule only decides which VPLs may share a
+   lobe and a position Gaussian. */
+NF_INLINE int nf_vsgl_class(float3 d, int classes) {
+  if (classes <= 1) return 0;
+  const float3 a = fabs(d);
+  if (!(a.x > 0.0f || a.y > 0.0f || a.z > 0.0f)) return 0;
+  const int ax = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  if (classes < 6) return ax;
+  const float v = ax == 0 ? d.x : (ax == 1 ? d.y : d.z);
+  return 2 * ax + (v < 0.0f ? 1 : 0);
+}
+
 /* One RSM texel (x, y) -> q0..q4 of level 0 (kernels/shared/vsgl.h).
    Texel area (docs/indirect.md "Texel area"): the RSM is a perspective camera at `origin` looking
    along `fwd` with square pixels of side `pix` at unit distance, so texel solid angle is
@@ -67,7 +85,7 @@ NF_INLINE void nf_vpl_material(NfSurface s, __global const NfKurtMaterial* kurt,
 __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4* irradiance,
                           __global const NfKurtMaterial* kurt, const int kurt_count, const int size, const float4 origin,
                           const float4 fwd, const float pix, __global float4* pyr, __global const float4* dir,
-                          const int has_dir) {
+                          const int has_dir, const int classes, const int stride) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= size || y >= size) return;
   const int t = y * size + x;
@@ -75,6 +93,7 @@ __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4*
   float4 q[NQ];
   for (int k = 0; k < NQ; ++k) q[k] = (float4)(0.0f);
   const float3 e = irradiance[t].xyz;
+  int cls = 0; /* the texel's normal class: it goes into that class's pyramid (vsgl_split) */
   if (s.valid && all(isfinite(e))) {
     const float3 p = (float3)(s.px, s.py, s.pz), n = normalize((float3)(s.nx, s.ny, s.nz));
     const float3 yv = p - origin.xyz;
@@ -109,8 +128,24 @@ __kernel void vsgl_texels(__global const NfSurface* surf, __global const float4*
     q[2] = (float4)(wd * xd, wd);
     q[3] = (float4)(ws * xsb, ws);
     q[4] = (float4)(w * yv, area);
+    cls = nf_vsgl_class(n, classes);
   }
-  for (int k = 0; k < NQ; ++k) pyr[NQ * t + k] = q[k];
+  for (int c = 0; c < max(classes, 1); ++c)
+    for (int k = 0; k < NQ; ++k) pyr[NQ * (c * stride + t) + k] = c == cls ? q[k] : (float4)(0.0f);
+}
+
+/* Splits level 0 of the pyramid of class 0 (as vsgl_texels wrote it, every texel) into the level 0
+   of `classes` pyramids of `stride` texels each: texel t goes to its class (nf_vsgl_class) and is
+   zero in the others. In place: each work item reads and writes only its own texel. */
+__kernel void vsgl_split(__global float4* pyr, const int size, const int classes, const int stride) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= size || y >= size) return;
+  const int t = y * size + x;
+  float4 q[NQ];
+  for (int k = 0; k < NQ; ++k) q[k] = pyr[NQ * t + k];
+  const int c = nf_vsgl_class(q[2].w > 0.0f ? q[2].xyz : q[3].xyz, classes);
+  for (int cl = 0; cl < classes; ++cl)
+    for (int k = 0; k < NQ; ++k) pyr[NQ * (cl * stride + t) + k] = cl == c ? q[k] : (float4)(0.0f);
 }
 
 /* Level k + 1 from level k: each texel is the sum of its 2x2 children (sizes are powers of two). */
@@ -185,9 +220,10 @@ NF_INLINE float nf_vsgl_mass(__global const float4* pyr, __global const int* off
       planar Gaussian; docs/indirect.md). */
 __kernel void vsgl_generate(__global const float4* pyr, __global const int* off, const int size0, const int levels,
                             const int n, const int kernel_kind, const float kk, const int points, const float4 origin,
-                            __global NfVsgl* out) {
+                            __global NfVsgl* out, const int out_off) {
   const int i = get_global_id(0);
   if (i >= n) return;
+  out += out_off;
   NfVsgl g;
   g.mu_x = g.mu_y = g.mu_z = 0.0f;
   g.sigma2 = 1.0f;

@@ -232,6 +232,8 @@ TEST(VsglDirection, GlossyLobeFollowsTheMeanDirection) {
     k.setArg(8, pyr);
     k.setArg(9, sampler.direction());
     k.setArg(10, has_dir);
+    k.setArg(11, 1);  // one normal class (vsgl_split none): level 0 as it always was
+    k.setArg(12, texels);
     rt.launch(k, ::cl::NDRange(size, size));
     std::vector<glm::vec4> out(nq);
     rt.queue().enqueueReadBuffer(pyr, CL_TRUE, 0, nq * sizeof(glm::vec4), out.data());

@@ -17,6 +17,7 @@
 #include "cl/runtime.h"
 #include "kernels/shared/vsgl.h"
 #include "render/vsgl_contribution.h"
+#include "render/vsgl_split.h"
 #include "scene/scene.h"
 
 namespace {
@@ -40,8 +41,8 @@ std::vector<glm::vec4> quantities(const std::vector<double>& pdf, std::mt19937& 
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<glm::vec4> q(pdf.size() * NF_VSGL_QUANTITIES);
   for (std::size_t t = 0; t < pdf.size(); ++t) {
-    for (int k = 0; k < NF_VSGL_QUANTITIES; ++k) q[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(k)] =
-        glm::vec4(u(rng), u(rng), u(rng), u(rng));
+    for (int k = 0; k < NF_VSGL_QUANTITIES; ++k)
+      q[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(k)] = glm::vec4(u(rng), u(rng), u(rng), u(rng));
     q[NF_VSGL_QUANTITIES * t].w = static_cast<float>(pdf[t]);
   }
   return q;
@@ -68,9 +69,10 @@ struct HostMip {
       for (int y = 0; y < n / 2; ++y)
         for (int x = 0; x < n / 2; ++x)
           b[static_cast<std::size_t>(y * (n / 2) + x)] =
-              0.25 * (a[static_cast<std::size_t>(2 * y * n + 2 * x)] + a[static_cast<std::size_t>(2 * y * n + 2 * x + 1)] +
-                      a[static_cast<std::size_t>((2 * y + 1) * n + 2 * x)] +
-                      a[static_cast<std::size_t>((2 * y + 1) * n + 2 * x + 1)]);
+              0.25 *
+              (a[static_cast<std::size_t>(2 * y * n + 2 * x)] + a[static_cast<std::size_t>(2 * y * n + 2 * x + 1)] +
+               a[static_cast<std::size_t>((2 * y + 1) * n + 2 * x)] +
+               a[static_cast<std::size_t>((2 * y + 1) * n + 2 * x + 1)]);
       mean.push_back(b);
     }
   }
@@ -122,8 +124,7 @@ TEST(VsglKernels, PyramidSumsEqualDirectSums) {
             for (int j = 0; j < b; ++j)
               for (int i = 0; i < b; ++i)
                 direct += q0[static_cast<std::size_t>(NF_VSGL_QUANTITIES * ((y * b + j) * S + x * b + i) + q)][c];
-            const double got =
-                levels[k][static_cast<std::size_t>(NF_VSGL_QUANTITIES * (y * n + x) + q)][c];
+            const double got = levels[k][static_cast<std::size_t>(NF_VSGL_QUANTITIES * (y * n + x) + q)][c];
             // float sums of <= 4096 terms in [0, 2], pairwise by the pyramid: relative error
             // <= log2(4096) * 2^-24 ~ 7e-7; 1e-5 leaves room.
             ASSERT_NEAR(got, direct, 1e-5 * direct + 1e-6) << "level " << k << " texel " << x << "," << y;
@@ -141,6 +142,7 @@ TEST(VsglKernels, BisectionSolvesEq3) {
   const HostMip mip(pdf, S);
   for (double k : {1.0, 4.0}) {
     render::VsglSettings s;
+    s.classes = 1;  // one pyramid: Eq. 3 is recomputed on the host from the whole PDF
     s.count = 256;
     s.k = k;
     s.kernel = NF_VSGL_KERNEL_INTEGRAL;
@@ -192,6 +194,7 @@ TEST(VsglKernels, IntegralKernelsOverlapLessThanPointKernels) {
   double err[2];
   for (int kind : {NF_VSGL_KERNEL_POINT, NF_VSGL_KERNEL_INTEGRAL}) {
     render::VsglSettings s;
+    s.classes = 1;  // one pyramid: the coverage of the whole PDF (random normals)
     s.count = 256;
     s.kernel = kind;
     const auto v = vsgl().generate(q, S, glm::dvec3(0.0), s);
@@ -201,7 +204,8 @@ TEST(VsglKernels, IntegralKernelsOverlapLessThanPointKernels) {
       const double cx = g.u * S, cy = g.v * S;
       for (int y = 0; y < S; ++y)
         for (int x = 0; x < S; ++x)
-          if (std::abs(x + 0.5 - cx) < half && std::abs(y + 0.5 - cy) < half) cover[static_cast<std::size_t>(y * S + x)] += 1.0;
+          if (std::abs(x + 0.5 - cx) < half && std::abs(y + 0.5 - cy) < half)
+            cover[static_cast<std::size_t>(y * S + x)] += 1.0;
     }
     double e = 0.0, w = 0.0;
     for (std::size_t t = 0; t < cover.size(); ++t) {
@@ -408,7 +412,8 @@ TEST(VsglKernels, SingleVplMatchesItsPointLightInTheSmallVarianceLimit) {
     const auto got = vsgl().shade(px, v);
     for (std::size_t k = 0; k < px.size(); ++k)
       for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(got[k][c] / (held * expect[k] * prd[c] * base[c]), 1.0, 1e-3) << "kernel " << kind << " pixel " << k;
+        EXPECT_NEAR(got[k][c] / (held * expect[k] * prd[c] * base[c]), 1.0, 1e-3)
+            << "kernel " << kind << " pixel " << k;
   }
 }
 
@@ -442,6 +447,7 @@ TEST(VsglKernels, ClusterLobeKeepsTheFluxAboveItsPlane) {
       want += 1.0 * (1.0 + glm::dot(nj, glm::dvec3(0, 0, 1))) / 2.0;
     }
   render::VsglSettings s;
+  s.classes = 1;  // one pyramid: the fold is the mixed cluster under test
   s.count = 16;
   s.kernel = NF_VSGL_KERNEL_INTEGRAL;
   const auto v = vsgl().generate(q, S, glm::dvec3(0.0), s);
@@ -518,8 +524,8 @@ TEST(VsglKernels, NoNanForEmptyBlackGrazingAndMirrorInputs) {
   s.count = 64;
   for (int kind : {NF_VSGL_KERNEL_POINT, NF_VSGL_KERNEL_INTEGRAL}) {
     s.kernel = kind;
-    const auto v = vsgl().generate(std::vector<glm::vec4>(S * S * NF_VSGL_QUANTITIES, glm::vec4(0.0f)), S,
-                                   glm::dvec3(0.0), s);
+    const auto v =
+        vsgl().generate(std::vector<glm::vec4>(S * S * NF_VSGL_QUANTITIES, glm::vec4(0.0f)), S, glm::dvec3(0.0), s);
     for (const auto& g : v) {
       EXPECT_EQ(g.power, 0.0f);
       EXPECT_EQ(g.cd_r + g.cs_r, 0.0f);
@@ -562,11 +568,11 @@ TEST(VsglKernels, NoNanForEmptyBlackGrazingAndMirrorInputs) {
       const glm::dvec3 mu(v[0].mu_x, v[0].mu_y, v[0].mu_z);
       for (float rough : {0.0f, 0.02f, 0.5f, 1.0f})
         for (const glm::dvec3 vdir : {glm::dvec3(0, 0, -1), glm::dvec3(1, 0, 0), nrm(1, 0, -0.01)}) {
-          px.push_back(surface(glm::dvec3(0.1, 0.2, 0.0), glm::dvec3(0, 0, 1), vdir, NF_BRDF_GGX, glm::vec3(1.0f),
-                               rough, 1.0f));
+          px.push_back(
+              surface(glm::dvec3(0.1, 0.2, 0.0), glm::dvec3(0, 0, 1), vdir, NF_BRDF_GGX, glm::vec3(1.0f), rough, 1.0f));
           px.push_back(surface(mu, glm::dvec3(0, 0, -1), vdir, NF_BRDF_GGX, glm::vec3(0.5f), rough, 0.0f));
-          px.push_back(surface(glm::dvec3(0.0, 0.0, 3.0), glm::dvec3(0, 0, -1), vdir, NF_BRDF_LAMBERT,
-                               glm::vec3(0.5f)));
+          px.push_back(
+              surface(glm::dvec3(0.0, 0.0, 3.0), glm::dvec3(0, 0, -1), vdir, NF_BRDF_LAMBERT, glm::vec3(0.5f)));
         }
       const auto out = vsgl().shade(px, v);
       for (const auto& o : out)
@@ -579,3 +585,148 @@ TEST(VsglKernels, NoNanForEmptyBlackGrazingAndMirrorInputs) {
 }
 
 }  // namespace
+
+// Clusters split by normal (docs/indirect.md "Clusters split by normal"): N_v shared among the
+// classes in proportion to their PDF mass by largest remainder, every lit class at least one.
+TEST(VsglSplit, ClassCountsFollowTheMassAndKeepEveryLitClass) {
+  EXPECT_EQ(render::vsgl_class_counts({3.0, 1.0, 0.0, 0.0, 0.0, 0.0}, 256), (std::vector<int>{192, 64, 0, 0, 0, 0}));
+  // 256 x (0.5, 0.3, 0.2) = 128, 76.8, 51.2: floors 128, 76, 51, the one left to the largest remainder
+  EXPECT_EQ(render::vsgl_class_counts({5.0, 3.0, 2.0}, 256), (std::vector<int>{128, 77, 51}));
+  // a class of 1e-6 of the mass gets one VSGL, taken from the largest
+  EXPECT_EQ(render::vsgl_class_counts({1.0, 1e-6, -1.0, NAN}, 64), (std::vector<int>{63, 1, 0, 0}));
+  EXPECT_EQ(render::vsgl_class_counts({0.0, 0.0}, 8), (std::vector<int>{8, 0}));
+  EXPECT_EQ(render::vsgl_class_counts({1.0, 1.0, 1.0}, 2), (std::vector<int>{1, 1, 0}));
+  for (int n : {1, 7, 64, 1000}) {
+    const auto c = render::vsgl_class_counts({0.1, 2.0, 0.0, 1e-3, 5.0, 0.7}, n);
+    int sum = 0;
+    for (int v : c) sum += v;
+    EXPECT_EQ(sum, n);
+  }
+}
+
+// A two-plane corner: a 1 x 1 m floor (z = 0, normal +z) meeting a 1 x 1 m wall (x = 0, normal
+// +x), one RSM of 32 x 32 texels whose left half is the wall and right half the floor, lit by a
+// point source (E = n.(L - y) / |L - y|^3, L = (0.7, 0.1, 0.8)). Each texel is a Lambert VPL
+// (R_d = 1) with its App. A lobe (lambda = 2, normalised to its hemisphere); the reference gathers
+// the 1024 VPLs' point lights in double. Receivers: 12 on the floor (lit only by the wall's VPLs),
+// 12 on the wall (lit only by the floor's) and 12 in the air facing the corner.
+struct CornerCase {
+  std::vector<glm::vec4> q;
+  std::vector<NfSurface> px;
+  std::vector<double> want;  // per receiver, luminance (grey) of the VPL gather
+  double power = 0.0;        // the VPLs' total (luminance) flux
+};
+
+CornerCase corner_case() {
+  constexpr int S = 32;
+  CornerCase c;
+  c.q.assign(S * S * NF_VSGL_QUANTITIES, glm::vec4(0.0f));
+  const glm::dvec3 light(0.7, 0.1, 0.8);
+  const double area = 2.0 / (S * S);
+  std::vector<glm::dvec3> ys, ns;
+  std::vector<double> phis;
+  for (int ty = 0; ty < S; ++ty)
+    for (int tx = 0; tx < S; ++tx) {
+      const double u = (tx + 0.5) / S, v = (ty + 0.5) / S;
+      const bool wall = u < 0.5;
+      const glm::dvec3 y = wall ? glm::dvec3(0.0, v - 0.5, 1.0 - 2.0 * u) : glm::dvec3(2.0 * u - 1.0, v - 0.5, 0.0);
+      const glm::dvec3 n = wall ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 0.0, 1.0);
+      const glm::dvec3 d = light - y;
+      const double r = glm::length(d);
+      const double phi = std::max(glm::dot(n, d), 0.0) / (r * r * r) * area;
+      ys.push_back(y);
+      ns.push_back(n);
+      phis.push_back(phi);
+      c.power += phi;
+      const std::size_t t = static_cast<std::size_t>(ty * S + tx);
+      const double w = phi;  // grey flux: luminance phi
+      c.q[NF_VSGL_QUANTITIES * t + 0] = glm::vec4(glm::vec3(static_cast<float>(phi)), static_cast<float>(w));
+      c.q[NF_VSGL_QUANTITIES * t + 1] = glm::vec4(0, 0, 0, static_cast<float>(w * (glm::dot(y, y) + area / 6.0)));
+      c.q[NF_VSGL_QUANTITIES * t + 2] = glm::vec4(glm::vec3(w * (2.0 / 3.0) * n), static_cast<float>(w));
+      c.q[NF_VSGL_QUANTITIES * t + 4] = glm::vec4(glm::vec3(w * y), static_cast<float>(area));
+    }
+  const double ah = kPi * (1.0 - std::exp(-2.0));  // A_h(2)
+  const auto add = [&](glm::dvec3 p, glm::dvec3 n) {
+    c.px.push_back(surface(p, n, n, NF_BRDF_LAMBERT, glm::vec3(1.0f)));
+    double l = 0.0;
+    for (std::size_t j = 0; j < ys.size(); ++j) {
+      const glm::dvec3 d = ys[j] - p;
+      const double r2 = glm::dot(d, d);
+      const glm::dvec3 xi = d / std::sqrt(r2);
+      l += phis[j] * std::exp(2.0 * (glm::dot(-xi, ns[j]) - 1.0)) / ah * std::max(glm::dot(n, xi), 0.0) / r2 / kPi;
+    }
+    c.want.push_back(l);
+  };
+  for (double a : {0.3, 0.5, 0.7, 0.9})
+    for (double y : {-0.3, 0.0, 0.3}) add(glm::dvec3(a, y, 0.0), glm::dvec3(0, 0, 1));
+  for (double a : {0.3, 0.5, 0.7, 0.9})
+    for (double y : {-0.3, 0.0, 0.3}) add(glm::dvec3(0.0, y, a), glm::dvec3(1, 0, 0));
+  for (double a : {0.3, 0.5, 0.7, 0.9})
+    for (double y : {-0.3, 0.0, 0.3}) add(glm::dvec3(a, y, a), glm::normalize(glm::dvec3(-1, 0, -1)));
+  return c;
+}
+
+// What is asserted: with the split (6 classes) no VSGL mixes the two planes (every diffuse lobe
+// keeps lambda = 2, the coplanar value, to 1e-3), while without it some do (the case exercises the
+// split); and per receiver group the VSGLs' total is within tol of the VPL gather. tol is derived
+// from the one approximation left, the cluster's position Gaussian in place of its VPLs: the
+// transfer g(y) = I(y -> p) cos_p / |p - y|^2 expanded about the cluster mean mu has the
+// second-order relative term (1/2) sum_ab Cov_ab d_a d_b g / g, and for g ~ cos cos / r^2 the second
+// derivatives are at most ~12 / r^2 of g (6 from r^-2, 2 from each cosine, 2 for the cross terms),
+// so with Cov's trace 2 sigma^2 (planar cluster, sigma^2 per axis) each VSGL's relative error is at
+// most 12 sigma^2 / r^2, r = |p - mu|. tol = 1e-2 (float kernels, the shading's SG products) plus
+// the light-weighted mean of 12 sigma_i^2 / r_pi^2 over the VSGLs i and receivers p of the group
+// (each VSGL shaded alone). N_v = 256 over 1024 VPLs: 4 texels per cluster. Exact besides: Eq. 5
+// gives the VSGLs together the VPLs' power (1e-4, float sums), split or not.
+TEST(VsglSplit, CornerClustersMatchTheVplGather) {
+  const CornerCase c = corner_case();
+  constexpr int S = 32;
+  const char* group[3] = {"floor", "wall", "air"};
+  for (int classes : {1, 6}) {
+    render::VsglSettings s;
+    s.count = 256;
+    s.kernel = NF_VSGL_KERNEL_INTEGRAL;
+    s.classes = classes;
+    const auto v = vsgl().generate(c.q, S, glm::dvec3(0.0), s);
+    int mixed = 0;
+    double power = 0.0;
+    for (const auto& g : v) {
+      if (g.power > 0.0f && std::abs(g.lambda_d - 2.0f) > 1e-3f) ++mixed;
+      power += g.power;
+    }
+    EXPECT_NEAR(power / c.power, 1.0, 1e-4);
+    if (classes == 1) {
+      EXPECT_GT(mixed, 0) << "the corner case must mix the planes without the split";
+    } else {
+      EXPECT_EQ(mixed, 0) << "a VSGL mixes the floor's and the wall's VPLs";
+    }
+    const auto got = vsgl().shade(c.px, v);
+    std::vector<double> err(c.px.size(), 0.0), light(c.px.size(), 0.0);  // sum_i L_pi 12 sigma_i^2 / r_pi^2, sum_i L_pi
+    for (const auto& g : v) {
+      if (!(g.power > 0.0f)) continue;
+      const auto one = vsgl().shade(c.px, std::vector<NfVsgl>{g});
+      for (std::size_t k = 0; k < c.px.size(); ++k) {
+        const glm::dvec3 d = glm::dvec3(g.mu_x, g.mu_y, g.mu_z) - glm::dvec3(c.px[k].px, c.px[k].py, c.px[k].pz);
+        err[k] += one[k].y * 12.0 * g.sigma2 / glm::dot(d, d);
+        light[k] += one[k].y;
+      }
+    }
+    for (int gi = 0; gi < 3; ++gi) {
+      double a = 0.0, b = 0.0, e = 0.0, l = 0.0;
+      for (int k = 12 * gi; k < 12 * gi + 12; ++k) {
+        const std::size_t kk = static_cast<std::size_t>(k);
+        ASSERT_TRUE(std::isfinite(got[kk].y)) << "receiver " << k;
+        a += got[kk].y;
+        b += c.want[kk];
+        e += err[kk];
+        l += light[kk];
+      }
+      const double tol = 1e-2 + e / l;
+      std::printf("corner, %d class(es), %s: VSGL / VPL %.4f, tol %.4f (%d mixed clusters)\n", classes, group[gi],
+                  a / b, tol, mixed);
+      if (classes == 6) {
+        EXPECT_NEAR(a / b, 1.0, tol) << group[gi];
+      }
+    }
+  }
+}

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 
 #include "cl/buffers.h"
 #include "cl/cl_error.h"
@@ -16,6 +17,7 @@
 #include "gl/shadow_maps.h"
 #include "render/kurt_table.h"
 #include "render/vsgl_kernels.h"
+#include "render/vsgl_split.h"
 
 namespace nf::render {
 
@@ -27,6 +29,13 @@ namespace {
 using cl::download;  // the shared buffer helpers (cl/buffers.h)
 using cl::make_buffer;
 using cl::upload_rw;
+
+// Texels of one pyramid of a size^2 RSM (every level down to 1 x 1).
+std::size_t pyramid_texels(int size) {
+  std::size_t texels = 0;
+  for (int s = size; s >= 1; s /= 2) texels += static_cast<std::size_t>(s) * static_cast<std::size_t>(s);
+  return texels;
+}
 
 cl_float4 f4(glm::dvec3 v) {
   return cl_float4{{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z), 0.0f}};
@@ -56,6 +65,7 @@ VsglSettings vsgl_settings(const FrameSettings& f) {
   // as declared (scene/settings.cpp): settings set in code are checked like a scene file's
   for (const char* name : {"rsm_size", "vsgl_count", "vsgl_k", "vsgl_shadowed"})
     scene::check_setting(d, name, "indirect");
+  s.classes = scene::choice_value<scene::VsglSplit>(d.vsgl_split) == scene::VsglSplit::none ? 1 : 6;
   return s;
 }
 
@@ -138,42 +148,86 @@ void VsglContribution::ensure_gl(int size) {
   }
 }
 
-::cl::Buffer VsglContribution::pyramid_buffer(int size) {
-  std::size_t texels = 0;
-  for (int s = size; s >= 1; s /= 2) texels += static_cast<std::size_t>(s) * static_cast<std::size_t>(s);
+::cl::Buffer VsglContribution::pyramid_buffer(int size, int classes) {
+  const std::size_t texels = pyramid_texels(size) * static_cast<std::size_t>(std::max(classes, 1));
   return make_buffer(rt_, CL_MEM_READ_WRITE, texels * NF_VSGL_QUANTITIES * sizeof(cl_float4), nullptr,
                      "VSGL pyramid buffer");
 }
 
 void VsglContribution::run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size,
-                                  const RsmView& view, const ::cl::Buffer& pyr, const ::cl::Buffer* dir) {
+                                  const RsmView& view, const ::cl::Buffer& pyr, const ::cl::Buffer* dir, int classes) {
   vsgl_kernels::Texels k(rt_, "vsgl.cl", "vsgl_texels");
   const float pix = static_cast<float>(2.0 * view.tan_half / size);
   k.bind(surf, irradiance, kurt_buf_, static_cast<int>(kurt_.size()), size, f4(view.origin), f4(view.forward), pix, pyr,
-         dir ? *dir : irradiance, dir ? 1 : 0);
+         dir ? *dir : irradiance, dir ? 1 : 0, classes, static_cast<int>(pyramid_texels(size)));
   rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
 }
 
-std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size) {
+std::vector<int> VsglContribution::run_pyramid(const ::cl::Buffer& pyr, int size, int classes, bool split) {
+  const int stride = static_cast<int>(pyramid_texels(size));
+  if (classes > 1 && !split) {
+    vsgl_kernels::Split k(rt_, "vsgl.cl", "vsgl_split");
+    k.bind(pyr, size, classes, stride);
+    rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(size), static_cast<std::size_t>(size)));
+  }
   vsgl_kernels::PyramidDown k(rt_, "vsgl.cl", "vsgl_pyramid_down");
   std::vector<int> off{0};
-  for (int s = size; s > 1; s /= 2) {
-    const int src = off.back(), dst = src + s * s;
-    off.push_back(dst);
-    k.bind(pyr, src, s, dst);
-    rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(s / 2), static_cast<std::size_t>(s / 2)));
-  }
+  for (int s = size; s > 1; s /= 2) off.push_back(off.back() + s * s);
+  for (int c = 0; c < classes; ++c)
+    for (std::size_t l = 0; l + 1 < off.size(); ++l) {
+      const int s = size >> l;
+      k.bind(pyr, c * stride + off[l], s, c * stride + off[l + 1]);
+      rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(s / 2), static_cast<std::size_t>(s / 2)));
+    }
   return off;
 }
 
-void VsglContribution::run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size,
+// Each class's VSGLs are generated from its own pyramid (the kernel takes the class's total from
+// its top level), N_c of them (vsgl_class_counts of the classes' PDF masses), written one class
+// after the other.
+void VsglContribution::run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size, int classes,
                                     glm::dvec3 origin, const VsglSettings& s, const ::cl::Buffer& out) {
   vsgl_kernels::Generate k(rt_, "vsgl.cl", "vsgl_generate");
-  const ::cl::Buffer off = upload_rw(rt_, offsets, "VSGL pyramid offsets");
-  k.bind(pyr, off, size, static_cast<int>(offsets.size()), s.count, s.kernel, static_cast<float>(s.k), s.points,
-         f4(origin), out);
-  rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(s.count)));
+  const int stride = static_cast<int>(pyramid_texels(size));
+  std::vector<double> totals(static_cast<std::size_t>(classes), 0.0);
+  for (int c = 0; c < classes; ++c) {
+    const auto top =
+        download<glm::vec4>(rt_, pyr, 1, static_cast<std::size_t>(c * stride + offsets.back()) * NF_VSGL_QUANTITIES,
+                            "reading a VSGL class total");
+    totals[static_cast<std::size_t>(c)] = top[0].w;
+  }
+  const std::vector<int> counts = classes > 1 ? vsgl_class_counts(totals, s.count) : std::vector<int>{s.count};
+  std::vector<::cl::Buffer> offs;  // kept alive until the launches have finished
+  int first = 0;
+  for (int c = 0; c < classes; ++c) {
+    const int n = counts[static_cast<std::size_t>(c)];
+    if (n <= 0) continue;
+    std::vector<int> o = offsets;
+    for (int& v : o) v += c * stride;
+    offs.push_back(upload_rw(rt_, o, "VSGL pyramid offsets"));
+    k.bind(pyr, offs.back(), size, static_cast<int>(offsets.size()), n, s.kernel, static_cast<float>(s.k), s.points,
+           f4(origin), out, first);
+    rt_.launch(k.get(), ::cl::NDRange(static_cast<std::size_t>(n)));
+    first += n;
+  }
   cl::call([&] { rt_.queue().finish(); }, "VSGL generation");
+}
+
+std::vector<glm::vec4> VsglContribution::read_summed(const ::cl::Buffer& pyr, const std::vector<int>& offsets,
+                                                     int size0, int classes, int level, int q) {
+  const int size = size0 >> level;
+  const std::size_t n = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+  const std::size_t stride = pyramid_texels(size0);
+  std::vector<glm::vec4> out(n, glm::vec4(0.0f));
+  for (int c = 0; c < classes; ++c) {
+    const auto all = download<glm::vec4>(
+        rt_, pyr, n * NF_VSGL_QUANTITIES,
+        (static_cast<std::size_t>(c) * stride + static_cast<std::size_t>(offsets.at(static_cast<std::size_t>(level)))) *
+            NF_VSGL_QUANTITIES,
+        "reading a VSGL pyramid level");
+    for (std::size_t t = 0; t < n; ++t) out[t] += all[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(q)];
+  }
+  return out;
 }
 
 void VsglContribution::run_shade(const ::cl::Buffer& surfaces, int count, const ::cl::Buffer& vsgls, int nv,
@@ -219,9 +273,10 @@ bool VsglContribution::build(const FrameInputs& in) {
     times_.light_ms += timer.ms();
     // 3. quantities and pyramid
     timer.reset();
-    r.pyr = pyramid_buffer(size);
-    run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr, &sampler_.direction());
-    r.offsets = run_pyramid(r.pyr, size);
+    r.classes = vs.classes;
+    r.pyr = pyramid_buffer(size, r.classes);
+    run_texels(r.surf_buf, sampler_.radiance(), size, r.view, r.pyr, &sampler_.direction(), r.classes);
+    r.offsets = run_pyramid(r.pyr, size, r.classes, true);
     cl::call([&] { rt_.queue().finish(); }, "VSGL pyramid");
     times_.pyramid_ms += timer.ms();
     // keep E for introspection (the sampler's buffer is reused by the next instance)
@@ -237,7 +292,7 @@ bool VsglContribution::build(const FrameInputs& in) {
   for (std::size_t i = 0; i < rsms_.size(); ++i) {
     const ::cl::Buffer part = make_buffer(rt_, CL_MEM_READ_WRITE, static_cast<std::size_t>(vs.count) * sizeof(NfVsgl),
                                           nullptr, "VSGL buffer");
-    run_generate(rsms_[i].pyr, rsms_[i].offsets, size, rsms_[i].view.origin, vs, part);
+    run_generate(rsms_[i].pyr, rsms_[i].offsets, size, rsms_[i].classes, rsms_[i].view.origin, vs, part);
     const auto v = download<NfVsgl>(rt_, part, static_cast<std::size_t>(vs.count), 0, "reading the VSGLs");
     vsgls_.insert(vsgls_.end(), v.begin(), v.end());
   }
@@ -255,9 +310,7 @@ bool VsglContribution::build(const FrameInputs& in) {
     shadows_->build(*scene_gpu_, vsgls_, vs.count, vs.shadowed, refs);
   }
   times_.shadow_ms = timer.ms();
-  pyr_bytes_ = 0;
-  for (int s = size; s >= 1; s /= 2)
-    pyr_bytes_ += static_cast<std::size_t>(s) * static_cast<std::size_t>(s) * NF_VSGL_QUANTITIES * sizeof(cl_float4);
+  pyr_bytes_ = pyramid_texels(size) * static_cast<std::size_t>(vs.classes) * NF_VSGL_QUANTITIES * sizeof(cl_float4);
   pyr_bytes_ = pyr_bytes_ * rsms_.size() + rsms_.size() * texels * (2 * sizeof(NfSurface) + sizeof(cl_float4));
   key_ = key;
   return true;
@@ -270,14 +323,8 @@ std::vector<glm::vec4> VsglContribution::read_irradiance(int i) {
 
 std::vector<glm::vec4> VsglContribution::read_level(int i, int level, int q) {
   const Rsm& r = rsms_.at(static_cast<std::size_t>(i));
-  const int size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(r.surfaces.size())))) >> level;
-  const auto all =
-      download<glm::vec4>(rt_, r.pyr, static_cast<std::size_t>(size) * size * NF_VSGL_QUANTITIES,
-                          static_cast<std::size_t>(r.offsets.at(static_cast<std::size_t>(level))) * NF_VSGL_QUANTITIES,
-                          "reading a VSGL pyramid level");
-  std::vector<glm::vec4> out(static_cast<std::size_t>(size) * size);
-  for (std::size_t t = 0; t < out.size(); ++t) out[t] = all[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(q)];
-  return out;
+  const int size0 = static_cast<int>(std::lround(std::sqrt(static_cast<double>(r.surfaces.size()))));
+  return read_summed(r.pyr, r.offsets, size0, r.classes, level, q);
 }
 
 std::vector<NfVsgl> VsglContribution::generate(const std::vector<glm::vec4>& level0, int size, glm::dvec3 origin,
@@ -285,22 +332,26 @@ std::vector<NfVsgl> VsglContribution::generate(const std::vector<glm::vec4>& lev
   const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   if (size < 1 || (size & (size - 1)) != 0 || level0.size() != texels * NF_VSGL_QUANTITIES)
     fail(fmt::format("VSGL generation: {} quantities for a {}^2 RSM", level0.size(), size));
-  const ::cl::Buffer pyr = pyramid_buffer(size);
+  const int classes = std::max(s.classes, 1);
+  const ::cl::Buffer pyr = pyramid_buffer(size, classes);
   cl::call([&] { rt_.queue().enqueueWriteBuffer(pyr, CL_TRUE, 0, level0.size() * sizeof(cl_float4), level0.data()); },
            "uploading RSM quantities");
-  const std::vector<int> off = run_pyramid(pyr, size);
+  const std::vector<int> off = run_pyramid(pyr, size, classes, false);
   if (levels_out) {
     levels_out->clear();
     for (std::size_t k = 0; k < off.size(); ++k) {
       const std::size_t n = static_cast<std::size_t>(size >> k);
-      levels_out->push_back(download<glm::vec4>(rt_, pyr, n * n * NF_VSGL_QUANTITIES,
-                                                static_cast<std::size_t>(off[k]) * NF_VSGL_QUANTITIES,
-                                                "reading a VSGL pyramid level"));
+      std::vector<glm::vec4> all(n * n * NF_VSGL_QUANTITIES, glm::vec4(0.0f));
+      for (int q = 0; q < NF_VSGL_QUANTITIES; ++q) {
+        const auto one = read_summed(pyr, off, size, classes, static_cast<int>(k), q);
+        for (std::size_t t = 0; t < n * n; ++t) all[NF_VSGL_QUANTITIES * t + static_cast<std::size_t>(q)] = one[t];
+      }
+      levels_out->push_back(std::move(all));
     }
   }
   const ::cl::Buffer out =
       make_buffer(rt_, CL_MEM_READ_WRITE, static_cast<std::size_t>(s.count) * sizeof(NfVsgl), nullptr, "VSGL buffer");
-  run_generate(pyr, off, size, origin, s, out);
+  run_generate(pyr, off, size, classes, origin, s, out);
   return download<NfVsgl>(rt_, out, static_cast<std::size_t>(s.count), 0, "reading the VSGLs");
 }
 
@@ -312,7 +363,7 @@ std::vector<glm::vec4> VsglContribution::texel_quantities(const std::vector<NfSu
     fail(fmt::format("VSGL texels: {} surfaces and {} irradiances for a {}^2 RSM", surfaces.size(), e.size(), size));
   const ::cl::Buffer sb = upload_rw(rt_, surfaces, "uploading RSM texels");
   const ::cl::Buffer eb = upload_rw(rt_, e, "uploading RSM irradiance");
-  const ::cl::Buffer pyr = pyramid_buffer(size);
+  const ::cl::Buffer pyr = pyramid_buffer(size, 1);
   run_texels(sb, eb, size, view, pyr);
   return download<glm::vec4>(rt_, pyr, texels * NF_VSGL_QUANTITIES, 0, "reading RSM quantities");
 }
@@ -341,6 +392,7 @@ void VsglContribution::prepare(const FrameInputs& in) {
   (void)vsgl_settings(in.settings);
   rt_.kernel("vsgl.cl", "vsgl_texels");
   rt_.kernel("vsgl.cl", "vsgl_pyramid_down");
+  rt_.kernel("vsgl.cl", "vsgl_split");
   rt_.kernel("vsgl.cl", "vsgl_generate");
   rt_.kernel("vsgl.cl", "vsgl_shade");
   // refuse a k over the maximum before any frame (VsglShadows::build checks it again)

@@ -38,6 +38,7 @@ struct VsglSettings {
   double k = 1.0;
   int points = NF_VSGL_POINTS_HAMMERSLEY;
   int shadowed = 0;  // k: VSGLs with shadow maps per instance (the strongest)
+  int classes = 6;   // normal classes the clusters are split by (vsgl_split: 1 none, 6 axis)
 };
 VsglSettings vsgl_settings(const FrameSettings& s);
 
@@ -88,7 +89,8 @@ class VsglContribution final : public Contribution {
   const std::vector<NfSurface>& rsm_surfaces(int instance) const;  // rows from the top
   const RsmView& rsm(int instance) const;
   std::vector<glm::vec4> read_irradiance(int instance);  // E per texel (RGB, w = 0)
-  // Quantity q (0..4, kernels/shared/vsgl.h) of level k of instance i's pyramid.
+  // Quantity q (0..4, kernels/shared/vsgl.h) of level k of instance i's pyramid (summed over the
+  // normal classes: the pyramid of all texels).
   std::vector<glm::vec4> read_level(int instance, int level, int q);
 
   // ---- the OpenCL stages on given data (tests) ------------------------------------------
@@ -109,20 +111,28 @@ class VsglContribution final : public Contribution {
   struct Rsm {
     RsmView view;
     std::vector<NfSurface> surfaces;
-    ::cl::Buffer surf_buf, irr_buf, pyr;
-    std::vector<int> offsets;
+    ::cl::Buffer surf_buf, irr_buf, pyr;  // pyr: `classes` pyramids, one per normal class
+    std::vector<int> offsets;             // level offsets of class 0's pyramid (texels)
+    int classes = 1;
   };
   void ensure_gl(int size);
   // dir: the estimator's sum_k w_k l_k per texel (Sampler::direction()), or null: w' is the
   // direction to the U grid's centre (texel_quantities, docs/indirect.md "Incident direction").
   void run_texels(const ::cl::Buffer& surf, const ::cl::Buffer& irradiance, int size, const RsmView& view,
-                  const ::cl::Buffer& pyr, const ::cl::Buffer* dir = nullptr);
-  std::vector<int> run_pyramid(const ::cl::Buffer& pyr, int size);
-  void run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size, glm::dvec3 origin,
+                  const ::cl::Buffer& pyr, const ::cl::Buffer* dir = nullptr, int classes = 1);
+  // Splits level 0 of class 0 into `classes` pyramids (unless `split`: vsgl_texels did, by the
+  // surface normals) and sums every class's levels; returns the level offsets of class 0 (class
+  // c's are these + c pyramid_texels(size)).
+  std::vector<int> run_pyramid(const ::cl::Buffer& pyr, int size, int classes, bool split);
+  // N_v = s.count VSGLs into out, shared among the classes by vsgl_class_counts.
+  void run_generate(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size, int classes, glm::dvec3 origin,
                     const VsglSettings& s, const ::cl::Buffer& out);
+  // The sum over the classes of quantity q of level `level` (size0 >> level texels per side).
+  std::vector<glm::vec4> read_summed(const ::cl::Buffer& pyr, const std::vector<int>& offsets, int size0, int classes,
+                                     int level, int q);
   void run_shade(const ::cl::Buffer& surfaces, int count, const ::cl::Buffer& vsgls, int nv, const ::cl::Buffer& out,
                  const VsglShadows& shadows, const ::cl::Buffer& index);
-  ::cl::Buffer pyramid_buffer(int size);
+  ::cl::Buffer pyramid_buffer(int size, int classes);
 
   cl::Runtime& rt_;
   const scene::Scene& scene_;

@@ -55,6 +55,7 @@ enum class EnvVisibilityKind { none, sh };
 enum class Indirect { none, vsgl };
 enum class VsglKernel { point, integral };
 enum class VsglPoints { hammersley, fibonacci };
+enum class VsglSplit { none, axis };
 
 // The tables, found by overload on the enum type: choice_table(E{}).
 #define NF_CHOICE_TABLE(E, ...)                                 \
@@ -86,6 +87,7 @@ NF_CHOICE_TABLE(EnvVisibilityKind, {EnvVisibilityKind::none, "none"}, {EnvVisibi
 NF_CHOICE_TABLE(Indirect, {Indirect::none, "none"}, {Indirect::vsgl, "vsgl"})
 NF_CHOICE_TABLE(VsglKernel, {VsglKernel::point, "point"}, {VsglKernel::integral, "integral"})
 NF_CHOICE_TABLE(VsglPoints, {VsglPoints::hammersley, "hammersley"}, {VsglPoints::fibonacci, "fibonacci"})
+NF_CHOICE_TABLE(VsglSplit, {VsglSplit::none, "none"}, {VsglSplit::axis, "axis"})
 #undef NF_CHOICE_TABLE
 
 // The names of E's choices in table order.

@@ -286,6 +286,10 @@ std::vector<Setting> declare() {
           "vsgl_shadowed", "vsgl_shadowed", 0, 4096, "indirect", R,
           "per instance, the k strongest VSGLs get cube shadow maps (0: unshadowed; maps capped at 1 GiB)",
           [](auto& r) -> auto& { return r.vsgl_shadowed; }),
+      choice<VsglSplit>(
+          "vsgl_split", "vsgl_split", "indirect", R,
+          "VSGL clusters split by normal: none, or one pyramid per dominant signed axis of the VPL normals",
+          [](auto& r) -> auto& { return r.vsgl_split; }),
       positive_real(
           "exposure", "tonemap/exposure", 1e300, "display", D, "tone mapping exposure (> 0)",
           [](auto& r) -> auto& { return r.tonemap.exposure; }),

@@ -63,6 +63,7 @@ struct RenderSettings {
   double vsgl_k = 1.0;                     // K of Eq. 3 (integral kernels)
   std::string vsgl_points = "hammersley";  // hammersley | fibonacci (stratified centres)
   int vsgl_shadowed = 0;                   // VSGLs with shadow maps per instance (the strongest; 0: none)
+  std::string vsgl_split = "axis";         // none | axis (clusters split by the normal's dominant axis)
 };
 
 // What a change of a setting invalidates, in increasing order: `display` only re-tone-maps the
