@@ -266,7 +266,7 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
   for (auto bal : {Balance::roulette, Balance::min1})
     for (auto st : {Structure::fused}) {
       SamplingSettings s;
-      s.balance_estimate = BalanceEstimate::blocks;  // opt-in (docs/sampling.md)
+      s.balance_estimate = BalanceEstimate::blocks;  // the default; stated for the test
       s.sampler = SamplerKind::random;
       s.spp = 2;
       s.seed = 77;
@@ -290,7 +290,7 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
 // per-image structure (the refinement needs every image's weight at once: the fused pass).
 TEST(BlockBalance, OnlyTheBalancedMethodsWithoutMisUseIt) {
   SamplingSettings s;
-  EXPECT_FALSE(Sampler::block_balance(s));  // off by default (docs/sampling.md: a grazing-point bias)
+  EXPECT_TRUE(Sampler::block_balance(s));  // the default (docs/sampling.md)
   s.balance_estimate = BalanceEstimate::blocks;
   EXPECT_TRUE(Sampler::block_balance(s));
   for (auto m : {Method::ours, Method::paper, Method::uniform}) {

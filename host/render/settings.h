@@ -65,7 +65,7 @@ struct SamplingSettings {
   Method method = Method::ours;
   SamplerKind sampler = SamplerKind::halton_scrambled;  // white noise per frame (docs/sampling.md)
   Balance balance = Balance::roulette;                  // unbiased default (docs/sampling.md); see docs/sampling.md
-  BalanceEstimate balance_estimate = BalanceEstimate::exact;  // what K_m(p) is balanced from (docs/sampling.md)
+  BalanceEstimate balance_estimate = BalanceEstimate::blocks;  // what K_m(p) is balanced from (docs/sampling.md)
   SearchKind search = SearchKind::secant;
   Structure structure = Structure::fused;  // the faster on PoCL (bench/, docs/sampling.md)
   // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,

@@ -27,7 +27,7 @@ struct RenderSettings {
   int search_depth = -1;                     // CDF evaluations per 1D inversion, 1..1024; -1 = unlimited (exact)
   std::string search = "secant";             // secant | binary
   std::string balance = "roulette";          // paper | min1 | roulette (min1 and roulette are unbiased)
-  std::string balance_estimate = "exact";    // blocks | exact: what K_m(p) is balanced from (docs/sampling.md)
+  std::string balance_estimate = "blocks";   // blocks | exact: what K_m(p) is balanced from (docs/sampling.md)
   std::string structure = "fused";           // per-image | fused (Step 1/2 passes)
   std::string mis = "none";                  // none | balance | power: MIS with BRDF samples (docs/mis.md)
   std::string visibility = "shadowmaps";     // none | shadowmaps
