@@ -4,7 +4,9 @@
 // tests check that property of the table (host mirror, render/block_table.h), that the kernels compute
 // the mirror's estimate, and that the fast path's mean matches the double-precision quadrature on a
 // sparse luminaire where the estimate and the exact A_m(p) differ a lot (most images get 0 or 1
-// samples), for both structures and both unbiased balances.
+// samples), for both unbiased balances; and that the refinement of the estimates (kernels/lightfield.cl
+// nf_refine) keeps the bike light's grazing point, where the estimates alone starve the lit images,
+// unbiased in a finite number of samples.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "kernels/shared/block_table.h"
+#include "luminaire/generator.h"
 #include "render/block_table.h"
 #include "sampling_support.h"
 
@@ -87,6 +90,34 @@ int kernel_level(const lum::Luminaire& l, const NfLuminaire& p, glm::dvec3 pt, d
   return lev;
 }
 
+// The kernels' weights (kernels/lightfield.cl nf_refine) in double: w starts as the estimates; every
+// image with K w_m >= W = sum w (decided against the W at the start of a pass, as the kernels do)
+// takes its exact mass, until a pass refines nothing. Returns W; `margin` gets the closest any
+// decision came to the threshold (min |K w_m / W - 1|), `refined` the number of images refined.
+double refine(std::vector<double>& w, const std::vector<double>& exact, int K, double* margin, int* refined) {
+  std::vector<char> done(w.size(), 0);
+  double W = 0.0;
+  for (double v : w) W += v;
+  *margin = 1e9;
+  *refined = 0;
+  for (bool changed = true; changed && W > 0.0;) {
+    changed = false;
+    for (std::size_t m = 0; m < w.size(); ++m) {
+      if (done[m] || !(w[m] > 0.0)) continue;
+      *margin = std::min(*margin, std::abs(K * w[m] / W - 1.0));
+      if (K * w[m] >= W) {
+        w[m] = exact[m];
+        done[m] = 1;
+        changed = true;
+        ++*refined;
+      }
+    }
+    W = 0.0;
+    for (double v : w) W += v;
+  }
+  return W;
+}
+
 std::vector<NfSurface> test_points() {
   std::vector<NfSurface> pts;
   // boxes of 2.8-10.9 pixels (f = z / (delta + z) from 0.23 to 0.91, and -0.43 between the planes; box
@@ -146,9 +177,13 @@ TEST(BlockBalance, EstimateIsPositiveWhereverTheExactMassIs) {
     }
 }
 
-// The kernels' A(p) with block balancing is sum_m of the estimates at the level the kernels choose
-// (the host mirror in double; float rounding of the table and the sums: 1e-4 relative).
-TEST(BlockBalance, KernelsComputeTheEstimate) {
+// The kernels' A(p) with block balancing is the sum of the refined weights: the estimates at the level
+// the kernels choose, with the exact masses of the images nf_refine picks (the host mirror above, in
+// double; float rounding of the table, the SAT sums and the sums: 1e-4 relative). K = 4 over 12 images,
+// so that the refinement acts at some of the points. A point whose box size lies within 2 % of a block
+// size, or where a refinement decision lies within 1e-3 of its threshold, is left out (float and double
+// may decide differently there; counted).
+TEST(BlockBalance, KernelsComputeTheRefinedEstimate) {
   nf::cl::Runtime rt;
   Sampler sampler(rt);
   const auto l = sparse_luminaire();
@@ -159,39 +194,46 @@ TEST(BlockBalance, KernelsComputeTheEstimate) {
   const auto buf = upload_surfaces(rt, pts);
   LightInstance li;
   li.luminaire = &dl;
-  for (auto st : {Structure::fused, Structure::per_image}) {
-    SamplingSettings s;
-    s.balance_estimate = BalanceEstimate::blocks;  // opt-in (docs/sampling.md)
-    s.spp = 1;
-    s.structure = st;
-    sampler.run(buf, static_cast<int>(pts.size()), {&li, 1}, s);
-    const auto a = sampler.read_a();
-    int checked = 0;
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-      const glm::dvec3 pt(pts[k].px, pts[k].py, pts[k].pz);
-      double margin = 0.0;
-      const int lev = kernel_level(l, p, pt, &margin);
-      if (margin < 0.02) continue;  // box size within 2 % of a block size: either level is right
-      double sum = 0.0;
-      for (int m = 0; m < p.num_images; ++m) {
-        const Box b = kernel_box(l, p, pt, m);
-        // the kernels skip boxes that miss the image's non-zero pixels (A_m = 0 exactly) without reads
-        const NfImageInfo& in = dl.image_info()[static_cast<std::size_t>(m)];
-        if (b.x1 > b.x0 && b.r1 > b.r0 && b.x1 > in.col0 && b.x0 < in.col1 && b.r1 > in.row0 && b.r0 < in.row1)
-          sum += block_estimate(dl.block_table(), p, m, lev, b.x0, b.x1, b.r0, b.r1);
+  SamplingSettings s;
+  s.balance_estimate = BalanceEstimate::blocks;
+  s.spp = 12;
+  ASSERT_TRUE(Sampler::block_balance(s));
+  sampler.run(buf, static_cast<int>(pts.size()), {&li, 1}, s);
+  const auto a = sampler.read_a();
+  int checked = 0, refined_points = 0;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const glm::dvec3 pt(pts[k].px, pts[k].py, pts[k].pz);
+    double margin = 0.0;
+    const int lev = kernel_level(l, p, pt, &margin);
+    if (margin < 0.02) continue;  // box size within 2 % of a block size: either level is right
+    std::vector<double> w(static_cast<std::size_t>(p.num_images), 0.0), ex(w.size(), 0.0);
+    for (int m = 0; m < p.num_images; ++m) {
+      const Box b = kernel_box(l, p, pt, m);
+      // the kernels skip boxes that miss the image's non-zero pixels (A_m = 0 exactly) without reads
+      const NfImageInfo& in = dl.image_info()[static_cast<std::size_t>(m)];
+      if (b.x1 > b.x0 && b.r1 > b.r0 && b.x1 > in.col0 && b.x0 < in.col1 && b.r1 > in.row0 && b.r0 < in.row1) {
+        w[static_cast<std::size_t>(m)] = block_estimate(dl.block_table(), p, m, lev, b.x0, b.x1, b.r0, b.r1);
+        ex[static_cast<std::size_t>(m)] = exact_mass(l, m, b.x0, b.x1, b.r0, b.r1);
       }
-      EXPECT_NEAR(a[k], sum, 1e-4 * sum) << to_string(st) << " point " << k << " level " << lev;
-      ++checked;
     }
-    EXPECT_EQ(checked, static_cast<int>(pts.size()));
+    double decide = 0.0;
+    int refined = 0;
+    const double W = refine(w, ex, s.spp, &decide, &refined);
+    if (decide < 1e-3) continue;
+    EXPECT_NEAR(a[k], W, 1e-4 * W) << "point " << k << " level " << lev << ", " << refined << " images refined";
+    ++checked;
+    refined_points += refined > 0;
   }
+  EXPECT_GE(checked, static_cast<int>(pts.size()) - 2);
+  EXPECT_GE(refined_points, 3);  // the refinement acts at some of them
 }
 
 // The fast path is unbiased where the estimate is poor: K = 2 over 12 images (most images get 0 or 1
 // samples, drawn with probability K Ã_m / Ã and weighted by its inverse; every sample weighted with
 // the exact A_m), z-tested against the quadrature at 15 points, each with 2048 independent
-// replicates, for roulette and min1 and both structures. The points are checked to exercise what the
-// test is for: images whose estimate is > 0 where A_m = 0, and images with A_m / Ã_m outside [1/3, 3].
+// replicates, for roulette and min1 (the fused pass: the per-image passes balance from the exact A_m(p)). The points
+// are checked to exercise what the test is for: images whose estimate is > 0 where A_m = 0, and images with A_m / Ã_m
+// outside [1/3, 3].
 TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
   nf::cl::Runtime rt;
   Sampler sampler(rt);
@@ -219,12 +261,12 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
   EXPECT_GE(empty_but_estimated, 10);
   EXPECT_GE(far_off, 10);
   const auto ref = references(l, pts);
-  const int runs = 4;
+  const int runs = 2;
   const double zc = sidak_z(kAlpha, runs * 3 * static_cast<int>(pts.size()));
   for (auto bal : {Balance::roulette, Balance::min1})
-    for (auto st : {Structure::fused, Structure::per_image}) {
+    for (auto st : {Structure::fused}) {
       SamplingSettings s;
-      s.balance_estimate = BalanceEstimate::blocks;  // opt-in (docs/sampling.md)
+      s.balance_estimate = BalanceEstimate::blocks;
       s.sampler = SamplerKind::random;
       s.spp = 2;
       s.seed = 77;
@@ -244,10 +286,11 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
 
 // Which settings balance from the block estimates: the balanced methods that compute A_m(p) (ours, paper,
 // uniform) without MIS (its BRDF samples need the exact A_m(p) of every image); the equal-count methods
-// and global never compute A_m(p) to balance; balance_estimate exact turns it off.
+// and global never compute A_m(p) to balance; balance_estimate exact turns it off, and so does the
+// per-image structure (the refinement needs every image's weight at once: the fused pass).
 TEST(BlockBalance, OnlyTheBalancedMethodsWithoutMisUseIt) {
   SamplingSettings s;
-  EXPECT_FALSE(Sampler::block_balance(s));  // off by default (docs/sampling.md: a grazing-point bias)
+  EXPECT_TRUE(Sampler::block_balance(s));  // the default (docs/sampling.md)
   s.balance_estimate = BalanceEstimate::blocks;
   EXPECT_TRUE(Sampler::block_balance(s));
   for (auto m : {Method::ours, Method::paper, Method::uniform}) {
@@ -262,9 +305,85 @@ TEST(BlockBalance, OnlyTheBalancedMethodsWithoutMisUseIt) {
   s.mis = Mis::power;
   EXPECT_FALSE(Sampler::block_balance(s));
   s.mis = Mis::none;
+  s.structure = Structure::per_image;
+  EXPECT_FALSE(Sampler::block_balance(s));
+  s.structure = Structure::fused;
   s.balance_estimate = BalanceEstimate::exact;
   EXPECT_FALSE(Sampler::block_balance(s));
   EXPECT_EQ(Sampler::build_options(s, false, false, 1).find("NF_BLOCK_BALANCE"), std::string::npos);
   s.balance_estimate = BalanceEstimate::blocks;
   EXPECT_NE(Sampler::build_options(s, false, false, 1).find("-DNF_BLOCK_BALANCE=1"), std::string::npos);
+}
+
+// The case that made `blocks` biased in practice (docs/sampling.md "Refinement"): point 45 of
+// SamplingEstimator.OursIsUnbiased, a grazing point of the bike light (z = 2.5 delta; boxes of 4.0
+// pixels, blocks of 8). The boxes of images 36-53 meet blocks that hold the bright spot and miss it:
+// estimates up to 1.5e4 times their exact masses. Without refinement they take the whole budget and
+// the images that hold the light (54-62, 12 % of the irradiance there) get x_m ~ 1e-4 with weights
+// ~ 1e4: unbiased in expectation, but 256 replicates found the estimate 12 % low (z = -12.6). The host
+// mirror checks that the point still shows that starvation (an image with exact x_m >= 0.1 estimated
+// at x~_m < 1e-3) and that the refined weights give every such image x_m >= 0.1; the kernels' mean over
+// 1024 replicates at that point (and the same point facing the luminaire) must match the quadrature
+// (z-test, K = 64, roulette; Sidak over 6 tests, family false-failure rate 1e-3).
+TEST(BlockBalance, RefinementKeepsTheBikeGrazingPointUnbiased) {
+  lum::GenOptions o;
+  o.resolution_scale = 1.0;
+  o.threads = 2;
+  const auto l = lum::generate_preset("bike", o);
+  const auto pc = lum::precompute(l, 2);
+  const NfLuminaire& p = pc.params;
+  const glm::dvec3 pt(-4.9179236140395322e-06, 0.098813021279654134, 1.25);
+  const std::vector<NfSurface> pts{
+      surface(pt, {0.545445087035064, -0.83796835386030255, 0.017282793696804345}),  // grazing
+      surface(pt, glm::normalize(glm::dvec3(0.0, 0.0, -l.delta) - pt))};             // facing U's centre
+  const int K = 64;
+  {
+    const auto table = build_block_table(pc);
+    double margin = 0.0;
+    const int lev = kernel_level(l, p, pt, &margin);
+    ASSERT_GT(margin, 0.002);
+    std::vector<double> est(static_cast<std::size_t>(p.num_images), 0.0), ex(est.size(), 0.0);
+    double E = 0.0, X = 0.0;
+    for (int m = 0; m < p.num_images; ++m) {
+      const Box b = kernel_box(l, p, pt, m);
+      if (!(b.x1 > b.x0 && b.r1 > b.r0)) continue;
+      est[static_cast<std::size_t>(m)] = block_estimate(table, p, m, lev, b.x0, b.x1, b.r0, b.r1);
+      ex[static_cast<std::size_t>(m)] = exact_mass(l, m, b.x0, b.x1, b.r0, b.r1);
+      E += est[static_cast<std::size_t>(m)];
+      X += ex[static_cast<std::size_t>(m)];
+    }
+    std::vector<double> w = est;
+    double decide = 0.0;
+    int refined = 0;
+    const double W = refine(w, ex, K, &decide, &refined);
+    int lit = 0, starved = 0, kept = 0;
+    for (std::size_t m = 0; m < est.size(); ++m) {
+      if (K * ex[m] / X < 0.1) continue;
+      ++lit;
+      starved += K * est[m] / E < 1e-3;
+      kept += K * w[m] / W >= 0.1;
+    }
+    std::printf(
+        "bike grazing point: %d images with x_m >= 0.1, %d of them at x~_m < 1e-3 from the estimates, %d "
+        "refined, %d at x_m >= 0.1 after\n",
+        lit, starved, refined, kept);
+    EXPECT_GE(starved, 5);
+    EXPECT_EQ(kept, lit);
+  }
+  nf::cl::Runtime rt;
+  Sampler sampler(rt);
+  DeviceLuminaire dl(rt, pc);
+  const auto ref = references(l, pts);
+  SamplingSettings s;
+  s.balance_estimate = BalanceEstimate::blocks;
+  s.sampler = SamplerKind::random;
+  s.spp = K;
+  s.seed = 77;
+  ASSERT_TRUE(Sampler::block_balance(s));
+  const auto e = estimate(sampler, dl, pts, 1024, s);
+  EXPECT_TRUE(e.finite);
+  const double zc = sidak_z(kAlpha, 3 * static_cast<int>(pts.size()));
+  const auto r = z_test(e, ref, zc, 2e-5);
+  EXPECT_TRUE(r.failures.empty()) << r.tests << " tests, |z| <= " << zc << "\n" << r.failures;
+  std::printf("bike grazing point with blocks: max |z| %.2f (critical %.2f)\n", r.max_z, zc);
 }

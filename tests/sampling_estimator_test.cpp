@@ -103,7 +103,8 @@ lum::Luminaire preset(const Case& c) {
   return lum::generate_preset(c.preset, o);
 }
 
-void check_method(Method method, const std::vector<Case>& cases, int R, int spp, bool far_only) {
+void check_method(Method method, const std::vector<Case>& cases, int R, int spp, bool far_only,
+                  BalanceEstimate be = SamplingSettings{}.balance_estimate) {
   for (const auto& dev : device_specs()) {
     nf::cl::Runtime rt(dev);
     SCOPED_TRACE(nf::cl::describe(rt.info()));
@@ -120,6 +121,7 @@ void check_method(Method method, const std::vector<Case>& cases, int R, int spp,
       s.sampler = SamplerKind::random;
       s.spp = spp;
       s.seed = 77;
+      s.balance_estimate = be;
       const auto e = estimate(sampler, dl, ps.pts, R, s);
       EXPECT_TRUE(e.finite);
       // global: a point whose box holds a tiny part of the image flux gets (almost) no hits at
@@ -160,6 +162,12 @@ void check_method(Method method, const std::vector<Case>& cases, int R, int spp,
 const std::vector<Case> kPresets{{"bike", 1.0}, {"car1", 1.0}, {"led-rgb", 1.0}};
 
 TEST(SamplingEstimator, OursIsUnbiased) { check_method(Method::ours, kPresets, 256, 64, false); }
+
+// The same suite balancing from the refined block estimates (docs/sampling.md "Balancing from block
+// estimates"); the default balances from the exact A_m(p) of every image.
+TEST(SamplingEstimator, OursWithBlocksIsUnbiased) {
+  check_method(Method::ours, kPresets, 256, 64, false, BalanceEstimate::blocks);
+}
 
 TEST(SamplingEstimator, UniformIsUnbiased) { check_method(Method::uniform, kPresets, 256, 64, false); }
 

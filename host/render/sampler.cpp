@@ -162,9 +162,11 @@ std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool 
 
 // Counts balanced from the block estimates (docs/sampling.md "Balancing from block estimates"): the
 // balanced methods that sample the box (ours, paper, uniform) without MIS, whose BRDF samples need A_m(p)
-// of every image. The equal-count methods and global never compute A_m(p) to balance.
+// of every image. The equal-count methods and global never compute A_m(p) to balance. Fused pass only:
+// the refinement of the estimates (kernels/lightfield.cl nf_refine) needs every image's weight at once.
 bool Sampler::block_balance(const SamplingSettings& s) {
   return s.balance_estimate == BalanceEstimate::blocks && s.effective_mis() == Mis::none &&
+         s.structure == Structure::fused &&
          (s.method == Method::ours || s.method == Method::paper || s.method == Method::uniform);
 }
 

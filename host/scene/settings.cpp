@@ -144,8 +144,9 @@ std::vector<Setting> declare() {
           [](auto& r) -> auto& { return r.balance; }),
       choice<BalanceEstimate>(
           "balance_estimate", "balance_estimate", "luminaires", R,
-          "what K_m(p) is balanced from: a 4-read block estimate of A_m(p), with the exact A_m(p) only for the "
-          "images that get samples (blocks), or the exact A_m(p) of every image (exact); both unbiased "
+          "what K_m(p) is balanced from: a 4-read block estimate of A_m(p), refined to the exact A_m(p) for the "
+          "images that get samples for sure (blocks; the fused structure), or the exact A_m(p) of every image "
+          "(exact); both unbiased "
           "(docs/sampling.md \"Balancing from block estimates\")",
           [](auto& r) -> auto& { return r.balance_estimate; }),
       choice<Structure>(
