@@ -45,6 +45,7 @@ FrameSettings frame_settings(const scene::RenderSettings& r) {
   f.sampling.surface_shuffle = r.surface_shuffle;
   f.sampling.pixel_cache_mib = r.pixel_cache;
   f.sampling.light_selection = parse_light_selection(r.light_selection, "render.light_selection");
+  f.sampling.selection_picks = r.selection_picks;
   f.visibility = parse_visibility(r.visibility, "render.visibility");
   f.shadow_map_size = r.shadow_map_size;
   f.tonemap = r.tonemap;
@@ -73,6 +74,7 @@ scene::RenderSettings render_settings(const FrameSettings& f) {
   r.surface_shuffle = p.surface_shuffle;
   r.pixel_cache = p.pixel_cache_mib;
   r.light_selection = to_string(p.light_selection);
+  r.selection_picks = p.selection_picks;
   r.tonemap = f.tonemap;
   return r;
 }

@@ -86,8 +86,8 @@ std::vector<std::string> balance_names() { return names_of(kBalances); }
 std::vector<std::string> search_names() { return names_of(kSearches); }
 std::vector<std::string> structure_names() { return names_of(kStructures); }
 std::vector<std::string> light_selection_names() { return names_of(kSelections); }
-bool selects_instances(LightSelection s, std::size_t instances) {
-  if (instances < 2) return false;
+bool selects_instances(LightSelection s, std::size_t instances, std::size_t farfield) {
+  if (instances < 1 || instances + farfield < 2) return false;
   return s == LightSelection::flat || (s == LightSelection::automatic && instances >= kAutoSelectionInstances);
 }
 std::vector<std::string> mis_names() { return names_of(kMis); }
@@ -103,6 +103,8 @@ void SamplingSettings::validate() const {
     fail(fmt::format("sampling: roulette_block must be 1..1024, got {}", roulette_block));
   if (surface_shuffle < 0 || surface_shuffle > 20)
     fail(fmt::format("sampling: surface_shuffle must be 0..20, got {}", surface_shuffle));
+  if (selection_picks < 1 || selection_picks > 15)
+    fail(fmt::format("sampling: selection_picks must be 1..15, got {}", selection_picks));
   if (pixel_cache_mib < 0 || pixel_cache_mib > 1048576)
     fail(fmt::format("sampling: pixel_cache must be 0..1048576 MiB, got {}", pixel_cache_mib));
 }
@@ -114,6 +116,7 @@ std::string SamplingSettings::describe() const {
       to_string(method), to_string(sampler), to_string(balance), to_string(search),
       search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure), spp,
       k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame, to_string(light_selection));
+  if (light_selection != LightSelection::all && selection_picks != 1) d += fmt::format(" picks={}", selection_picks);
   if (effective_mis() != Mis::none) d += " mis=" + to_string(mis);
   if (balance_estimate != BalanceEstimate::exact) d += " balance_estimate=" + to_string(balance_estimate);
   return d;

@@ -17,14 +17,17 @@ enum class Balance { paper, min1, roulette };
 enum class SearchKind { secant, binary };
 // Per-image passes as in the paper (Step 1 per image, Step 2 per image) or one fused pass.
 enum class Structure { per_image, fused };
-// Many instances (docs/sampling.md "Light selection"): every instance at every pixel (`all`), or one
-// instance per pixel and frame drawn with probability q_i(p) from a flat per-pixel CDF (`flat`);
-// `automatic` ("auto") is `flat` from kAutoSelectionInstances instances on, `all` below (measured
-// crossover of the equal-time error, bench/results/selection/README.md).
+// Many lights (docs/sampling.md "Light selection"): every light at every pixel (`all`), or M picks per
+// pixel and frame among the luminaire instances and far-field lights, drawn with probability q_i(p)
+// from a flat per-pixel CDF (`flat`); `automatic` ("auto") is `flat` from kAutoSelectionInstances
+// light-field instances on, `all` below (measured crossover of the equal-time error,
+// bench/results/selection/README.md).
 enum class LightSelection { all, flat, automatic };
 inline constexpr std::size_t kAutoSelectionInstances = 16;
-// Whether a frame with `instances` luminaire instances selects one per pixel.
-bool selects_instances(LightSelection s, std::size_t instances);
+// Whether a frame with `instances` light-field luminaire instances and `farfield` far-field lights
+// selects: flat with two lights or more (at least one of them a light field: the far-field lights
+// alone are shaded in full), auto with kAutoSelectionInstances light-field instances or more.
+bool selects_instances(LightSelection s, std::size_t instances, std::size_t farfield = 0);
 // MIS of the light-field samples with BRDF samples (docs/mis.md): off, balance or power heuristic.
 enum class Mis { none, balance, power };
 // What K_m(p) is balanced from (docs/sampling.md "Balancing from block estimates"): the block estimate
@@ -71,13 +74,13 @@ struct SamplingSettings {
   // none: light samples only; balance / power: glossy surfaces (ggx, kurt) also draw K BRDF samples,
   // combined by that heuristic (docs/mis.md). Not with method paper (its density is not Y_m / A_m).
   Mis mis = Mis::none;
-  int spp = 200;                           // K of Eq. 12, >= 1
-  int k_max = 0;                           // cap on K_m(p); 0 = no cap (K)
-  int search_depth = -1;                   // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
-  std::uint32_t seed = 1;                  // random and scrambled sequences
-  std::uint32_t frame = 0;                 // progressive frame index: advances every sequence
-  double band = 0.05;                      // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
-  int lanes = 0;  // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
+  int spp = 200;            // K of Eq. 12, >= 1
+  int k_max = 0;            // cap on K_m(p); 0 = no cap (K)
+  int search_depth = -1;    // CDF evaluations per 1D inversion; < 0 = unlimited (exact)
+  std::uint32_t seed = 1;   // random and scrambled sequences
+  std::uint32_t frame = 0;  // progressive frame index: advances every sequence
+  double band = 0.05;       // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
+  int lanes = 0;            // surfaces per work-item (1, 4, 8, 16); 0 = automatic (16 on CPUs, 1 on GPUs)
   // Consecutive surfaces sharing the roulette's uniform number per image and frame (balance roulette,
   // the equal-count rotation); 1 = per pixel (docs/sampling.md "Roulette blocks").
   int roulette_block = 16;
@@ -89,8 +92,11 @@ struct SamplingSettings {
   int pixel_cache_mib = 1024;
   // With several instances: K is the pixel's budget over all of them (flat) or per instance (all).
   LightSelection light_selection = LightSelection::automatic;
+  // M, the picks per pixel and frame with selection (1..15): each picked light is shaded once with
+  // round(c K / M) samples (c = times picked) and weighted c / (M q_i) (docs/sampling.md).
+  int selection_picks = 1;
 
-  void validate() const;         // throws nf::Error naming the bad field
+  void validate() const;  // throws nf::Error naming the bad field
   // `mis` as the kernels get it: method paper has no light-strategy density, so it samples without
   // MIS whatever `mis` says (docs/mis.md).
   Mis effective_mis() const { return method == Method::paper ? Mis::none : mis; }
