@@ -175,7 +175,8 @@ TEST(FarfieldSelection, EstimateBoundsTheContribution) {
 }
 
 // The kernel's picks follow q over instances and far-field lights (host mirror, double): M = 1, 40,000
-// surfaces per point, chi-square at a false-failure rate of 1e-3 per point (3 points); q sums to 1,
+// surfaces per point, chi-square at a false-failure rate of 1e-3 per point (3 points); q sums to 1 (at
+// least 0.1 to each kind of light where both reach the point),
 // is 0 for the far-away instance and the far-field lights behind the surface or dark, > 0 for every
 // light that contributes; each weight is 1 / q_i.
 TEST(FarfieldSelection, ChoicesFollowTheMirrorProbabilities) {
@@ -209,7 +210,9 @@ TEST(FarfieldSelection, ChoicesFollowTheMirrorProbabilities) {
       }
     double ffq = 0.0;
     for (std::size_t k = 0; k < ffl.size(); ++k) ffq += q[ni + k];
-    EXPECT_GT(ffq, 0.01) << "point " << pi << ": the far-field lights take part";
+    // both kinds reach these points: each kind gets at least NF_LS_KIND_MIN = 0.1 of the picks
+    EXPECT_GE(ffq, 0.1 - 1e-12) << "point " << pi << ": the far-field lights take part";
+    EXPECT_LE(ffq, 0.9 + 1e-12) << "point " << pi;
     const int n = 40000;
     const std::vector<NfSurface> surf(n, pts[pi]);
     const auto buf = upload_surfaces(rt, surf);
@@ -325,8 +328,8 @@ TEST_P(FarfieldUnbiased, AgainstTheDoubleValue) {
     std::printf("\n");
   }
   // both kinds of light carry a real share of the light at most points (scale 1.5e-5), or the far-field
-  // lights get a real share of the picks (scale 0.05: the instances' f_i overstate their E about
-  // 10^3-fold against the far-field lights', docs/sampling.md)
+  // lights carry nearly all of it (scale 0.05); each kind gets at least 0.1 of the picks where both
+  // reach a point (docs/sampling.md "Two kinds of light")
   int shared = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) shared += ref_ff[i].y > 0.1 * ref[i].y && ref_lf[i].y > 0.1 * ref[i].y;
   if (scale < 1e-3) {
@@ -351,9 +354,7 @@ TEST_P(FarfieldUnbiased, AgainstTheDoubleValue) {
     double worst = 0.0;  // the test's resolution: the largest standard error relative to the value
     for (std::size_t i = 0; i < pts.size(); ++i) worst = std::max(worst, f.e.se[i].y / ref[i].y);
     std::printf("  scale %g picks %d: largest se / value %.3g, max |z| %.2f\n", scale, picks, worst, z.max_z);
-    if (scale > 1e-3) {
-      EXPECT_LT(worst, 0.02) << "the test must see a few per cent of bias";
-    }
+    EXPECT_LT(worst, 0.03) << "the test must see a few per cent of bias";
   }
   // `all`: every far-field light in full at every pixel, as before selection existed: the far-field
   // part alone (no instances) equals the closed form to float rounding (rel 1e-4: float angles of

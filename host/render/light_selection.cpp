@@ -233,13 +233,21 @@ std::vector<double> selection_probabilities(std::span<const LightInstance> light
     q[i] = selection_estimate(select_light(lights[i]), lights[i].luminaire->selection_table().data(), p, n, use_cos);
     total += q[i];
   }
+  double total_ff = 0.0;
   for (std::size_t k = 0; k < nf; ++k) {
     const NfSelectFarfield& f = farfield->lights[k];
     q[lights.size() + k] = farfield_selection_estimate(f, farfield->tables.data() + f.table, p, n, use_cos);
-    total += q[lights.size() + k];
+    total_ff += q[lights.size() + k];
   }
-  if (total > 0.0)
-    for (auto& v : q) v /= total;
+  // the far-field lights' share of the picks, clamped where both kinds can light p (NF_LS_KIND_MIN,
+  // kernels/common/light_select.h)
+  constexpr double kKindMin = 0.1;
+  const bool both = total > 0.0 && total_ff > 0.0;
+  const double s_ff =
+      both ? std::clamp(total_ff / (total + total_ff), kKindMin, 1.0 - kKindMin) : (total_ff > 0.0 ? 1.0 : 0.0);
+  const double k_lf = total > 0.0 ? (1.0 - s_ff) / total : 0.0;
+  const double k_ff = total_ff > 0.0 ? s_ff / total_ff : 0.0;
+  for (std::size_t i = 0; i < q.size(); ++i) q[i] *= i < lights.size() ? k_lf : k_ff;
   return q;
 }
 
