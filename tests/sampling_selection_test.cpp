@@ -186,7 +186,7 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
   const auto pts = street_points();
   SamplingSettings s;
   s.spp = 1;
-  s.light_selection = LightSelection::flat;  // auto is all below 16 instances
+  s.light_selection = LightSelection::flat;  // auto is all below 26 instances
   const std::size_t ni = placed.size();
   for (int pi : {0, 1, 2}) {
     const auto q = selection_probabilities(lights, pts[pi]);

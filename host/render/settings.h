@@ -20,10 +20,11 @@ enum class Structure { per_image, fused };
 // Many lights (docs/sampling.md "Light selection"): every light at every pixel (`all`), or M picks per
 // pixel and frame among the luminaire instances and far-field lights, drawn with probability q_i(p)
 // from a flat per-pixel CDF (`flat`); `automatic` ("auto") is `flat` from kAutoSelectionInstances
-// light-field instances on, `all` below (measured crossover of the equal-time error,
-// bench/results/selection/README.md).
+// light-field instances on, `all` below: the crossover of the equal-time error of flat (M = 1) and
+// all, 25 and 28 instances by log-interpolation between N = 8 and 32 of bench runs 1 and 2
+// (bench/results/selection/README.md).
 enum class LightSelection { all, flat, automatic };
-inline constexpr std::size_t kAutoSelectionInstances = 16;
+inline constexpr std::size_t kAutoSelectionInstances = 26;
 // Whether a frame with `instances` light-field luminaire instances and `farfield` far-field lights
 // selects: flat with two lights or more (at least one of them a light field: the far-field lights
 // alone are shaded in full), auto with kAutoSelectionInstances light-field instances or more.

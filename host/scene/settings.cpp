@@ -202,7 +202,7 @@ std::vector<Setting> declare() {
           "several lights: all = every luminaire instance at every pixel with K samples each, every far-field "
           "light in full; flat = K is the pixel's budget, selection_picks picks per pixel and frame among the "
           "instances and far-field lights drawn with probabilities q_i(p) from a flat CDF, weighted 1/(M q_i); "
-          "auto = flat from 16 light-field instances on, all below (docs/sampling.md \"Light selection\")",
+          "auto = flat from 26 light-field instances on, all below (docs/sampling.md \"Light selection\")",
           [](auto& r) -> auto& { return r.light_selection; }),
       integer(
           "selection_picks", "selection_picks", 1, 15, "luminaires", R,
