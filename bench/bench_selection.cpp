@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
         f.sampling.light_selection = render::parse_light_selection(mode.substr(0, colon));
         // flat:M (merged picks) or flat:Mu (an instance picked c times shaded c times)
         const std::string m = colon == std::string::npos ? std::string("4") : mode.substr(colon + 1);
-        render::set_selection_picks(std::stoi(m));
+        f.sampling.selection_picks = std::stoi(m);
         render::set_selection_merge(m.back() != 'u');
         return f;
       };

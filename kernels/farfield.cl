@@ -19,6 +19,7 @@
 #include "common/brdf.h"
 #include "common/material.h"
 #include "shared/farfield.h"
+#include "shared/light_select.h"
 
 #define NF_FF_MIN_R2 1e-12f /* (1e-6 m)^2 */
 #define NF_DEG (180.0f / NF_PI)
@@ -65,17 +66,8 @@ NF_INLINE float ff_intensity(__global const NfFarfieldLight* L, __global const f
   return mix(a, b, fc);
 }
 
-__kernel void farfield_shade(__global const NfSurface* surfaces, const int count,
-                             __global const NfFarfieldLight* lights, const int n_lights, __global const float* angles,
-                             __global const float* cd, __global const NfKurtMaterial* kurt, const int kurt_count,
-                             __global const uint* vis, const int has_vis, __global float4* out) {
-  const int p = get_global_id(0);
-  if (p >= count) return;
-  const NfSurface s = surfaces[p];
-  if (!s.valid || !(isfinite(s.px) && isfinite(s.py) && isfinite(s.pz))) {
-    out[p] = (float4)(0.0f);
-    return;
-  }
+/* The shading state of surface s (as the light-field kernels build it). */
+NF_INLINE NfShade ff_shade_state(const NfSurface s, __global const NfKurtMaterial* kurt, const int kurt_count) {
   NfShade sh;
   float3 n = (float3)(s.nx, s.ny, s.nz);
   n = normalize(n);
@@ -97,29 +89,79 @@ __kernel void farfield_shade(__global const NfSurface* surfaces, const int count
   sh.br = mat.base.x;
   sh.bg = mat.base.y;
   sh.bb = mat.base.z;
+  return sh;
+}
+
+/* f_r(w, v) max(0, n.w) I(C, gamma) / r^2 x colour of one light at surface s. */
+NF_INLINE float3 ff_light(const NfShade* sh, const NfSurface s, __global const NfFarfieldLight* L,
+                          __global const float* angles, __global const float* cd) {
+  const float3 dw = (float3)(L->px - s.px, L->py - s.py, L->pz - s.pz); /* towards the light */
+  const float r2 = dot(dw, dw);
+  if (!(r2 >= NF_FF_MIN_R2) || !isfinite(r2)) return (float3)(0.0f);
+  const float3 w = dw * rsqrt(r2);
+  float r, g, b;
+  nf_brdf_cos(sh, w.x, w.y, w.z, &r, &g, &b);
+  if (r == 0.0f && g == 0.0f && b == 0.0f) return (float3)(0.0f);
+  /* emitted direction d = -w in the light's frame */
+  const float dx = -(L->r0x * w.x + L->r0y * w.y + L->r0z * w.z);
+  const float dy = -(L->r1x * w.x + L->r1y * w.y + L->r1z * w.z);
+  const float dz = -(L->r2x * w.x + L->r2y * w.y + L->r2z * w.z);
+  const float gamma = atan2(sqrt(dx * dx + dy * dy), dz) * NF_DEG;
+  float c = atan2(-dy, dx) * NF_DEG; /* type C: counterclockwise from above when aimed down */
+  if (c < 0.0f) c += 360.0f;
+  if (c >= 360.0f) c -= 360.0f;
+  const float I = ff_intensity(L, angles, cd, c, gamma);
+  return (float3)(r * L->cr, g * L->cg, b * L->cb) * (I / r2);
+}
+
+__kernel void farfield_shade(__global const NfSurface* surfaces, const int count,
+                             __global const NfFarfieldLight* lights, const int n_lights, __global const float* angles,
+                             __global const float* cd, __global const NfKurtMaterial* kurt, const int kurt_count,
+                             __global const uint* vis, const int has_vis, __global float4* out) {
+  const int p = get_global_id(0);
+  if (p >= count) return;
+  const NfSurface s = surfaces[p];
+  if (!s.valid || !(isfinite(s.px) && isfinite(s.py) && isfinite(s.pz))) {
+    out[p] = (float4)(0.0f);
+    return;
+  }
+  const NfShade sh = ff_shade_state(s, kurt, kurt_count);
   float3 lo = (float3)(0.0f);
   for (int k = 0; k < n_lights; ++k) {
     if (has_vis && !(vis[(long)p * n_lights + k] & 1u)) continue;
-    __global const NfFarfieldLight* L = lights + k;
-    const float3 dw = (float3)(L->px - s.px, L->py - s.py, L->pz - s.pz); /* towards the light */
-    const float r2 = dot(dw, dw);
-    if (!(r2 >= NF_FF_MIN_R2) || !isfinite(r2)) continue;
-    const float3 w = dw * rsqrt(r2);
-    float r, g, b;
-    nf_brdf_cos(&sh, w.x, w.y, w.z, &r, &g, &b);
-    if (r == 0.0f && g == 0.0f && b == 0.0f) continue;
-    /* emitted direction d = -w in the light's frame */
-    const float dx = -(L->r0x * w.x + L->r0y * w.y + L->r0z * w.z);
-    const float dy = -(L->r1x * w.x + L->r1y * w.y + L->r1z * w.z);
-    const float dz = -(L->r2x * w.x + L->r2y * w.y + L->r2z * w.z);
-    const float gamma = atan2(sqrt(dx * dx + dy * dy), dz) * NF_DEG;
-    float c = atan2(-dy, dx) * NF_DEG; /* type C: counterclockwise from above when aimed down */
-    if (c < 0.0f) c += 360.0f;
-    if (c >= 360.0f) c -= 360.0f;
-    const float I = ff_intensity(L, angles, cd, c, gamma);
-    lo += (float3)(r * L->cr, g * L->cg, b * L->cb) * (I / r2);
+    lo += ff_light(&sh, s, lights + k, angles, cd);
   }
   /* no NaN or Inf leaves: a non-finite sum (a float overflow near an extreme light) is written as 0 */
+  if (!all(isfinite(lo))) lo = (float3)(0.0f);
+  out[p] = (float4)(lo, 0.0f);
+}
+
+/* With light selection (docs/sampling.md "Light selection", kernels/light_select.cl): only the
+   far-field lights among the surface's picks, each weighted c / (M q_i) (w, the pick kernel's weight):
+     L_o = sum_{picks j of far-field light k} w_j f_r max(0, n.w_k) I_k / r_k^2,
+   unbiased for the sum over the lights since E[c_k] = M q_k and q_k > 0 wherever light k contributes.
+   sel[p * picks + j] = light << NF_LS_COUNT_BITS | c, light = first + k for far-field light k. */
+__kernel void farfield_shade_picks(__global const NfSurface* surfaces, const int count,
+                                   __global const NfFarfieldLight* lights, const int n_lights,
+                                   __global const float* angles, __global const float* cd,
+                                   __global const NfKurtMaterial* kurt, const int kurt_count, __global const uint* vis,
+                                   const int has_vis, __global const uint* sel, __global const float* w,
+                                   const int picks, const int first, __global float4* out) {
+  const int p = get_global_id(0);
+  if (p >= count) return;
+  const NfSurface s = surfaces[p];
+  float3 lo = (float3)(0.0f);
+  if (s.valid && isfinite(s.px) && isfinite(s.py) && isfinite(s.pz)) {
+    const NfShade sh = ff_shade_state(s, kurt, kurt_count);
+    for (int j = 0; j < picks; ++j) {
+      const uint e = sel[(size_t)p * (size_t)picks + (size_t)j];
+      if (e == NF_LS_NONE) break;
+      const int k = (int)(e >> NF_LS_COUNT_BITS) - first;
+      if (k < 0 || k >= n_lights) continue;
+      if (has_vis && !(vis[(long)p * n_lights + k] & 1u)) continue;
+      lo += ff_light(&sh, s, lights + k, angles, cd) * w[(size_t)p * (size_t)picks + (size_t)j];
+    }
+  }
   if (!all(isfinite(lo))) lo = (float3)(0.0f);
   out[p] = (float4)(lo, 0.0f);
 }

@@ -13,19 +13,27 @@
 #include "common/random.h"
 #include "shared/surface.h"
 
-#define NF_LS_NONE 0xffffffffU
-#define NF_LS_COUNT_BITS 4 /* sel = instance << 4 | c_i, c_i in 1..picks (picks <= 15) */
+/* NF_LS_NONE, NF_LS_COUNT_BITS: shared/light_select.h (sel = light << 4 | c_i, c_i in 1..picks <= 15) */
+
+/* f_i(p) of light i of the combined list: the n luminaire instances, then the n_ff far-field lights. */
+NF_INLINE float nf_ls_f(int i, int n, __global const NfSelectLight* lights, __global const NfSelectFarfield* ff,
+                        __global const float* tables, float3 p, float3 nn, int use_cos) {
+  return i < n ? nf_select_estimate(lights + i, tables, p, nn, use_cos)
+               : nf_select_estimate_ff(ff + (i - n), tables, p, nn, use_cos);
+}
 
 /* The picks of every surface: sel[g * picks + j] = instance << 4 | c (NF_LS_NONE: no more picks; all
    NF_LS_NONE where no instance can light the surface, or background) and w = c / (x_i - x_{i-1}), where
-   x_i = M C_i / C_N are the float CDF points the picks were drawn from (C = the running sums of f), so
+   x_i = M C_i are the float CDF points the picks were drawn from (C = the running sums of q), so
    the weight is exactly c over the expected count E[c] = x_i - x_{i-1} (u uniform) of that draw.
    merge = 0: an instance picked c times gets c entries of count 1 (weight 1 / (x_i - x_{i-1}) each),
    so the host keeps one list per instance (fewer launches, c set-ups of its A_m(p)). Two passes over
-   the instances: the sum, then the CDF. */
+   the lights: the sum, then the CDF. The lights are the n instances followed by the n_ff far-field
+   lights (index n + k: far-field light k, shaded by kernels/farfield.cl farfield_shade_picks). */
 __kernel void ls_pick(__global const NfSurface* surfaces, const int count, __global const NfSelectLight* lights,
                         __global const float* tables, const int n, const uint seed, const uint frame,
-                        const int picks, const int merge, __global uint* sel, __global float* w) {
+                        const int picks, const int merge, __global uint* sel, __global float* w,
+                        __global const NfSelectFarfield* ff, const int n_ff) {
   const int g = get_global_id(0);
   if (g >= count) return;
   const NfSurface s = surfaces[g];
@@ -34,22 +42,37 @@ __kernel void ls_pick(__global const NfSurface* surfaces, const int count, __glo
   if (s.valid) {
     const float3 p = (float3)(s.px, s.py, s.pz), nn = (float3)(s.nx, s.ny, s.nz);
     const int use_cos = s.brdf != NF_BRDF_SCALAR;
-    float total = 0.0f;
-    for (int i = 0; i < n; ++i) {
-      const float f = nf_select_estimate(lights + i, tables, p, nn, use_cos);
-      if (f > 0.0f) total += f;
+    const int nt = n + n_ff;
+    float tot_lf = 0.0f, tot_ff = 0.0f; /* the sums of f over the instances and the far-field lights */
+    for (int i = 0; i < nt; ++i) {
+      const float f = nf_ls_f(i, n, lights, ff, tables, p, nn, use_cos);
+      if (f > 0.0f) {
+        if (i < n) {
+          tot_lf += f;
+        } else {
+          tot_ff += f;
+        }
+      }
     }
-    if (total > 0.0f && isfinite(total)) {
+    /* q_i = share_kind f_i / tot_kind: the far-field lights get their share of the sum of f, clamped
+       to [NF_LS_KIND_MIN, 1 - NF_LS_KIND_MIN] where both kinds can light p (common/light_select.h) */
+    const int both = tot_lf > 0.0f && tot_ff > 0.0f;
+    const float s_ff = both ? clamp(tot_ff / (tot_lf + tot_ff), NF_LS_KIND_MIN, 1.0f - NF_LS_KIND_MIN)
+                            : (tot_ff > 0.0f ? 1.0f : 0.0f);
+    const float k_lf = tot_lf > 0.0f ? (1.0f - s_ff) / tot_lf : 0.0f;
+    const float k_ff = tot_ff > 0.0f ? s_ff / tot_ff : 0.0f;
+    if ((tot_lf > 0.0f || tot_ff > 0.0f) && isfinite(tot_lf) && isfinite(tot_ff) && isfinite(k_lf) &&
+        isfinite(k_ff)) {
       const uint key = nf_hash1(nf_hash1((uint)g ^ 0x68bc21ebU) ^ nf_hash1(frame * 0x9e3779b9U + seed));
       const float u = nf_unit1(key);
       const float M = (float)picks;
       float cum = 0.0f, x_prev = 0.0f;
       int fl_prev = 0; /* floor(0 + u) */
-      for (int i = 0; i < n && j < picks && fl_prev < picks; ++i) {
-        const float f = nf_select_estimate(lights + i, tables, p, nn, use_cos);
+      for (int i = 0; i < nt && j < picks && fl_prev < picks; ++i) {
+        const float f = nf_ls_f(i, n, lights, ff, tables, p, nn, use_cos);
         if (!(f > 0.0f)) continue;
-        cum += f;
-        const float x = fmin(M * (cum / total), M);
+        cum += f * (i < n ? k_lf : k_ff);
+        const float x = fmin(M * cum, M);
         const int fl = (int)floor(x + u);
         const int c = fl - fl_prev;
         if (c > 0) {

@@ -41,7 +41,7 @@ struct Mean {
 Mean render_mean(render::Renderer& r, render::LightSelection mode, int picks, int frames) {
   auto s = r.settings();
   s.sampling.light_selection = mode;
-  render::set_selection_picks(picks);
+  s.sampling.selection_picks = picks;
   s.sampling.seed = static_cast<std::uint32_t>(100 + picks + 10 * static_cast<int>(mode));
   r.set_settings(s);
   r.reset();
@@ -103,7 +103,6 @@ TEST(LightSelectionStreet, ImageMeanMatchesTheReference) {
     EXPECT_LT(std::abs(z), 4.4) << render::to_string(c.mode) << " picks " << c.picks;
     EXPECT_LT(se / want.mean, 0.015) << "the test must be able to see a 7 % bias";
   }
-  render::set_selection_picks(render::kSelectionPicks);
 }
 
 // Instances of one luminaire share its device data (one DeviceLuminaire per source), and one more

@@ -154,7 +154,7 @@ TEST(LightSelection, UnbiasedAgainstQuadrature) {
   for (const Case c :
        {Case{Structure::fused, 4, 20000}, Case{Structure::fused, 3, 12000}, Case{Structure::per_image, 1, 8000}}) {
     s.structure = c.st;
-    set_selection_picks(c.picks);
+    s.selection_picks = c.picks;
     s.seed = static_cast<std::uint32_t>(c.picks);
     const Estimates e = estimate_many(sampler, lights, pts, c.replicates, s);
     EXPECT_TRUE(e.finite);
@@ -167,7 +167,6 @@ TEST(LightSelection, UnbiasedAgainstQuadrature) {
     for (const auto v : k)
       EXPECT_LE(v, static_cast<std::uint32_t>(s.spp + c.picks + 2 * c.picks * int(l.images.size())));
   }
-  set_selection_picks(kSelectionPicks);
 }
 
 // The kernel's picks follow q_i(p) of the host mirror. M = 1: instance i chosen with probability q_i,
@@ -187,7 +186,7 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
   const auto pts = street_points();
   SamplingSettings s;
   s.spp = 1;
-  s.light_selection = LightSelection::flat;  // auto is all below 16 instances
+  s.light_selection = LightSelection::flat;  // auto is all below 26 instances
   const std::size_t ni = placed.size();
   for (int pi : {0, 1, 2}) {
     const auto q = selection_probabilities(lights, pts[pi]);
@@ -207,7 +206,7 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
     const std::vector<NfSurface> surf(n, pts[pi]);
     const auto buf = upload_surfaces(rt, surf);
     for (const int M : {1, 4}) {
-      set_selection_picks(M);
+      s.selection_picks = M;
       sampler.run(buf, n, lights, s);
       const auto sel = sampler.read_selection();
       const auto w = sampler.read_selection_weight();
@@ -260,7 +259,6 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
       }
     }
   }
-  set_selection_picks(kSelectionPicks);
 }
 
 // q_i > 0 wherever the quadrature gives instance i light: 300 random points around one instance,
@@ -326,7 +324,7 @@ TEST(LightSelection, ThousandInstancesStayFinite) {
   s.light_selection = LightSelection::flat;  // auto would pick flat too (1,000 instances)
   for (std::uint32_t frame = 0; frame < 2; ++frame) {
     s.frame = frame;
-    set_selection_picks(frame == 0 ? 1 : 4);  // one pick, then four (up to 4,000 lists)
+    s.selection_picks = frame == 0 ? 1 : 4;  // one pick, then four (up to 4,000 lists)
     sampler.run(buf, static_cast<int>(surf.size()), lights, s);
     const auto rgb = sampler.read_radiance();
     const auto a = sampler.read_a();
@@ -339,7 +337,6 @@ TEST(LightSelection, ThousandInstancesStayFinite) {
     }
     EXPECT_GT(lit, 100);
   }
-  set_selection_picks(kSelectionPicks);
 }
 
 // One instance: selection has nothing to choose, the frame is the `all` frame bit for bit.

@@ -125,7 +125,8 @@ std::vector<InstanceCost> instance_costs(const scene::Scene& s) {
   }
   const std::uint64_t pixels = static_cast<std::uint64_t>(s.camera.width) * static_cast<std::uint64_t>(s.camera.height);
   const std::size_t n = s.luminaires.size() + 1;  // with the one more instance
-  const bool all = !render::selects_instances(render::parse_light_selection(s.render.light_selection), n);
+  const bool all =
+      !render::selects_instances(render::parse_light_selection(s.render.light_selection), n, s.farfield_lights.size());
   std::uint64_t cache = 0;  // every instance's pixel cache, the one more included (the cache holds all or none)
   for (std::size_t k = 0; k < lums.size(); ++k)
     cache += 4ULL * static_cast<std::uint64_t>(lums[k].num_images()) * pixels * (out[k].instances + (k == 0 ? 1 : 0));

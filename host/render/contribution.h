@@ -26,7 +26,7 @@
 namespace nf::gl {
 class GBuffer;
 class SceneGpu;
-}
+}  // namespace nf::gl
 
 namespace nf::render {
 
@@ -67,6 +67,11 @@ struct FrameInputs {
   const gl::GBuffer* gbuffer = nullptr;
   // The luminaire instances on the host, in the order of `lights` (empty: not available).
   std::span<const HostLuminaire> host_lights = {};
+  // Light selection across contributions (docs/sampling.md "Light selection"): the luminaires'
+  // contribution, which runs first, publishes the frame's picks here when it selected (instances and
+  // far-field lights in one CDF); the far-field contribution then shades only its picked lights.
+  // nullptr: no selection this frame (every far-field light in full).
+  mutable const Sampler::Picks* picks = nullptr;
 };
 
 // What one frame of a contribution cost and drew (its row in the stats and the viewer).

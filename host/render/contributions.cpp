@@ -11,7 +11,7 @@ const std::vector<ContributionKind>& contribution_kinds() {
   static const std::vector<ContributionKind> kinds{
       {"luminaires", [](const ContributionContext& c) { return !c.scene.luminaires.empty(); },
        [](const ContributionContext& c) {
-         return std::make_unique<LuminaireContribution>(c.rt, c.scene.geometry.materials);
+         return std::make_unique<LuminaireContribution>(c.rt, c.scene.geometry.materials, c.scene.farfield_lights);
        }},
       {"environment",
        [](const ContributionContext& c) {

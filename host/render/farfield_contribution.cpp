@@ -145,9 +145,11 @@ void FarfieldContribution::update_visibility(const FrameInputs& in, Contribution
 
 void FarfieldContribution::prepare(const FrameInputs&) {
   if (!shade_) shade_ = FarfieldShadeKernel(rt_, "farfield.cl", "farfield_shade");
+  if (!shade_picks_) shade_picks_ = FarfieldPicksKernel(rt_, "farfield.cl", "farfield_shade_picks");
 }
 
-// One launch of farfield_shade over every surface (kernels/farfield.cl has the formula).
+// One launch of farfield_shade over every surface (kernels/farfield.cl has the formula), or with
+// light selection (FrameInputs::picks) of farfield_shade_picks: only the picked lights, weighted.
 ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
   prepare(in);
   ContributionFrame f;
@@ -159,15 +161,30 @@ ContributionFrame FarfieldContribution::add(const FrameInputs& in, std::vector<g
              "far-field output buffer");
     out_bytes_ = output_bytes(n);
   }
-  shade_.bind(in.surfaces, in.count, lights_buf_, static_cast<cl_int>(lights_.size()), angles_, cd_, kurt_, kurt_count_,
-              vis_, vis_used_ ? 1 : 0, out_);
-  const ::cl::Event ev = rt_.launch(shade_.get(), ::cl::NDRange(n));
+  const Sampler::Picks* picks = in.picks;
+  if (picks && (picks->farfield != static_cast<int>(lights_.size()) || picks->count != in.count))
+    fail(
+        fmt::format("far-field lights: the light selection has {} far-field lights for {} surfaces, expected {} for {}",
+                    picks->farfield, picks->count, lights_.size(), in.count));
+  ::cl::Event ev;
+  if (picks) {
+    shade_picks_.bind(in.surfaces, in.count, lights_buf_, static_cast<cl_int>(lights_.size()), angles_, cd_, kurt_,
+                      kurt_count_, vis_, vis_used_ ? 1 : 0, *picks->sel, *picks->w, picks->picks, picks->first_farfield,
+                      out_);
+    ev = rt_.launch(shade_picks_.get(), ::cl::NDRange(n));
+  } else {
+    shade_.bind(in.surfaces, in.count, lights_buf_, static_cast<cl_int>(lights_.size()), angles_, cd_, kurt_,
+                kurt_count_, vis_, vis_used_ ? 1 : 0, out_);
+    ev = rt_.launch(shade_.get(), ::cl::NDRange(n));
+  }
   cl::call([&] { ev.wait(); }, "far-field kernel");
   f.step2_ms = cl::Runtime::event_ms(ev);
   f.wall_ms = wall.ms();
   Timer readback;
   add_radiance(radiance, read_radiance(rt_, out_, in.count, "reading the far-field radiance"));
-  f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) * lights_.size();
+  // lights evaluated: every light at every surface, or (selection) at most M per surface
+  f.samples = static_cast<std::uint64_t>(std::max(in.count, 0)) *
+              (picks ? std::min<std::size_t>(static_cast<std::size_t>(picks->picks), lights_.size()) : lights_.size());
   f.readback_ms = readback.ms();
   return f;
 }

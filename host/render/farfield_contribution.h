@@ -8,7 +8,9 @@
 // per light (gl::ShadowMaps with a single cell at the light, looking along its +-x, +-y, +-z,
 // overlapping by a few texels: the light's whole sphere), rendered once, and per view a GL pass
 // over the G-buffer per face, combined into one bit per pixel and light (lit when every face that
-// sees the point says so); otherwise every light reaches every surface that faces it.
+// sees the point says so); otherwise every light reaches every surface that faces it. With light
+// selection (FrameInputs::picks, docs/sampling.md "Light selection") only the lights the pixel
+// picked, weighted c / (M q_i).
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -63,6 +65,11 @@ class FarfieldContribution final : public Contribution {
   using FarfieldShadeKernel = cl::TypedKernel<::cl::Buffer, cl_int, ::cl::Buffer, cl_int, ::cl::Buffer, ::cl::Buffer,
                                               ::cl::Buffer, cl_int, ::cl::Buffer, cl_int, ::cl::Buffer>;
   FarfieldShadeKernel shade_;
+  // farfield_shade_picks(... as farfield_shade but out, then sel, w, picks, first, out)
+  using FarfieldPicksKernel =
+      cl::TypedKernel<::cl::Buffer, cl_int, ::cl::Buffer, cl_int, ::cl::Buffer, ::cl::Buffer, ::cl::Buffer, cl_int,
+                      ::cl::Buffer, cl_int, ::cl::Buffer, ::cl::Buffer, cl_int, cl_int, ::cl::Buffer>;
+  FarfieldPicksKernel shade_picks_;
   // Shadow maps (one per light) and the per-pixel visibility bits of the current view.
   void update_visibility(const FrameInputs& in, ContributionFrame& f);
   std::vector<glm::dmat4> to_world_;

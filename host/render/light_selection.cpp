@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "luminaire/goniometric.h"
 
 namespace nf::render {
 
@@ -120,31 +122,132 @@ double selection_estimate(const NfSelectLight& s, const float* table, const glm:
   return std::isfinite(f) ? std::min(f, 1e30) : 1e30;
 }
 
+static_assert(sizeof(NfSelectFarfield) == 64, "NfSelectFarfield layout (kernels/shared/light_select.h)");
+
 namespace {
-int g_picks = kSelectionPicks;
 bool g_merge = true;
+
+// The nodes of `a` (ascending) that bracket [lo, hi]: from the last node <= lo to the first >= hi
+// (all of them inside); empty when [lo, hi] lies outside [a.front(), a.back()].
+std::pair<std::size_t, std::size_t> bracket(const std::vector<double>& a, double lo, double hi) {
+  if (a.empty() || hi < a.front() || lo > a.back()) return {1, 0};
+  std::size_t i0 = 0, i1 = a.size() - 1;
+  while (i0 + 1 < a.size() && a[i0 + 1] <= lo) ++i0;
+  while (i1 > 0 && a[i1 - 1] >= hi) --i1;
+  return {i0, i1};
+}
 }  // namespace
 
-int selection_picks() { return g_picks; }
-void set_selection_picks(int m) {
-  if (m < 1 || m > 15) fail(fmt::format("light selection: picks per pixel must be 1..15, got {}", m));
-  g_picks = m;
+// The bound table of a far-field light: per cell of (C, gamma), widened by half a degree on every side
+// (rounding of the angles in the kernels), the largest table value among the nodes bracketing it. The
+// bilinear interpolant (kernels/farfield.cl ff_intensity) of a node rectangle lies between its corner
+// values, so it never exceeds this bound in the cell, and it is > 0 somewhere in the cell only if a
+// bracketing node is > 0. Rotational tables (one C plane) bound every C alike.
+FarfieldSelect farfield_select(const std::vector<scene::FarfieldLightRef>& lights) {
+  FarfieldSelect out;
+  constexpr int C = NF_SELECT_FF_C, G = NF_SELECT_FF_G;
+  constexpr double widen = 0.5;
+  for (const auto& l : lights) {
+    if (!l.table) fail(fmt::format("far-field light '{}': no intensity table", l.name));
+    const lum::Goniometric& t = *l.table;
+    NfSelectFarfield f{};
+    const glm::dvec3 pos(l.to_world[3]);
+    f.px = static_cast<float>(pos.x), f.py = static_cast<float>(pos.y), f.pz = static_cast<float>(pos.z);
+    const double col = std::max({l.colour.r, l.colour.g, l.colour.b});
+    f.colour = std::isfinite(col) && col > 0.0 ? static_cast<float>(col) : 0.0f;
+    for (int r = 0; r < 3; ++r) {
+      const glm::dvec3 axis(l.to_world[r]);  // row r of world -> local = local axis r in world
+      f.r[3 * r + 0] = static_cast<float>(axis.x);
+      f.r[3 * r + 1] = static_cast<float>(axis.y);
+      f.r[3 * r + 2] = static_cast<float>(axis.z);
+    }
+    f.table = static_cast<nf_int>(out.tables.size());
+    const std::size_t ng = t.gamma.size(), nc = t.c.size();
+    for (int ic = 0; ic < C; ++ic) {
+      const double c0 = 360.0 * ic / C - widen, c1 = 360.0 * (ic + 1) / C + widen;
+      // C wraps: a cell widened below 0 or above 360 also takes the nodes near the other end
+      std::vector<std::pair<std::size_t, std::size_t>> cr;
+      if (nc <= 1) {
+        cr.emplace_back(0, 0);
+      } else {
+        cr.push_back(bracket(t.c, c0, c1));
+        if (c0 < 0.0) cr.push_back(bracket(t.c, c0 + 360.0, 360.0));
+        if (c1 > 360.0) cr.push_back(bracket(t.c, 0.0, c1 - 360.0));
+      }
+      for (int ig = 0; ig < G; ++ig) {
+        const double g0 = 180.0 * ig / G - widen, g1 = 180.0 * (ig + 1) / G + widen;
+        const auto [a0, a1] = bracket(t.gamma, g0, g1);
+        double m = 0.0;
+        for (const auto& [b0, b1] : cr)
+          for (std::size_t c = b0; c <= b1 && c < std::max<std::size_t>(nc, 1); ++c)
+            for (std::size_t g = a0; g <= a1 && g < ng; ++g) m = std::max(m, t.cd[c * ng + g]);
+        out.tables.push_back(static_cast<float>(std::min(m * l.intensity, 1e30)));
+      }
+    }
+    out.lights.push_back(f);
+  }
+  return out;
 }
+
+// Mirror of nf_select_estimate_ff (kernels/common/light_select.h) in double.
+double farfield_selection_estimate(const NfSelectFarfield& f, const float* table, const glm::dvec3& p,
+                                   const glm::dvec3& n, bool use_cos) {
+  const glm::dvec3 dw = glm::dvec3(f.px, f.py, f.pz) - p;
+  const double r2 = dw.x * dw.x + dw.y * dw.y + dw.z * dw.z;
+  if (!(r2 >= 1e-12) || !std::isfinite(r2) || !(f.colour > 0.0f)) return 0.0;
+  const glm::dvec3 w = dw / std::sqrt(r2);
+  double c = 1.0;
+  if (use_cos) {
+    const double nl = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    if (!(nl > 0.0)) return 0.0;
+    c = (n.x * w.x + n.y * w.y + n.z * w.z) / nl;
+    if (!(c > -1e-3)) return 0.0;
+    c = std::max(c, 1e-3);
+  }
+  const auto* R = f.r;
+  const double dx = -(R[0] * w.x + R[1] * w.y + R[2] * w.z);
+  const double dy = -(R[3] * w.x + R[4] * w.y + R[5] * w.z);
+  const double dz = -(R[6] * w.x + R[7] * w.y + R[8] * w.z);
+  constexpr double pi = 3.14159265358979323846;
+  const double g = std::atan2(std::sqrt(dx * dx + dy * dy), dz);
+  double cc = std::atan2(-dy, dx);
+  if (cc < 0.0) cc += 2.0 * pi;
+  const int ig = std::clamp(static_cast<int>(g * (NF_SELECT_FF_G / pi)), 0, NF_SELECT_FF_G - 1);
+  const int ic = std::clamp(static_cast<int>(cc * (NF_SELECT_FF_C / (2.0 * pi))), 0, NF_SELECT_FF_C - 1);
+  const double v = static_cast<double>(f.colour) * table[ic * NF_SELECT_FF_G + ig] * c / r2;
+  return std::isfinite(v) ? std::min(v, 1e30) : 1e30;
+}
+
 bool selection_merge() { return g_merge; }
 void set_selection_merge(bool merge) { g_merge = merge; }
 
-std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface) {
-  std::vector<double> q(lights.size(), 0.0);
+std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
+                                            const FarfieldSelect* farfield) {
+  const std::size_t nf = farfield ? farfield->size() : 0;
+  std::vector<double> q(lights.size() + nf, 0.0);
   if (!surface.valid) return q;
   const glm::dvec3 p(surface.px, surface.py, surface.pz), n(surface.nx, surface.ny, surface.nz);
+  const bool use_cos = surface.brdf != NF_BRDF_SCALAR;
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    q[i] = selection_estimate(select_light(lights[i]), lights[i].luminaire->selection_table().data(), p, n,
-                              surface.brdf != NF_BRDF_SCALAR);
+    q[i] = selection_estimate(select_light(lights[i]), lights[i].luminaire->selection_table().data(), p, n, use_cos);
     total += q[i];
   }
-  if (total > 0.0)
-    for (auto& v : q) v /= total;
+  double total_ff = 0.0;
+  for (std::size_t k = 0; k < nf; ++k) {
+    const NfSelectFarfield& f = farfield->lights[k];
+    q[lights.size() + k] = farfield_selection_estimate(f, farfield->tables.data() + f.table, p, n, use_cos);
+    total_ff += q[lights.size() + k];
+  }
+  // the far-field lights' share of the picks, clamped where both kinds can light p (NF_LS_KIND_MIN,
+  // kernels/common/light_select.h)
+  constexpr double kKindMin = 0.1;
+  const bool both = total > 0.0 && total_ff > 0.0;
+  const double s_ff =
+      both ? std::clamp(total_ff / (total + total_ff), kKindMin, 1.0 - kKindMin) : (total_ff > 0.0 ? 1.0 : 0.0);
+  const double k_lf = total > 0.0 ? (1.0 - s_ff) / total : 0.0;
+  const double k_ff = total_ff > 0.0 ? s_ff / total_ff : 0.0;
+  for (std::size_t i = 0; i < q.size(); ++i) q[i] *= i < lights.size() ? k_lf : k_ff;
   return q;
 }
 

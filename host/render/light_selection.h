@@ -11,6 +11,7 @@
 #include "kernels/shared/light_select.h"
 #include "kernels/shared/surface.h"
 #include "render/sampler.h"
+#include "scene/scene.h"
 
 namespace nf::render {
 
@@ -24,21 +25,30 @@ NfSelectLight select_light(const LightInstance& li, int table = 0);
 double selection_estimate(const NfSelectLight& s, const float* table, const glm::dvec3& p, const glm::dvec3& n,
                           bool use_cos);
 
-// q_i(p) for every instance (sums to 1), or all zeros where no instance can light the surface
-// (background surfaces included).
-std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface);
+// The far-field lights of a scene as the selection sees them (kernels/shared/light_select.h): one
+// record per light and its bound table (NF_SELECT_FF_C x NF_SELECT_FF_G floats, cd; `table` = the
+// offset into `tables`). Built once per scene (render::LuminaireContribution).
+struct FarfieldSelect {
+  std::vector<NfSelectFarfield> lights;
+  std::vector<float> tables;
+  std::size_t size() const { return lights.size(); }
+};
+FarfieldSelect farfield_select(const std::vector<scene::FarfieldLightRef>& lights);
 
-// M, the picks per pixel and frame of `light_selection flat` (docs/sampling.md "Light selection"),
-// 1..15, and whether an instance picked c times is shaded once with round(c K / M) samples (merge,
-// one list per instance and count) or c times with round(K / M) (one list per instance). Process-
-// wide for now (defaults: the measured kSelectionPicks and merging); a render setting would add a
-// field to SamplingSettings and the registry. set_selection_picks throws nf::Error outside 1..15.
-// M = 1 by the measurement (bench/results/selection/README.md): more picks lower one frame's error
-// but cost as much more (one A_m(p) set-up per picked instance), equal at equal time at N = 32 and
-// worse at N = 2.
-inline constexpr int kSelectionPicks = 1;
-int selection_picks();
-void set_selection_picks(int m);
+// f_i(p) of nf_select_estimate_ff (kernels/common/light_select.h) in double, `table` = the light's
+// bound table. 0 exactly where the light provably sends no light to p.
+double farfield_selection_estimate(const NfSelectFarfield& f, const float* table, const glm::dvec3& p,
+                                   const glm::dvec3& n, bool use_cos);
+
+// q_i(p) for every instance, then every far-field light of `farfield` (sums to 1), or all zeros
+// where no light can light the surface (background surfaces included).
+std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
+                                            const FarfieldSelect* farfield = nullptr);
+
+// Whether an instance picked c times is shaded once with round(c K / M) samples (merge, one list per
+// instance and count; the default) or c times with round(K / M) (one list per instance). A
+// process-wide switch of the bench's `flat:Mu` comparison; M itself is the setting
+// `selection_picks` (SamplingSettings::selection_picks).
 bool selection_merge();
 void set_selection_merge(bool merge);
 

@@ -6,9 +6,11 @@
 
 namespace nf::render {
 
-LuminaireContribution::LuminaireContribution(cl::Runtime& rt, const std::vector<scene::Material>& materials)
-    : sampler_(rt) {
+LuminaireContribution::LuminaireContribution(cl::Runtime& rt, const std::vector<scene::Material>& materials,
+                                             const std::vector<scene::FarfieldLightRef>& farfield)
+    : farfield_(farfield_select(farfield)), sampler_(rt) {
   sampler_.set_kurt_table(kurt_table(materials));
+  if (farfield_.size() > 0) sampler_.set_farfield(&farfield_);
 }
 
 void LuminaireContribution::set_materials(const std::vector<scene::Material>& materials) {
@@ -27,6 +29,7 @@ void LuminaireContribution::prepare(const FrameInputs& in) {
 
 ContributionFrame LuminaireContribution::add(const FrameInputs& in, std::vector<glm::vec4>& radiance) {
   const FrameStats fs = sampler_.run(in.surfaces, in.count, in.lights, frame_sampling(in), in.view_version);
+  in.picks = sampler_.picks();
   ContributionFrame f;
   f.step1_ms = fs.step1_ms;
   f.step2_ms = fs.step2_ms;
@@ -42,6 +45,7 @@ ContributionFrame LuminaireContribution::add(const FrameInputs& in, std::vector<
 // summed there (docs/rendering.md, "The frame on the device").
 ContributionFrame LuminaireContribution::add_device(const FrameInputs& in, DeviceFrame& frame) {
   const FrameStats fs = sampler_.run(in.surfaces, in.count, in.lights, frame_sampling(in), in.view_version);
+  in.picks = sampler_.picks();
   ContributionFrame f;
   f.step1_ms = fs.step1_ms;
   f.step2_ms = fs.step2_ms;

@@ -3,13 +3,17 @@
 // docs/sampling.md): A_m(p), K_m(p), restricted-CDF samples and Eq. 14 shading by the OpenCL
 // kernels of kernels/lightfield.cl, through render::Sampler.
 #include "render/contribution.h"
+#include "render/light_selection.h"
 
 namespace nf::render {
 
 class LuminaireContribution final : public Contribution {
  public:
-  // `materials`: the scene's, for the Kurt material table (render/kurt_table.h).
-  LuminaireContribution(cl::Runtime& rt, const std::vector<scene::Material>& materials);
+  // `materials`: the scene's, for the Kurt material table (render/kurt_table.h). `farfield`: the
+  // scene's far-field lights, candidates of the light selection with the instances (their picks are
+  // published in FrameInputs::picks for the far-field contribution).
+  LuminaireContribution(cl::Runtime& rt, const std::vector<scene::Material>& materials,
+                        const std::vector<scene::FarfieldLightRef>& farfield = {});
   std::string name() const override { return "luminaires"; }
   void prepare(const FrameInputs& in) override;
   ContributionFrame add(const FrameInputs& in, std::vector<glm::vec4>& radiance) override;
@@ -25,6 +29,7 @@ class LuminaireContribution final : public Contribution {
 
  private:
   SamplingSettings frame_sampling(const FrameInputs& in) const;
+  FarfieldSelect farfield_;
   Sampler sampler_;
 };
 

@@ -1,5 +1,7 @@
 #include "render/sampler.h"
 
+#include "render/light_selection.h"
+
 #include <fmt/format.h>
 #include <algorithm>
 #include <climits>
@@ -385,7 +387,8 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
                         const SamplingSettings& s, std::uint64_t view_version) {
   s.validate();
   if (count < 0) fail(fmt::format("Sampler::run: negative surface count {}", count));
-  if (selects_instances(s.light_selection, lights.size())) return run_selected(surfaces, count, lights, s);
+  if (selects_instances(s.light_selection, lights.size(), farfield_ ? farfield_->size() : 0))
+    return run_selected(surfaces, count, lights, s);
   sel_.valid = false;
   Timer timer;
   ensure(count);

@@ -25,6 +25,8 @@
 
 namespace nf::render {
 
+struct FarfieldSelect;  // render/light_selection.h
+
 // world_to_local: the rigid (or any invertible affine) map from the surfaces' frame to the
 // luminaire-local frame. Normals use the inverse transpose of its 3x3 part; a singular 3x3 gives
 // zero normals (such surfaces then reflect nothing; SCALAR probes are unaffected).
@@ -133,6 +135,24 @@ class Sampler {
   std::vector<std::uint32_t> read_selection();
   std::vector<float> read_selection_weight();
 
+  // Far-field lights that take part in the selection (render/light_selection.h; nullptr: none, the
+  // default; the object must outlive the runs). With selection their picks are made with the
+  // instances' (index lights.size() + k: far-field light k) but not shaded here: the far-field
+  // contribution shades them from picks() (kernels/farfield.cl farfield_shade_picks). They also count
+  // for whether `flat` selects (render::selects_instances).
+  void set_farfield(const FarfieldSelect* farfield) { farfield_ = farfield; }
+  // The picks of the last run (device buffers, `picks` per surface: light << 4 | c and the weight
+  // c / (M q); kernels/shared/light_select.h), or nullptr when it did not select.
+  struct Picks {
+    const ::cl::Buffer* sel = nullptr;
+    const ::cl::Buffer* w = nullptr;
+    int picks = 1;           // M
+    int first_farfield = 0;  // the index of far-field light 0 (= the number of instances)
+    int farfield = 0;        // far-field lights in the selection
+    int count = 0;           // surfaces
+  };
+  const Picks* picks() const { return sel_.valid ? &picks_ : nullptr; }
+
   // The Kurt material table the kernels read for NF_BRDF_KURT surfaces (render/kurt_table.h);
   // empty by default (such surfaces then reflect nothing).
   void set_kurt_table(const std::vector<NfKurtMaterial>& table);
@@ -197,10 +217,12 @@ class Sampler {
   std::vector<PixelCache> cache_;  // one per light instance
   ::cl::Buffer no_cache_;
   struct Selection {
-    ::cl::Buffer lights, tables, sel, w, idx, surf, rgb, a, k, dir, vis;  // grown on demand
-    bool valid = false;                                                   // the last run used selection
+    ::cl::Buffer lights, ff, tables, sel, w, idx, surf, rgb, a, k, dir, vis;  // grown on demand
+    bool valid = false;                                                       // the last run used selection
   };
   Selection sel_;
+  Picks picks_;
+  const FarfieldSelect* farfield_ = nullptr;
   // Sets the pixel-cache arguments of lf_fused for instance i; returns the mode (kernels/lightfield.cl).
   int bind_cache(lf_kernels::Fused& k, std::size_t i, const PixelCacheKey& key, int count, int images, bool enabled);
 };

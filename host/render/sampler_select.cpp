@@ -3,7 +3,8 @@
 // (flat CDF, two passes over the instances per pixel); the picks sorted by (instance, times picked)
 // (counting sort on the host), each such list shaded by the unchanged light-field kernels with
 // round(c K / M) samples on its own compact list of surfaces (sub-buffers of one gathered buffer),
-// and every pixel's picks summed back weighted c / (M q_i).
+// and every pixel's picks summed back weighted c / (M q_i). Far-field lights (set_farfield) are
+// candidates of the same picks; their picks are left for the far-field contribution (picks()).
 #include <fmt/format.h>
 #include <algorithm>
 #include <array>
@@ -45,7 +46,7 @@ constexpr int kRankShift = 28;  // idx entries: surface | rank << 28 (kernels/li
 std::vector<std::uint32_t> Sampler::read_selection() {
   std::vector<std::uint32_t> out;
   if (!sel_.valid || count_ <= 0) return out;
-  out.resize(static_cast<std::size_t>(count_) * static_cast<std::size_t>(selection_picks()));
+  out.resize(static_cast<std::size_t>(count_) * static_cast<std::size_t>(picks_.picks));
   cl::call([&] { rt_.queue().enqueueReadBuffer(sel_.sel, CL_TRUE, 0, out.size() * sizeof(nf_uint), out.data()); },
            "Sampler: reading the light selection");
   return out;
@@ -54,7 +55,7 @@ std::vector<std::uint32_t> Sampler::read_selection() {
 std::vector<float> Sampler::read_selection_weight() {
   std::vector<float> out;
   if (!sel_.valid || count_ <= 0) return out;
-  out.resize(static_cast<std::size_t>(count_) * static_cast<std::size_t>(selection_picks()));
+  out.resize(static_cast<std::size_t>(count_) * static_cast<std::size_t>(picks_.picks));
   cl::call([&] { rt_.queue().enqueueReadBuffer(sel_.w, CL_TRUE, 0, out.size() * sizeof(float), out.data()); },
            "Sampler: reading the light selection weights");
   return out;
@@ -98,17 +99,30 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
     if (b.get() != nullptr && b.getInfo<CL_MEM_SIZE>() >= bytes) return;
     cl::call([&] { b = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, bytes); }, "Sampler: selection buffers");
   };
+  // the far-field lights: their records with their bound tables after the luminaires' tables
+  const std::size_t n_ff = farfield_ ? farfield_->size() : 0;
+  std::vector<NfSelectFarfield> ff;
+  if (n_ff > 0) {
+    const auto shift = static_cast<nf_int>(tables.size());
+    ff = farfield_->lights;
+    for (auto& f : ff) f.table += shift;
+    tables.insert(tables.end(), farfield_->tables.begin(), farfield_->tables.end());
+  }
+  if (n + n_ff >= (std::size_t{1} << (32 - NF_LS_COUNT_BITS)) - 1)
+    fail(fmt::format("Sampler::run: light selection takes fewer than 2^28 lights, got {}", n + n_ff));
   grow(sel_.lights, n * sizeof(NfSelectLight));
+  grow(sel_.ff, std::max<std::size_t>(n_ff, 1) * sizeof(NfSelectFarfield));
   grow(sel_.tables, tables.size() * sizeof(float));
   Events ev;
   cl::call(
       [&] {
         q.enqueueWriteBuffer(sel_.lights, CL_TRUE, 0, n * sizeof(NfSelectLight), rec.data());
         q.enqueueWriteBuffer(sel_.tables, CL_TRUE, 0, tables.size() * sizeof(float), tables.data());
+        if (n_ff > 0) q.enqueueWriteBuffer(sel_.ff, CL_TRUE, 0, n_ff * sizeof(NfSelectFarfield), ff.data());
       },
       "Sampler: uploading the selection lights");
-  // 1. M picks per surface (systematic sampling of q; entries instance << 4 | count)
-  const int M = std::clamp(selection_picks(), 1, 15);
+  // 1. M picks per surface (systematic sampling of q; entries light << 4 | count)
+  const int M = std::clamp(s.selection_picks, 1, 15);
   if (count >= (1 << kRankShift))
     fail(fmt::format("Sampler::run: light selection takes at most 2^28 surfaces, got {}", count));
   const std::size_t entries = static_cast<std::size_t>(count) * static_cast<std::size_t>(M);
@@ -116,12 +130,14 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
   grow(sel_.w, entries * sizeof(float));
   Pick ks(kern("ls_pick"), "ls_pick");
   ks.bind(surfaces, count, sel_.lights, sel_.tables, static_cast<int>(n), static_cast<cl_uint>(s.seed),
-          static_cast<cl_uint>(s.frame), M, selection_merge() ? 1 : 0, sel_.sel, sel_.w);
+          static_cast<cl_uint>(s.frame), M, selection_merge() ? 1 : 0, sel_.sel, sel_.w, sel_.ff,
+          static_cast<int>(n_ff));
   ev.clears.push_back(rt_.launch(ks.get(), range1(count), ::cl::NDRange(kGroup)));
   std::vector<nf_uint> chosen(entries);
   cl::call([&] { q.enqueueReadBuffer(sel_.sel, CL_TRUE, 0, chosen.size() * sizeof(nf_uint), chosen.data()); },
            "Sampler: reading the selection");
   sel_.valid = true;
+  picks_ = Picks{&sel_.sel, &sel_.w, M, static_cast<int>(n), static_cast<int>(n_ff), count};
   // 2. counting sort by (instance, count): list key = instance * M + count - 1, shaded with
   // round(count K / M) samples; each list starts at a sub-buffer alignment
   std::size_t align_bytes = 128;
@@ -133,7 +149,7 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
   const std::size_t keys = n * static_cast<std::size_t>(M);
   auto key_of = [&](nf_uint e) -> std::size_t {
     if (e == kNone) return keys;
-    const std::size_t inst = e >> 4, c = e & 15u;
+    const std::size_t inst = e >> 4, c = e & 15u;  // far-field picks (inst >= n): not shaded here
     return inst < n && c >= 1 && c <= static_cast<std::size_t>(M) ? inst * static_cast<std::size_t>(M) + c - 1 : keys;
   };
   std::vector<std::size_t> cnt(keys, 0), base(keys, 0);

@@ -29,6 +29,7 @@ void bind(R& r, S& s, F&& f) {
   f("surface_shuffle", r.surface_shuffle, s.surface_shuffle);
   f("pixel_cache", r.pixel_cache, s.pixel_cache_mib);
   f("light_selection", r.light_selection, s.light_selection);
+  f("selection_picks", r.selection_picks, s.selection_picks);
 }
 
 }  // namespace
@@ -70,8 +71,8 @@ std::vector<std::string> light_selection_names() { return scene::choice_names<Li
 std::vector<std::string> mis_names() { return scene::choice_names<Mis>(); }
 std::vector<std::string> balance_estimate_names() { return scene::choice_names<BalanceEstimate>(); }
 
-bool selects_instances(LightSelection s, std::size_t instances) {
-  if (instances < 2) return false;
+bool selects_instances(LightSelection s, std::size_t instances, std::size_t farfield) {
+  if (instances < 1 || instances + farfield < 2) return false;
   return s == LightSelection::flat || (s == LightSelection::automatic && instances >= kAutoSelectionInstances);
 }
 
@@ -118,6 +119,7 @@ std::string SamplingSettings::describe() const {
       to_string(method), to_string(sampler), to_string(balance), to_string(search),
       search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure), spp,
       k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame, to_string(light_selection));
+  if (light_selection != LightSelection::all && selection_picks != 1) d += fmt::format(" picks={}", selection_picks);
   if (effective_mis() != Mis::none) d += " mis=" + to_string(mis);
   if (balance_estimate != BalanceEstimate::exact) d += " balance_estimate=" + to_string(balance_estimate);
   return d;

@@ -21,10 +21,14 @@ using scene::SamplerKind;
 using scene::SearchKind;
 using scene::Structure;
 
-inline constexpr std::size_t kAutoSelectionInstances = 16;
-// Whether a frame with `instances` luminaire instances selects one per pixel (`auto`: from
-// kAutoSelectionInstances instances on).
-bool selects_instances(LightSelection s, std::size_t instances);
+// Light selection `auto` is `flat` from kAutoSelectionInstances light-field instances on, `all`
+// below: the crossover of the equal-time error of flat (M = 1) and all, 25 and 28 instances by
+// log-interpolation between N = 8 and 32 of bench runs 1 and 2 (bench/results/selection/README.md).
+inline constexpr std::size_t kAutoSelectionInstances = 26;
+// Whether a frame with `instances` light-field luminaire instances and `farfield` far-field lights
+// selects: flat with two lights or more (at least one of them a light field: the far-field lights
+// alone are shaded in full), auto with kAutoSelectionInstances light-field instances or more.
+bool selects_instances(LightSelection s, std::size_t instances, std::size_t farfield = 0);
 
 std::string to_string(Method v);
 std::string to_string(SamplerKind v);
@@ -84,6 +88,7 @@ struct SamplingSettings {
   int surface_shuffle;             // surface_shuffle (docs/sampling.md "Surface order")
   int pixel_cache_mib;             // pixel_cache (docs/sampling.md "Pixel cache"); 0 = recompute every frame
   LightSelection light_selection;  // light_selection
+  int selection_picks;             // selection_picks: M, picks per pixel and frame (docs/sampling.md)
 
   // Each bound field checked by its declaration in the registry (the messages a scene file gets,
   // prefixed "sampling."), and band; throws nf::Error naming the bad field.

@@ -203,10 +203,16 @@ std::vector<Setting> declare() {
           [](auto& r) -> auto& { return r.pixel_cache; }),
       choice<LightSelection>(
           "light_selection", "light_selection", "luminaires", R,
-          "several luminaire instances: all = every instance at every pixel with K samples each; flat = K is the "
-          "pixel's budget, one instance per pixel and frame drawn with probability q_i(p) from a flat CDF, "
-          "weighted 1/q_i; auto = flat from 16 instances on, all below (docs/sampling.md \"Light selection\")",
+          "several lights: all = every luminaire instance at every pixel with K samples each, every far-field "
+          "light in full; flat = K is the pixel's budget, selection_picks picks per pixel and frame among the "
+          "instances and far-field lights drawn with probabilities q_i(p) from a flat CDF, weighted 1/(M q_i); "
+          "auto = flat from 26 light-field instances on, all below (docs/sampling.md \"Light selection\")",
           [](auto& r) -> auto& { return r.light_selection; }),
+      integer(
+          "selection_picks", "selection_picks", 1, 15, "luminaires", R,
+          "M, picks per pixel and frame with light selection (systematic sampling of q_i; a light picked c "
+          "times gets round(c K / M) samples, weight c / (M q_i); docs/sampling.md \"Light selection\")",
+          [](auto& r) -> auto& { return r.selection_picks; }),
       choice<EnvGlossy>(
           "env_glossy", "env_glossy", "environment", R,
           "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling, "

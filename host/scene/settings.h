@@ -40,7 +40,8 @@ struct RenderSettings {
   int roulette_block = 16;  // consecutive surfaces sharing the roulette's decisions, 1..1024 (1 = per pixel)
   int surface_shuffle = 6;  // log2 of the chunk inside which surfaces are visited in random order; 0 = row order
   int pixel_cache = 1024;   // MiB for A_m(p) kept across progressive frames; 0 = off
-  std::string light_selection = "auto";  // auto | all | flat (one instance per pixel and frame, q_i(p))
+  std::string light_selection = "auto";  // auto | all | flat (M picks per pixel and frame, q_i(p))
+  int selection_picks = 1;               // M, picks per pixel and frame of light_selection flat, 1..15
   TonemapParams tonemap;                 // exposure, gamma
   // environment (docs/environment.md)
   std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis | regular

@@ -19,6 +19,13 @@
    instance i contributes. Host mirror in double: host/render/light_selection.cpp. */
 #include "shared/light_select.h"
 
+/* With both kinds of light able to reach p, the far-field lights get the share
+   sum_ff f / (sum_instances f + sum_ff f) of the picks clamped to [NF_LS_KIND_MIN, 1 - NF_LS_KIND_MIN],
+   the instances the rest, each kind in proportion to its own f. The two kinds' estimates are not in
+   the same units (docs/sampling.md "Two kinds of light"), so neither may starve the other. Host
+   mirror: render::selection_probabilities (host/render/light_selection.cpp, kKindMin). */
+#define NF_LS_KIND_MIN 0.1f
+
 /* [lo, hi] of (1 - lambda) u + lambda s over u in [u0, u1], s in [s0, s1] (lambda > 0). */
 NF_INLINE void nf_ls_reach(float lambda, float s0, float s1, float u0, float u1, float* lo, float* hi) {
   const float a = 1.0f - lambda;
@@ -91,6 +98,41 @@ NF_INLINE float nf_select_estimate(__global const NfSelectLight* S, __global con
   const float I = nf_ls_table(tables + S->table, S->ta, S->tb, (lx - ax1) / hz, (lx - ax0) / hz, (ly - ay1) / hz,
                               (ly - ay0) / hz);
   const float f = S->power * I * c / d2;
+  return isfinite(f) ? fmin(f, 1e30f) : 1e30f;
+}
+
+/* f_i(p) of a far-field point light at x_l (kernels/farfield.cl shades it with
+   f_r max(0, n.w) I(C, gamma) / r^2, w = (x_l - p) / r):
+     f_i(p) = colour_i Imax_i(cell of (C, gamma)) max(n.w, 1e-3) / r^2,
+   Imax = the bound table (shared/light_select.h), an upper bound of the bilinear I in the cell of
+   the emitted direction -w. 0 only where the light provably gives nothing: closer than 1e-6 m (the
+   shading kernel's cut), a zero colour, a cell where the table is 0 everywhere, or n.w < -1e-3 (the
+   shading needs n.w > 0; the tolerance covers the rounding of n and w). Scalar probes: cos = 1. */
+NF_INLINE float nf_select_estimate_ff(__global const NfSelectFarfield* F, __global const float* tables, float3 p,
+                                      float3 n, int use_cos) {
+  const float3 dw = (float3)(F->px - p.x, F->py - p.y, F->pz - p.z);
+  const float r2 = dot(dw, dw);
+  if (!(r2 >= 1e-12f) || !isfinite(r2) || !(F->colour > 0.0f)) return 0.0f;
+  const float3 w = dw * rsqrt(r2);
+  float c = 1.0f;
+  if (use_cos) {
+    const float nl = sqrt(dot(n, n));
+    if (!(nl > 0.0f)) return 0.0f;
+    c = dot(n, w) / nl;
+    if (!(c > -1e-3f)) return 0.0f;
+    c = fmax(c, 1e-3f);
+  }
+  __global const float* R = F->r;
+  const float dx = -(R[0] * w.x + R[1] * w.y + R[2] * w.z);
+  const float dy = -(R[3] * w.x + R[4] * w.y + R[5] * w.z);
+  const float dz = -(R[6] * w.x + R[7] * w.y + R[8] * w.z);
+  const float g = atan2(sqrt(dx * dx + dy * dy), dz); /* [0, pi] */
+  float cc = atan2(-dy, dx);                          /* type C angle, wrapped to [0, 2 pi) */
+  if (cc < 0.0f) cc += 2.0f * NF_PI;
+  const int ig = clamp((int)(g * ((float)NF_SELECT_FF_G / NF_PI)), 0, NF_SELECT_FF_G - 1);
+  const int ic = clamp((int)(cc * ((float)NF_SELECT_FF_C / (2.0f * NF_PI))), 0, NF_SELECT_FF_C - 1);
+  const float I = tables[F->table + ic * NF_SELECT_FF_G + ig];
+  const float f = F->colour * I * c / r2;
   return isfinite(f) ? fmin(f, 1e30f) : 1e30f;
 }
 

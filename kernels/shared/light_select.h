@@ -25,4 +25,27 @@ typedef struct {
    (NF_SELECT_TABLE + 1)^2, row b, column a. */
 #define NF_SELECT_TABLE 24
 
+/* A far-field goniometric point light (shared/farfield.h) as the selection sees it: its position, its
+   world -> local rotation and a bound table of its intensity, NF_SELECT_FF_C x NF_SELECT_FF_G cells of
+   (C, gamma) (C in [0, 360) in steps of 360 / NF_SELECT_FF_C degrees, gamma in [0, 180] in steps of
+   180 / NF_SELECT_FF_G), cell [ic * NF_SELECT_FF_G + ig] = the largest table value among the nodes
+   that bracket the cell widened by half a degree: the bilinear I(C, gamma) never exceeds it inside
+   the cell, and it is > 0 wherever I is (host/render/light_selection.cpp, farfield_select). */
+typedef struct {
+  nf_float px, py, pz; /* position (world, metres) */
+  nf_float colour;     /* max(cr, cg, cb) of the light's colour */
+  nf_float r[9];       /* rows of the world -> local rotation (NfFarfieldLight r0, r1, r2) */
+  nf_int table;        /* offset of its bound table in the selection's tables buffer (cd) */
+  nf_int pad0, pad1;
+} NfSelectFarfield; /* 64 bytes */
+
+/* The picks (kernels/light_select.cl ls_pick): per surface and pick slot, light << NF_LS_COUNT_BITS |
+   c (c = times picked, 1..15), light = index into the luminaire instances followed by the far-field
+   lights; NF_LS_NONE: no more picks. */
+#define NF_LS_NONE 0xffffffffU
+#define NF_LS_COUNT_BITS 4
+
+#define NF_SELECT_FF_C 16
+#define NF_SELECT_FF_G 36
+
 #endif
