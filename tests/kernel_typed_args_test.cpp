@@ -44,7 +44,7 @@ static_assert(nf::render::lf_kernels::kCommon == 12);
 static_assert(nf::render::lf_kernels::Fused::kArgs == 12 + 7);
 static_assert(can_set<nf::render::lf_kernels::Step2, 0, NfSampleParams>);
 static_assert(!can_set<nf::render::lf_kernels::Step2, 0, NfInstance>);  // a struct in the wrong slot
-static_assert(nf::render::env_kernels::Shade::kArgs == 30);
+static_assert(nf::render::env_kernels::Shade::kArgs == 32);
 
 TEST(KernelTypedArgs, BindsEveryArgumentWithItsType) {
   nf::cl::Runtime rt;
