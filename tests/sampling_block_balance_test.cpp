@@ -290,7 +290,7 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
 // per-image structure (the refinement needs every image's weight at once: the fused pass).
 TEST(BlockBalance, OnlyTheBalancedMethodsWithoutMisUseIt) {
   SamplingSettings s;
-  EXPECT_TRUE(Sampler::block_balance(s));  // the default (docs/sampling.md)
+  EXPECT_FALSE(Sampler::block_balance(s));  // the default balances from the exact A_m(p) (docs/sampling.md)
   s.balance_estimate = BalanceEstimate::blocks;
   EXPECT_TRUE(Sampler::block_balance(s));
   for (auto m : {Method::ours, Method::paper, Method::uniform}) {

@@ -75,7 +75,12 @@ RenderEstimate estimate_render(const scene::Scene& s) {
     }
     const std::uint64_t texels = static_cast<std::uint64_t>(wh.first) * static_cast<std::uint64_t>(wh.second);
     e.environment_host = mul_sat(texels, kEnvironmentHostBytesPerTexel);
-    e.environment_device = render::EnvironmentContribution::estimate_bytes(wh.first, wh.second, paraboloid, n) +
+    // env_diffuse sh without SH visibility shades the map's brightest blocks as lights
+    const bool sh_lights = scene::choice_value<scene::EnvDiffuse>(s.render.env_diffuse) == scene::EnvDiffuse::sh &&
+                           scene::choice_value<scene::EnvVisibilityKind>(s.render.env_visibility) ==
+                               scene::EnvVisibilityKind::none;
+    e.environment_device = render::EnvironmentContribution::estimate_bytes(wh.first, wh.second, paraboloid, n,
+                                                                           sh_lights ? s.render.env_sh_lights : 0) +
                            render::kurt_table_bytes(kurt_entries);
   }
   if (!s.farfield_lights.empty())

@@ -214,7 +214,8 @@ double EnvironmentContribution::resolved_k(double env_k, EnvFilter filter) {
   return filter == EnvFilter::box ? 4.0 : 1.0;
 }
 
-std::size_t EnvironmentContribution::estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels) {
+std::size_t EnvironmentContribution::estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels,
+                                                    int sh_lights) {
   const std::size_t w = static_cast<std::size_t>(std::max(width, 1)), h = static_cast<std::size_t>(std::max(height, 1));
   const auto ll = level_dims(glm::ivec2(static_cast<int>(w), static_cast<int>(h)), false);
   std::size_t b = texel_count(ll) * 16 + ll.size() * 16;  // lat-long pyramid (float4) and its table
@@ -223,7 +224,10 @@ std::size_t EnvironmentContribution::estimate_bytes(int width, int height, bool 
     const auto pl = level_dims(glm::ivec2(2 * static_cast<int>(h), static_cast<int>(h)), true);
     b += texel_count(pl) * 16 + pl.size() * 16;
   }
-  return b + pixels * 16 + 9 * 16;  // output radiance, SH coefficients
+  // output radiance; the SH coefficients, the SH without its lights, and 2 float4 per light (at least
+  // one: the dummy), as device_bytes() counts them (render/env_sh_lights.h: none under 64 rows)
+  const std::size_t lights = height >= 64 ? static_cast<std::size_t>(std::clamp(sh_lights, 1, 128 * 64)) : 1;
+  return b + pixels * 16 + 2 * 9 * 16 + 32 * lights;
 }
 
 std::size_t EnvironmentContribution::local_surface_bytes(std::size_t pixels) { return pixels * sizeof(NfSurface); }

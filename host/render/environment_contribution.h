@@ -68,9 +68,10 @@ class EnvironmentContribution final : public Contribution {
   int regular_samples(int material, int lobe) const;
   // K for a filter: env_k, or when env_k is 0 the per-filter default (box 4, gauss4/gauss6 1).
   static double resolved_k(double env_k, scene::EnvFilter filter);
-  // Device bytes of the environment for a W x H map (both pyramids, tables, `pixels` outputs):
+  // Device bytes of the environment for a W x H map (both pyramids, tables, `pixels` outputs, the SH
+  // with and without its `sh_lights` brightest blocks and those lights, as if every block were lit):
   // the `render --dry-run` estimate (without env_glossy regular's patterns: 16 bytes per pattern sample).
-  static std::size_t estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels);
+  static std::size_t estimate_bytes(int width, int height, bool paraboloid, std::size_t pixels, int sh_lights = 0);
   // Device bytes of one local environment map of `size` x size/2 texels (docs/local-environment.md)
   // for `pixels` camera pixels, as device_bytes() counts it once built: the map's own environment
   // (estimate_bytes: pyramids, tables, output), its Kurt table of `kurt_entries` materials and the

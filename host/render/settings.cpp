@@ -1,8 +1,10 @@
 #include "render/settings.h"
 
-#include <fmt/format.h>
 #include <cstdint>
+#include <string_view>
 #include <type_traits>
+
+#include <fmt/format.h>
 
 #include "core/error.h"
 
@@ -101,12 +103,14 @@ void SamplingSettings::write(scene::RenderSettings& r) const {
 
 void SamplingSettings::validate() const {
   // Every bound field but the seed (any 32-bit seed is valid here; the scene file's range is the
-  // JSON integer's) as the registry declares it.
+  // JSON integer's) as the registry declares it. Code may also ask for search_depth 0 (no CDF
+  // evaluation: linear across the whole bracket, the depth-limited tests' first point), which a
+  // scene file may not.
   scene::RenderSettings r;
   write(r);
   bind(r, *this, [&](const char* name, const auto&, const auto& typed) {
     using T = std::remove_cvref_t<decltype(typed)>;
-    (void)name;
+    if (std::string_view(name) == "search_depth" && search_depth == 0) return;
     if constexpr (!std::is_same_v<T, std::uint32_t>) scene::check_setting(r, name, "sampling");
   });
   if (!(band >= 0.0 && band < 1.0)) fail(fmt::format("sampling: band must be in [0, 1), got {}", band));
