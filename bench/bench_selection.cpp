@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
         // flat:Mu of bench/results/selection/README.md was removed with its process-wide switch)
         const std::string m = colon == std::string::npos ? std::string("4") : mode.substr(colon + 1);
         if (m.empty() || m.find_first_not_of("0123456789") != std::string::npos)
-          nf::fail(fmt::format("bench_selection: mode '{}': expected all or flat:M (M = 1..15)", mode));
+          nf::fail(fmt::format("mode '{}': expected all or flat:M (M = 1..15)", mode));
         f.sampling.selection_picks = std::stoi(m);
         return f;
       };
