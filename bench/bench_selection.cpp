@@ -133,10 +133,12 @@ int main(int argc, char** argv) {
         render::FrameSettings f = r.settings();
         const auto colon = mode.find(':');
         f.sampling.light_selection = render::parse_light_selection(mode.substr(0, colon));
-        // flat:M (merged picks) or flat:Mu (an instance picked c times shaded c times)
+        // flat:M: M picks, a light picked c times shaded once with round(c K / M) samples (the unmerged
+        // flat:Mu of bench/results/selection/README.md was removed with its process-wide switch)
         const std::string m = colon == std::string::npos ? std::string("4") : mode.substr(colon + 1);
+        if (m.empty() || m.find_first_not_of("0123456789") != std::string::npos)
+          nf::fail(fmt::format("mode '{}': expected all or flat:M (M = 1..15)", mode));
         f.sampling.selection_picks = std::stoi(m);
-        render::set_selection_merge(m.back() != 'u');
         return f;
       };
       r.set_settings(settings_for(ref_mode));

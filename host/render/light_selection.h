@@ -45,11 +45,4 @@ double farfield_selection_estimate(const NfSelectFarfield& f, const float* table
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
                                             const FarfieldSelect* farfield = nullptr);
 
-// Whether an instance picked c times is shaded once with round(c K / M) samples (merge, one list per
-// instance and count; the default) or c times with round(K / M) (one list per instance). A
-// process-wide switch of the bench's `flat:Mu` comparison; M itself is the setting
-// `selection_picks` (SamplingSettings::selection_picks).
-bool selection_merge();
-void set_selection_merge(bool merge);
-
 }  // namespace nf::render
