@@ -79,6 +79,12 @@
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
+/* With NF_BLOCK_BALANCE the fused kernel keeps the boxes (NfBox: spans, SAT entries, masses) of up to this
+   many images that the refinement (nf_refine) built, so loop 2 samples them without building them again
+   (docs/sampling.md "Refinement"); images past it are rebuilt in loop 2, with the same result. */
+#ifndef NF_KEPT_BOXES
+#define NF_KEPT_BOXES 16
+#endif
 
 #include "common/block_estimate.h"
 #include "common/brdf.h"
@@ -611,9 +617,45 @@ NF_INLINE vf nf_weight(const NfCtx* c, const NfLuminaire* L, int m, __global con
    estimates still decide are the roulette draws of the images that get less than one sample. The
    images refined are mostly those that get samples anyway. Lanes in the band keep their exact weights.
    am[] holds the weights of the M images; refined ones are held as -A_m(p) during the passes (A_m = 0:
-   -0, never refined again) and made >= 0 at the end. Returns W. */
+   -0, never refined again) and made >= 0 at the end. Returns W.
+   The boxes the refinement builds are kept for loop 2 (NfKept, up to NF_KEPT_BOXES): nf_prepare computes the
+   box and A_m(p) of every lane at once, so a kept image's box serves all lanes, later passes that refine
+   the image for more lanes, and loop 2, which would build the same box (the same floats) again. */
+typedef struct {
+  NfBox box[NF_KEPT_BOXES];
+  vf a[NF_KEPT_BOXES];        /* nf_prepare's A_m(p) of every lane */
+  uchar slot[NF_FUSED_CACHE]; /* image -> index in box[], NF_KEPT_NONE: not kept */
+  int n;
+} NfKept;
+#define NF_KEPT_NONE 255
+
+NF_INLINE void nf_kept_clear(NfKept* k, int M) {
+  k->n = 0;
+  for (int m = 0; m < M; ++m) k->slot[m] = NF_KEPT_NONE;
+}
+
+/* A_m(p) of image m from nf_prepare, its box in *b; kept (or taken from the kept ones) while there is room. */
+NF_INLINE vf nf_prepare_kept(const NfCtx* c, const NfLuminaire* L, int m, __global const long* sat,
+                             __global const float* quantum, __global const NfImageInfo* info, NfKept* k,
+                             const NfBox** b, NfBox* tmp) {
+  const int s = k->slot[m];
+  if (s != NF_KEPT_NONE) {
+    *b = &k->box[s];
+    return k->a[s];
+  }
+  if (k->n < NF_KEPT_BOXES) {
+    const int n = k->n++;
+    k->slot[m] = (uchar)n;
+    k->a[n] = nf_prepare(c, L, m, sat, quantum, info, &k->box[n]);
+    *b = &k->box[n];
+    return k->a[n];
+  }
+  *b = tmp;
+  return nf_prepare(c, L, m, sat, quantum, info, tmp);
+}
+
 NF_INLINE vf nf_refine(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, __global const long* sat,
-                       __global const float* quantum, __global const NfImageInfo* info, vf* am, vf A) {
+                       __global const float* quantum, __global const NfImageInfo* info, vf* am, vf A, NfKept* kept) {
   const int M = L->num_images;
   const vf K = (vf)((float)P->spp);
   const vi open = c->lit & !c->band;
@@ -625,8 +667,9 @@ NF_INLINE vf nf_refine(const NfCtx* c, const NfLuminaire* L, const NfSampleParam
       vf w = am[m];
       const vi need = open & (w > 0.0f) & (K * w >= W);
       if (ANY(need)) {
-        NfBox b;
-        w = SEL(w, -nf_prepare(c, L, m, sat, quantum, info, &b), need);
+        NfBox tmp;
+        const NfBox* b;
+        w = SEL(w, -nf_prepare_kept(c, L, m, sat, quantum, info, kept, &b, &tmp), need);
         am[m] = w;
         changed = changed | need;
       }
@@ -992,8 +1035,11 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     A += a;
   }
 #if NF_BLOCK_BALANCE
+  /* the boxes built by the refinement, for loop 2 */
+  NfKept kept;
+  nf_kept_clear(&kept, est ? M : 0);
   if (cache_mode != NF_CACHE_READ && est && ANY(A > 0.0f)) {
-    A = nf_refine(&c, &L, &P, sat, quantum, info, am, A);
+    A = nf_refine(&c, &L, &P, sat, quantum, info, am, A, &kept);
     if (cache_mode == NF_CACHE_WRITE)
       for (int m = 0; m < M; ++m) VSTORE(am[m], am_cache + (size_t)m * (size_t)cache_stride + first);
   }
@@ -1009,20 +1055,26 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
 #endif
   for (int m = 0; m < M; ++m) {
     NfBox b;
+    const NfBox* bp = &b;
     vf Am, inv_p;
     vi K;
 #if NF_BLOCK_BALANCE
     /* K_m from the weight of loop 1 (the refined block estimate, nf_refine); the exact A_m(p) and the box
-       only for the images that get samples. A_m = 0 where the estimate was not: no samples (they would
-       carry 0). */
+       only for the images that get samples, taken from the refinement where it built them (kept). A_m = 0
+       where the estimate was not: no samples (they would carry 0). */
     {
-      const vf Wm = est ? am[m]
+      const vf Wm = est      ? am[m]
                     : shared ? VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first)
                              : nf_prepare(&c, &L, m, sat, quantum, info, &b);
       if (!ANY(Wm > 0.0f)) continue;
       K = nf_balance(&P, c.slot, m, L.num_images, Wm, A, &inv_p);
       if (!ANY(K > 0)) continue;
-      Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      if (est && kept.slot[m] != NF_KEPT_NONE) {
+        bp = &kept.box[kept.slot[m]];
+        Am = kept.a[kept.slot[m]];
+      } else {
+        Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      }
       K = SEL((vi)(0), K, Am > 0.0f);
       if (!ANY(K > 0)) continue;
     }
@@ -1039,7 +1091,7 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
       if (!ANY(K > 0)) continue;
     }
 #endif
-    nf_image(&c, &L, &P, m, K, inv_p, Am, nf_mis_count(&P, M, Am, A), &b, I.intensity, sat, quantum, chroma, vis,
+    nf_image(&c, &L, &P, m, K, inv_p, Am, nf_mis_count(&P, M, Am, A), bp, I.intensity, sat, quantum, chroma, vis,
              halton3, &r, &g, &bl NF_DIR_PASS);
     total += K;
   }
