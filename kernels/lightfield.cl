@@ -133,15 +133,20 @@ NF_INLINE void nf_xi(const NfSampleParams* P, vu pix, int m, int k, vi K, vf rx,
 }
 
 /* Per-pixel, per-image hashes (two chained 32-bit hashes): cheaper than Philox where one or two
-   numbers per (pixel, image) are needed. */
-NF_INLINE vu nf_hash_pm(vu pix, int m, uint key) {
-  return nf_hashv(nf_hashv(pix ^ (vu)(key)) + (vu)((uint)m * 0x9E3779B9U + 0x7f4a7c15U));
+   numbers per (pixel, image) are needed. hash_pm(pix, m, key) = nf_hash_m(nf_hash_p(pix, key), m): the
+   per-pixel half is computed once per work-item (NfCtx::pkey, rkey), the per-image half per image. */
+NF_INLINE vu nf_hash_p(vu pix, uint key) { return nf_hashv(pix ^ (vu)(key)); }
+NF_INLINE vu nf_hash_m(vu hp, int m) { return nf_hashv(hp + (vu)((uint)m * 0x9E3779B9U + 0x7f4a7c15U)); }
+
+/* Per-pixel half of the Cranley-Patterson rotation (halton-scrambled; fixed per pixel and image,
+   independent of the frame). */
+NF_INLINE vu nf_rotation_key(const NfSampleParams* P, vu pix) {
+  return nf_hash_p(pix, nf_hash1(P->seed ^ 0x3c6ef372U));
 }
 
-/* Cranley-Patterson rotation of image m at each lane's pixel (halton-scrambled; fixed per pixel
-   and image, independent of the frame). */
-NF_INLINE void nf_rotation(const NfSampleParams* P, vu pix, int m, vf* rx, vf* ry) {
-  const vu h = nf_hash_pm(pix, m, nf_hash1(P->seed ^ 0x3c6ef372U));
+/* The rotation of image m at each lane's pixel, from its per-pixel half pkey. */
+NF_INLINE void nf_rotation(vu pkey, int m, vf* rx, vf* ry) {
+  const vu h = nf_hash_m(pkey, m);
   *rx = nf_unit(h);
   *ry = nf_unit(nf_hashv(h ^ (vu)(0x5bd1e995U)));
 }
@@ -150,11 +155,16 @@ NF_INLINE void nf_rotation(const NfSampleParams* P, vu pix, int m, vf* rx, vf* r
    (docs/sampling.md "Roulette blocks"); the slots' surfaces are scattered by the surface order. */
 NF_INLINE vu nf_roulette_block(const NfSampleParams* P, vu slot) { return slot / (vu)(P->roulette_block); }
 
-/* Uniform number for the roulette decision of image m at each lane's slot (all samplers): one per
-   block of slots, image and frame, so the lanes of a work-item mostly take the same images. */
-NF_INLINE vf nf_roulette_u(const NfSampleParams* P, vu slot, int m) {
-  return nf_unit(nf_hash_pm(nf_roulette_block(P, slot), m, nf_frame_key(P) ^ 0xa511e9b3U));
+/* Per-slot half of the roulette's uniform numbers (one per block of slots and frame; the division and
+   the first hash once per work-item, not per image). */
+NF_INLINE vu nf_roulette_key(const NfSampleParams* P, vu slot) {
+  return nf_hash_p(nf_roulette_block(P, slot), nf_frame_key(P) ^ 0xa511e9b3U);
 }
+
+/* Uniform number for the roulette decision of image m at each lane's slot (all samplers), from its
+   per-slot half rkey: one per block of slots, image and frame, so the lanes of a work-item mostly take
+   the same images. */
+NF_INLINE vf nf_roulette_u(vu rkey, int m) { return nf_unit(nf_hash_m(rkey, m)); }
 
 /* Surface shaded by launch slot `slot` (docs/sampling.md "Surface order"; shared/surface_order.h). */
 NF_INLINE uint nf_slot_surface(const NfSampleParams* P, uint slot) {
@@ -185,6 +195,7 @@ typedef struct {
   vi lit;        /* mask: a valid surface with z > -delta */
   vu pix;        /* surface index: the per-pixel random streams and every per-surface buffer */
   vu slot;       /* launch slot (first + lane): roulette blocks and the pixel cache */
+  vu rkey, pkey; /* per-slot half of the roulette numbers, per-pixel half of the rotations (nf_hash_p) */
   /* luminaire constants */
   float pw, ph;   /* pixel size in metres */
   float Xo, Ro;   /* basis grid corner o in pixel coordinates */
@@ -298,6 +309,8 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->sh.kurt = kurt;
   c->pix = VLOAD(pix);
   c->slot = VLOAD(slot);
+  c->rkey = nf_roulette_key(P, c->slot);
+  c->pkey = nf_rotation_key(P, c->pix);
   const vi val = VLOAD(valid) != 0;
   const float delta = L->delta;
   c->pw = L->image_size_x / (float)L->res_x;
@@ -690,10 +703,10 @@ NF_INLINE vf nf_refine(const NfCtx* c, const NfLuminaire* L, const NfSampleParam
    uniform-equal, ours-equal (paper Fig. 12 baseline; docs/sampling.md "Equal counts"): K / M
    samples per lit image, the remainder to a block of images rotated per roulette block and frame, the
    roulette M / K for K < M (common/equal_counts.h). The `balance` option does not apply. */
-NF_INLINE vi nf_balance(const NfSampleParams* P, vu slot, int m, int M, vf Am, vf A, vf* inv_p) {
+NF_INLINE vi nf_balance(const NfSampleParams* P, const NfCtx* c, int m, int M, vf Am, vf A, vf* inv_p) {
 #if NF_EQUAL_COUNTS
   (void)A;
-  const vu h = nf_hashv(nf_roulette_block(P, slot) ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
+  const vu h = nf_hashv(nf_roulette_block(P, c->slot) ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
   return nf_equal_count(h, P->spp, P->k_max, m, M, Am, inv_p);
 #else
   (void)M;
@@ -707,7 +720,7 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu slot, int m, int M, vf Am, v
 #elif NF_BALANCE == NF_BALANCE_ROULETTE
   const vi small = pos & (x < 1.0f);
   if (ANY(small)) {
-    const vi take = nf_roulette_u(P, slot, m) < x;
+    const vi take = nf_roulette_u(c->rkey, m) < x;
     k = SEL(k, SEL((vi)(0), (vi)(1), take), small);
     *inv_p = SEL(*inv_p, 1.0f / x, small & take);
   }
@@ -805,7 +818,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   const float q = quantum[m];
   vf rx = (vf)(0.0f), ry = (vf)(0.0f);
 #if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
-  nf_rotation(P, c->pix, m, &rx, &ry);
+  nf_rotation(c->pkey, m, &rx, &ry);
 #endif
   const vi sband = has & c->band, sbox = has & !c->band;
 #if NF_MIS == NF_MIS_NONE
@@ -948,7 +961,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   vf inv_p;
   /* exact A_m(p) also under NF_BLOCK_BALANCE (see lf_step1_image) */
   const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
-  const vi K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
+  const vi K = nf_balance(&P, &c, m, L.num_images, Am, A, &inv_p);
 #if NF_MIS == NF_MIS_NONE
   const vi out = K > 0;
 #else
@@ -1067,7 +1080,7 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
                     : shared ? VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first)
                              : nf_prepare(&c, &L, m, sat, quantum, info, &b);
       if (!ANY(Wm > 0.0f)) continue;
-      K = nf_balance(&P, c.slot, m, L.num_images, Wm, A, &inv_p);
+      K = nf_balance(&P, &c, m, L.num_images, Wm, A, &inv_p);
       if (!ANY(K > 0)) continue;
       if (est && kept.slot[m] != NF_KEPT_NONE) {
         bp = &kept.box[kept.slot[m]];
@@ -1082,12 +1095,12 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     if (priv || shared) {
       Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
       if (!ANY(Am > 0.0f)) continue;
-      K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
+      K = nf_balance(&P, &c, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
       nf_prepare(&c, &L, m, sat, quantum, info, &b);
     } else {
       Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
-      K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
+      K = nf_balance(&P, &c, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
 #endif
@@ -1211,7 +1224,7 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
   const float Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   float rx = 0.0f, ry = 0.0f;
 #if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
-  nf_rotation(&P, c.pix, m, &rx, &ry);
+  nf_rotation(c.pkey, m, &rx, &ry);
 #endif
   float ux, uy;
   nf_xi(&P, 0U, m, k, n, rx, ry, halton3, &ux, &uy);
