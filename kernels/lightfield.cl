@@ -79,6 +79,12 @@
 #ifndef NF_FUSED_CACHE
 #define NF_FUSED_CACHE 128
 #endif
+/* With NF_BLOCK_BALANCE the fused kernel keeps the boxes (NfBox: spans, SAT entries, masses) of up to this
+   many images that the refinement (nf_refine) built, so loop 2 samples them without building them again
+   (docs/sampling.md "Refinement"); images past it are rebuilt in loop 2, with the same result. */
+#ifndef NF_KEPT_BOXES
+#define NF_KEPT_BOXES 16
+#endif
 
 #include "common/block_estimate.h"
 #include "common/brdf.h"
@@ -127,15 +133,20 @@ NF_INLINE void nf_xi(const NfSampleParams* P, vu pix, int m, int k, vi K, vf rx,
 }
 
 /* Per-pixel, per-image hashes (two chained 32-bit hashes): cheaper than Philox where one or two
-   numbers per (pixel, image) are needed. */
-NF_INLINE vu nf_hash_pm(vu pix, int m, uint key) {
-  return nf_hashv(nf_hashv(pix ^ (vu)(key)) + (vu)((uint)m * 0x9E3779B9U + 0x7f4a7c15U));
+   numbers per (pixel, image) are needed. hash_pm(pix, m, key) = nf_hash_m(nf_hash_p(pix, key), m): the
+   per-pixel half is computed once per work-item (NfCtx::pkey, rkey), the per-image half per image. */
+NF_INLINE vu nf_hash_p(vu pix, uint key) { return nf_hashv(pix ^ (vu)(key)); }
+NF_INLINE vu nf_hash_m(vu hp, int m) { return nf_hashv(hp + (vu)((uint)m * 0x9E3779B9U + 0x7f4a7c15U)); }
+
+/* Per-pixel half of the Cranley-Patterson rotation (halton-scrambled; fixed per pixel and image,
+   independent of the frame). */
+NF_INLINE vu nf_rotation_key(const NfSampleParams* P, vu pix) {
+  return nf_hash_p(pix, nf_hash1(P->seed ^ 0x3c6ef372U));
 }
 
-/* Cranley-Patterson rotation of image m at each lane's pixel (halton-scrambled; fixed per pixel
-   and image, independent of the frame). */
-NF_INLINE void nf_rotation(const NfSampleParams* P, vu pix, int m, vf* rx, vf* ry) {
-  const vu h = nf_hash_pm(pix, m, nf_hash1(P->seed ^ 0x3c6ef372U));
+/* The rotation of image m at each lane's pixel, from its per-pixel half pkey. */
+NF_INLINE void nf_rotation(vu pkey, int m, vf* rx, vf* ry) {
+  const vu h = nf_hash_m(pkey, m);
   *rx = nf_unit(h);
   *ry = nf_unit(nf_hashv(h ^ (vu)(0x5bd1e995U)));
 }
@@ -144,11 +155,16 @@ NF_INLINE void nf_rotation(const NfSampleParams* P, vu pix, int m, vf* rx, vf* r
    (docs/sampling.md "Roulette blocks"); the slots' surfaces are scattered by the surface order. */
 NF_INLINE vu nf_roulette_block(const NfSampleParams* P, vu slot) { return slot / (vu)(P->roulette_block); }
 
-/* Uniform number for the roulette decision of image m at each lane's slot (all samplers): one per
-   block of slots, image and frame, so the lanes of a work-item mostly take the same images. */
-NF_INLINE vf nf_roulette_u(const NfSampleParams* P, vu slot, int m) {
-  return nf_unit(nf_hash_pm(nf_roulette_block(P, slot), m, nf_frame_key(P) ^ 0xa511e9b3U));
+/* Per-slot half of the roulette's uniform numbers (one per block of slots and frame; the division and
+   the first hash once per work-item, not per image). */
+NF_INLINE vu nf_roulette_key(const NfSampleParams* P, vu slot) {
+  return nf_hash_p(nf_roulette_block(P, slot), nf_frame_key(P) ^ 0xa511e9b3U);
 }
+
+/* Uniform number for the roulette decision of image m at each lane's slot (all samplers), from its
+   per-slot half rkey: one per block of slots, image and frame, so the lanes of a work-item mostly take
+   the same images. */
+NF_INLINE vf nf_roulette_u(vu rkey, int m) { return nf_unit(nf_hash_m(rkey, m)); }
 
 /* Surface shaded by launch slot `slot` (docs/sampling.md "Surface order"; shared/surface_order.h). */
 NF_INLINE uint nf_slot_surface(const NfSampleParams* P, uint slot) {
@@ -179,6 +195,7 @@ typedef struct {
   vi lit;        /* mask: a valid surface with z > -delta */
   vu pix;        /* surface index: the per-pixel random streams and every per-surface buffer */
   vu slot;       /* launch slot (first + lane): roulette blocks and the pixel cache */
+  vu rkey, pkey; /* per-slot half of the roulette numbers, per-pixel half of the rotations (nf_hash_p) */
   /* luminaire constants */
   float pw, ph;   /* pixel size in metres */
   float Xo, Ro;   /* basis grid corner o in pixel coordinates */
@@ -292,6 +309,8 @@ NF_INLINE vi nf_setup(NfCtx* c, const NfLuminaire* L, const NfInstance* I, const
   c->sh.kurt = kurt;
   c->pix = VLOAD(pix);
   c->slot = VLOAD(slot);
+  c->rkey = nf_roulette_key(P, c->slot);
+  c->pkey = nf_rotation_key(P, c->pix);
   const vi val = VLOAD(valid) != 0;
   const float delta = L->delta;
   c->pw = L->image_size_x / (float)L->res_x;
@@ -611,9 +630,45 @@ NF_INLINE vf nf_weight(const NfCtx* c, const NfLuminaire* L, int m, __global con
    estimates still decide are the roulette draws of the images that get less than one sample. The
    images refined are mostly those that get samples anyway. Lanes in the band keep their exact weights.
    am[] holds the weights of the M images; refined ones are held as -A_m(p) during the passes (A_m = 0:
-   -0, never refined again) and made >= 0 at the end. Returns W. */
+   -0, never refined again) and made >= 0 at the end. Returns W.
+   The boxes the refinement builds are kept for loop 2 (NfKept, up to NF_KEPT_BOXES): nf_prepare computes the
+   box and A_m(p) of every lane at once, so a kept image's box serves all lanes, later passes that refine
+   the image for more lanes, and loop 2, which would build the same box (the same floats) again. */
+typedef struct {
+  NfBox box[NF_KEPT_BOXES];
+  vf a[NF_KEPT_BOXES];        /* nf_prepare's A_m(p) of every lane */
+  uchar slot[NF_FUSED_CACHE]; /* image -> index in box[], NF_KEPT_NONE: not kept */
+  int n;
+} NfKept;
+#define NF_KEPT_NONE 255
+
+NF_INLINE void nf_kept_clear(NfKept* k, int M) {
+  k->n = 0;
+  for (int m = 0; m < M; ++m) k->slot[m] = NF_KEPT_NONE;
+}
+
+/* A_m(p) of image m from nf_prepare, its box in *b; kept (or taken from the kept ones) while there is room. */
+NF_INLINE vf nf_prepare_kept(const NfCtx* c, const NfLuminaire* L, int m, __global const long* sat,
+                             __global const float* quantum, __global const NfImageInfo* info, NfKept* k,
+                             const NfBox** b, NfBox* tmp) {
+  const int s = k->slot[m];
+  if (s != NF_KEPT_NONE) {
+    *b = &k->box[s];
+    return k->a[s];
+  }
+  if (k->n < NF_KEPT_BOXES) {
+    const int n = k->n++;
+    k->slot[m] = (uchar)n;
+    k->a[n] = nf_prepare(c, L, m, sat, quantum, info, &k->box[n]);
+    *b = &k->box[n];
+    return k->a[n];
+  }
+  *b = tmp;
+  return nf_prepare(c, L, m, sat, quantum, info, tmp);
+}
+
 NF_INLINE vf nf_refine(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, __global const long* sat,
-                       __global const float* quantum, __global const NfImageInfo* info, vf* am, vf A) {
+                       __global const float* quantum, __global const NfImageInfo* info, vf* am, vf A, NfKept* kept) {
   const int M = L->num_images;
   const vf K = (vf)((float)P->spp);
   const vi open = c->lit & !c->band;
@@ -625,8 +680,9 @@ NF_INLINE vf nf_refine(const NfCtx* c, const NfLuminaire* L, const NfSampleParam
       vf w = am[m];
       const vi need = open & (w > 0.0f) & (K * w >= W);
       if (ANY(need)) {
-        NfBox b;
-        w = SEL(w, -nf_prepare(c, L, m, sat, quantum, info, &b), need);
+        NfBox tmp;
+        const NfBox* b;
+        w = SEL(w, -nf_prepare_kept(c, L, m, sat, quantum, info, kept, &b, &tmp), need);
         am[m] = w;
         changed = changed | need;
       }
@@ -647,10 +703,10 @@ NF_INLINE vf nf_refine(const NfCtx* c, const NfLuminaire* L, const NfSampleParam
    uniform-equal, ours-equal (paper Fig. 12 baseline; docs/sampling.md "Equal counts"): K / M
    samples per lit image, the remainder to a block of images rotated per roulette block and frame, the
    roulette M / K for K < M (common/equal_counts.h). The `balance` option does not apply. */
-NF_INLINE vi nf_balance(const NfSampleParams* P, vu slot, int m, int M, vf Am, vf A, vf* inv_p) {
+NF_INLINE vi nf_balance(const NfSampleParams* P, const NfCtx* c, int m, int M, vf Am, vf A, vf* inv_p) {
 #if NF_EQUAL_COUNTS
   (void)A;
-  const vu h = nf_hashv(nf_roulette_block(P, slot) ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
+  const vu h = nf_hashv(nf_roulette_block(P, c->slot) ^ (vu)(nf_frame_key(P) ^ 0x2545f491U));
   return nf_equal_count(h, P->spp, P->k_max, m, M, Am, inv_p);
 #else
   (void)M;
@@ -664,7 +720,7 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, vu slot, int m, int M, vf Am, v
 #elif NF_BALANCE == NF_BALANCE_ROULETTE
   const vi small = pos & (x < 1.0f);
   if (ANY(small)) {
-    const vi take = nf_roulette_u(P, slot, m) < x;
+    const vi take = nf_roulette_u(c->rkey, m) < x;
     k = SEL(k, SEL((vi)(0), (vi)(1), take), small);
     *inv_p = SEL(*inv_p, 1.0f / x, small & take);
   }
@@ -762,7 +818,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   const float q = quantum[m];
   vf rx = (vf)(0.0f), ry = (vf)(0.0f);
 #if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
-  nf_rotation(P, c->pix, m, &rx, &ry);
+  nf_rotation(c->pkey, m, &rx, &ry);
 #endif
   const vi sband = has & c->band, sbox = has & !c->band;
 #if NF_MIS == NF_MIS_NONE
@@ -905,7 +961,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   vf inv_p;
   /* exact A_m(p) also under NF_BLOCK_BALANCE (see lf_step1_image) */
   const vf Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
-  const vi K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
+  const vi K = nf_balance(&P, &c, m, L.num_images, Am, A, &inv_p);
 #if NF_MIS == NF_MIS_NONE
   const vi out = K > 0;
 #else
@@ -992,8 +1048,11 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     A += a;
   }
 #if NF_BLOCK_BALANCE
+  /* the boxes built by the refinement, for loop 2 */
+  NfKept kept;
+  nf_kept_clear(&kept, est ? M : 0);
   if (cache_mode != NF_CACHE_READ && est && ANY(A > 0.0f)) {
-    A = nf_refine(&c, &L, &P, sat, quantum, info, am, A);
+    A = nf_refine(&c, &L, &P, sat, quantum, info, am, A, &kept);
     if (cache_mode == NF_CACHE_WRITE)
       for (int m = 0; m < M; ++m) VSTORE(am[m], am_cache + (size_t)m * (size_t)cache_stride + first);
   }
@@ -1009,20 +1068,26 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
 #endif
   for (int m = 0; m < M; ++m) {
     NfBox b;
+    const NfBox* bp = &b;
     vf Am, inv_p;
     vi K;
 #if NF_BLOCK_BALANCE
     /* K_m from the weight of loop 1 (the refined block estimate, nf_refine); the exact A_m(p) and the box
-       only for the images that get samples. A_m = 0 where the estimate was not: no samples (they would
-       carry 0). */
+       only for the images that get samples, taken from the refinement where it built them (kept). A_m = 0
+       where the estimate was not: no samples (they would carry 0). */
     {
-      const vf Wm = est ? am[m]
+      const vf Wm = est      ? am[m]
                     : shared ? VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first)
                              : nf_prepare(&c, &L, m, sat, quantum, info, &b);
       if (!ANY(Wm > 0.0f)) continue;
-      K = nf_balance(&P, c.slot, m, L.num_images, Wm, A, &inv_p);
+      K = nf_balance(&P, &c, m, L.num_images, Wm, A, &inv_p);
       if (!ANY(K > 0)) continue;
-      Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      if (est && kept.slot[m] != NF_KEPT_NONE) {
+        bp = &kept.box[kept.slot[m]];
+        Am = kept.a[kept.slot[m]];
+      } else {
+        Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      }
       K = SEL((vi)(0), K, Am > 0.0f);
       if (!ANY(K > 0)) continue;
     }
@@ -1030,16 +1095,16 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     if (priv || shared) {
       Am = priv ? am[m] : VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first);
       if (!ANY(Am > 0.0f)) continue;
-      K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
+      K = nf_balance(&P, &c, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
       nf_prepare(&c, &L, m, sat, quantum, info, &b);
     } else {
       Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
-      K = nf_balance(&P, c.slot, m, L.num_images, Am, A, &inv_p);
+      K = nf_balance(&P, &c, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
 #endif
-    nf_image(&c, &L, &P, m, K, inv_p, Am, nf_mis_count(&P, M, Am, A), &b, I.intensity, sat, quantum, chroma, vis,
+    nf_image(&c, &L, &P, m, K, inv_p, Am, nf_mis_count(&P, M, Am, A), bp, I.intensity, sat, quantum, chroma, vis,
              halton3, &r, &g, &bl NF_DIR_PASS);
     total += K;
   }
@@ -1159,7 +1224,7 @@ __kernel void lf_debug_samples(NF_KERNEL_ARGS, __global NfSampleDebug* out, cons
   const float Am = nf_prepare(&c, &L, m, sat, quantum, info, &b);
   float rx = 0.0f, ry = 0.0f;
 #if NF_SEQ == NF_SEQ_HALTON_SCRAMBLED
-  nf_rotation(&P, c.pix, m, &rx, &ry);
+  nf_rotation(c.pkey, m, &rx, &ry);
 #endif
   float ux, uy;
   nf_xi(&P, 0U, m, k, n, rx, ry, halton3, &ux, &uy);

@@ -387,3 +387,86 @@ TEST(BlockBalance, RefinementKeepsTheBikeGrazingPointUnbiased) {
   EXPECT_TRUE(r.failures.empty()) << r.tests << " tests, |z| <= " << zc << "\n" << r.failures;
   std::printf("bike grazing point with blocks: max |z| %.2f (critical %.2f)\n", r.max_z, zc);
 }
+
+// The boxes the refinement builds are kept for loop 2 (kernels/lightfield.cl NfKept, up to
+// NF_KEPT_BOXES = 16 images per work-item; more are built again in loop 2). nf_prepare builds a box for
+// every lane of a work-item at once, while each lane takes the exact A_m(p) only where it needs it, so
+// with 16 lanes a kept box also serves lanes that did not ask for it and images refined by another lane
+// first. Each lane's result must still be what one lane per work-item gives (the same samples: A(p) and
+// K(p) equal, radiance up to float rounding, as in SamplingKernels.LanesAndStructuresAgree). Bike light
+// (63 images), K = 64 and 8, 256 surfaces between 5 cm and 2 m from S, among them the grazing point
+// above, where the mirror refines more images than are kept (so the rebuilt path runs too).
+TEST(BlockBalance, KeptBoxesServeEveryLane) {
+  lum::GenOptions o;
+  o.resolution_scale = 1.0;
+  o.threads = 2;
+  const auto l = lum::generate_preset("bike", o);
+  const auto pc = lum::precompute(l, 2);
+  const NfLuminaire& p = pc.params;
+  const glm::dvec3 graze(-4.9179236140395322e-06, 0.098813021279654134, 1.25);
+  {
+    const auto table = build_block_table(pc);
+    double margin = 0.0;
+    const int lev = kernel_level(l, p, graze, &margin);
+    std::vector<double> est(static_cast<std::size_t>(p.num_images), 0.0), ex(est.size(), 0.0);
+    for (int m = 0; m < p.num_images; ++m) {
+      const Box b = kernel_box(l, p, graze, m);
+      if (!(b.x1 > b.x0 && b.r1 > b.r0)) continue;
+      est[static_cast<std::size_t>(m)] = block_estimate(table, p, m, lev, b.x0, b.x1, b.r0, b.r1);
+      ex[static_cast<std::size_t>(m)] = exact_mass(l, m, b.x0, b.x1, b.r0, b.r1);
+    }
+    double decide = 0.0;
+    int refined = 0;
+    refine(est, ex, 64, &decide, &refined);
+    EXPECT_GT(refined, 16) << "the grazing point should refine more images than a work-item keeps";
+  }
+  std::vector<NfSurface> pts;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double sx = l.image.size.x, sy = l.image.size.y;
+  for (int k = 0; k < 240; ++k) {
+    const glm::dvec3 q(l.image.origin.x + sx * (1.4 * u(rng) - 0.2), l.image.origin.y + sy * (1.4 * u(rng) - 0.2),
+                       0.05 * std::pow(40.0, u(rng)));
+    pts.push_back(surface(q, glm::normalize(glm::dvec3(0.3 * u(rng) - 0.15, 0.3 * u(rng) - 0.15, -1.0))));
+  }
+  for (int k = 0; k < 16; ++k)
+    pts.push_back(surface(graze, {0.545445087035064, -0.83796835386030255, 0.017282793696804345}));
+  nf::cl::Runtime rt;
+  Sampler sampler(rt);
+  DeviceLuminaire dl(rt, pc);
+  const auto buf = upload_surfaces(rt, pts);
+  const int count = static_cast<int>(pts.size());
+  LightInstance li;
+  li.luminaire = &dl;
+  for (const int K : {64, 8}) {
+    SamplingSettings s;
+    s.balance_estimate = BalanceEstimate::blocks;
+    s.sampler = SamplerKind::random;
+    s.seed = 41;
+    s.spp = K;
+    ASSERT_TRUE(Sampler::block_balance(s));
+    std::vector<std::vector<glm::vec4>> rgb;
+    std::vector<std::vector<float>> a;
+    std::vector<std::vector<std::uint32_t>> kk;
+    for (const int lanes : {1, 16}) {
+      s.lanes = lanes;
+      sampler.run(buf, count, {&li, 1}, s);
+      rgb.push_back(sampler.read_radiance());
+      a.push_back(sampler.read_a());
+      kk.push_back(sampler.read_k());
+    }
+    int lit = 0, differ = 0;
+    for (int i = 0; i < count; ++i) {
+      const auto n = static_cast<std::size_t>(i);
+      lit += a[0][n] > 0.0f;
+      EXPECT_EQ(kk[0][n], kk[1][n]) << "K " << K << " surface " << i;
+      EXPECT_NEAR(a[0][n], a[1][n], 1e-5f * std::abs(a[0][n])) << "K " << K << " surface " << i;
+      for (int c = 0; c < 3; ++c) {
+        const float x = rgb[0][n][c], y = rgb[1][n][c];
+        if (std::abs(x - y) > 1e-4f * std::max(std::abs(x), std::abs(y)) + 1e-30f) ++differ;
+      }
+    }
+    EXPECT_GE(lit, count / 3) << "K " << K;  // a third of the surfaces see light (101 of 256 here)
+    EXPECT_LE(differ, 2) << "K " << K;
+  }
+}
