@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <pthread.h>
 #include <unistd.h>
 #include <filesystem>
 #include <fmt/format.h>
@@ -86,7 +87,30 @@ struct Found {
   ::cl::Device device;
 };
 
+// PoCL's CPU device runs work-groups on threads it creates without attributes, so their stacks get
+// glibc's default, `ulimit -s`. The fused light-field kernel's private arrays live there (with
+// balance_estimate blocks the kept boxes need more than 4 MiB per thread, docs/sampling.md "Kept
+// boxes"), so a small `ulimit -s` would crash the kernel. Before the platform starts its threads,
+// the process's default thread stack is raised to kMinThreadStack when it is smaller.
+constexpr std::size_t kMinThreadStack = std::size_t{32} << 20;
+
+void ensure_thread_stack() {
+  static const bool done = [] {
+    pthread_attr_t attr;
+    if (pthread_getattr_default_np(&attr) != 0) return false;
+    std::size_t size = 0;
+    bool ok = pthread_attr_getstacksize(&attr, &size) == 0;
+    if (ok && size < kMinThreadStack)
+      ok = pthread_attr_setstacksize(&attr, kMinThreadStack) == 0 && pthread_setattr_default_np(&attr) == 0;
+    pthread_attr_destroy(&attr);
+    if (!ok) log::warn("could not raise the default thread stack to {} MiB for the OpenCL CPU device", kMinThreadStack >> 20);
+    return ok;
+  }();
+  (void)done;
+}
+
 std::vector<Found> enumerate() {
+  ensure_thread_stack();
   std::vector<Found> out;
   std::vector<::cl::Platform> platforms;
   try {
