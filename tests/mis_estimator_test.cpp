@@ -12,6 +12,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "kurt_support.h"
 #include "luminaire/precompute.h"
@@ -224,9 +227,16 @@ TEST(MisEstimator, NoneIsBitIdenticalAndLambertUnchanged) {
     const DeviceLuminaire dl(rt, pc);
     Sampler sampler(rt);
     SamplingSettings none = mis_settings(Mis::none);
+    // The default is power (docs/mis.md "The default"); `none` differs from it only by NF_MIS, so
+    // it builds the kernels exactly as before MIS existed.
     SamplingSettings plain = none;
-    plain.mis = SamplingSettings{}.mis;  // the default
-    EXPECT_EQ(Sampler::build_options(none, true, false, 16), Sampler::build_options(plain, true, false, 16));
+    plain.mis = SamplingSettings{}.mis;
+    EXPECT_EQ(plain.mis, Mis::power);
+    std::string with_mis = Sampler::build_options(plain, true, false, 16);
+    const std::string define = fmt::format(" -DNF_MIS={}", NF_MIS_POWER);
+    ASSERT_NE(with_mis.find(define), std::string::npos) << with_mis;
+    with_mis.erase(with_mis.find(define), define.size());
+    EXPECT_EQ(Sampler::build_options(none, true, false, 16), with_mis);
     EXPECT_EQ(Sampler::build_options(none, true, false, 16).find("NF_MIS"), std::string::npos);
     // Lambert lanes take no BRDF samples: balance gives exactly the light-only estimate with exact
     // masses (MIS turns the block-estimate balance off: docs/mis.md)

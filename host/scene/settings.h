@@ -29,7 +29,7 @@ struct RenderSettings {
   std::string balance = "roulette";          // paper | min1 | roulette (min1 and roulette are unbiased)
   std::string balance_estimate = "exact";    // blocks | exact: what K_m(p) is balanced from (docs/sampling.md)
   std::string structure = "fused";           // per-image | fused (Step 1/2 passes)
-  std::string mis = "none";                  // none | balance | power: MIS with BRDF samples (docs/mis.md)
+  std::string mis = "power";                 // none | balance | power: MIS with BRDF samples (docs/mis.md)
   std::string visibility = "shadowmaps";     // none | shadowmaps
   int shadow_map_size = 256;                 // pixels per side of each cell's shadow map, 16..4096
   double shadow_far_distance = 0.0;          // metres; farther instances: one map for all cells (0 = off)
