@@ -121,6 +121,10 @@ class Contribution {
   // views the contribution's registration declares (ContributionKind::debug_views). The default
   // offers none: it throws nf::Error naming the view.
   virtual DebugImage debug_view(const std::string& name);
+  // The last frame's per-surface light-field energy A(p) and sample count K(p) (the viewer's A and
+  // K views, the lit-pixel count of the stats). Empty when the contribution draws no such samples.
+  virtual std::vector<float> read_a() { return {}; }
+  virtual std::vector<std::uint32_t> read_k() { return {}; }
 };
 
 }  // namespace nf::render

@@ -18,7 +18,6 @@
 #include "luminaire/io.h"
 #include "render/cl_shadow_visibility.h"
 #include "render/contributions.h"
-#include "render/luminaire_contribution.h"
 #include "render/ray_surface.h"
 #include "render/sampler.h"
 #include "scene/material_json.h"
@@ -107,7 +106,6 @@ bool Renderer::update_contributions() {
   contributions_.clear();  // the ones no longer needed
   contributions_ = std::move(next);
   contribution_frames_.clear();
-  luminaires_ = find<LuminaireContribution>();
   return true;
 }
 
@@ -653,10 +651,24 @@ std::vector<std::uint8_t> Renderer::valid_mask() const {
   return v;
 }
 
+// A(p) and K(p) of the first contribution that has them (Contribution::read_a, an optional
+// capability); empty when none does.
+std::vector<float> Renderer::contributions_a() const {
+  for (const auto& c : contributions_)
+    if (auto a = c->read_a(); !a.empty()) return a;
+  return {};
+}
+
+std::vector<std::uint32_t> Renderer::contributions_k() const {
+  for (const auto& c : contributions_)
+    if (auto k = c->read_k(); !k.empty()) return k;
+  return {};
+}
+
 Image Renderer::a_image() {
   Image img(camera_.width, camera_.height, 1);
   if (frames_ == 0) return img;
-  const auto a = luminaires_ ? luminaires_->read_a() : std::vector<float>(pixel_count(camera_), 0.0f);
+  const auto a = contributions_a();
   std::copy_n(a.begin(), std::min(a.size(), img.pixels.size()), img.pixels.begin());
   return img;
 }
@@ -664,7 +676,7 @@ Image Renderer::a_image() {
 Image Renderer::k_image() {
   Image img(camera_.width, camera_.height, 1);
   if (frames_ == 0) return img;
-  const auto k = luminaires_ ? luminaires_->read_k() : std::vector<std::uint32_t>(pixel_count(camera_), 0u);
+  const auto k = contributions_k();
   for (std::size_t p = 0; p < std::min(k.size(), img.pixels.size()); ++p) img.pixels[p] = static_cast<float>(k[p]);
   return img;
 }
@@ -795,7 +807,7 @@ RenderStats Renderer::stats() {
     if (k == PixelKind::luminaire) ++s.pixels.luminaire;
   }
   if (frames_ > 0)
-    for (const float a : luminaires_ ? luminaires_->read_a() : std::vector<float>{})
+    for (const float a : contributions_a())
       if (a > 0.0f) ++s.pixels.lit;
   s.first_frame = first_;
   s.last_frame = last_;

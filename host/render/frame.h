@@ -47,7 +47,6 @@ class Tonemapper;
 
 namespace nf::render {
 
-class LuminaireContribution;
 class ClShadowVisibility;
 
 struct RendererOptions {
@@ -163,14 +162,6 @@ class Renderer {
   const gl::Step0* step0() const { return step0_.get(); }
   // The contribution called `name` ("luminaires", "environment", "indirect"), nullptr if not built.
   Contribution* contribution(const std::string& name) const;
-  // The contribution of type T (e.g. VsglContribution), nullptr if not built: a typed query, so
-  // callers need neither its registry name nor a cast.
-  template <typename T>
-  T* find() const {
-    for (const auto& c : contributions_)
-      if (auto* t = dynamic_cast<T*>(c.get())) return t;
-    return nullptr;
-  }
   // The debug views the built contributions offer (render/debug_view.h), in registration order.
   std::vector<DebugViewInfo> debug_views() const;
   // Debug view `name`'s picture for the current frame; nothing (a 1 x 1 zero image) when no built
@@ -213,6 +204,9 @@ class Renderer {
   std::unique_ptr<cl::Runtime> own_runtime_;
   cl::Runtime* rt_ = nullptr;
 
+  std::vector<float> contributions_a() const;
+  std::vector<std::uint32_t> contributions_k() const;
+
   std::vector<LuminaireSource> sources_;  // images kept (luminaire view); SAT released after upload
   std::vector<std::unique_ptr<DeviceLuminaire>> devices_;
   std::vector<Instance> instances_;
@@ -222,7 +216,6 @@ class Renderer {
   std::unique_ptr<gl::Step0> step0_;
   std::unique_ptr<ref::RayScene> rays_;  // the fisheye camera's ray-cast G-buffer (built on first use)
   std::vector<std::unique_ptr<Contribution>> contributions_;  // render/contributions.cpp
-  LuminaireContribution* luminaires_ = nullptr;               // the light-field one, if built
   std::vector<ContributionFrame> contribution_frames_;        // the last frame's, per contribution
   std::unique_ptr<gl::Tonemapper> tonemapper_;
 

@@ -23,9 +23,8 @@ class LuminaireContribution final : public Contribution {
   // boxes, a function of the surface point and the luminaire only, not of the BRDF.
   void set_materials(const std::vector<scene::Material>& materials) override;
 
-  // The last frame's A(p) and K(p) per surface (false-colour views, lit-pixel counts).
-  std::vector<float> read_a() { return sampler_.read_a(); }
-  std::vector<std::uint32_t> read_k() { return sampler_.read_k(); }
+  std::vector<float> read_a() override { return sampler_.read_a(); }
+  std::vector<std::uint32_t> read_k() override { return sampler_.read_k(); }
 
  private:
   SamplingSettings frame_sampling(const FrameInputs& in) const;
