@@ -12,6 +12,7 @@
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "kernels/shared/light_select.h"
+#include "luminaire/basis.h"
 #include "render/block_table.h"
 
 namespace nf::render {
@@ -202,6 +203,101 @@ void DeviceLuminaire::build_selection_table(const lum::Precomputed& pc) {
           S[static_cast<std::size_t>(b) * T + a] + acc[static_cast<std::size_t>(b) * (T + 1) + a + 1] +
           acc[static_cast<std::size_t>(b + 1) * (T + 1) + a] - acc[static_cast<std::size_t>(b) * (T + 1) + a];
   for (std::size_t k = 0; k < acc.size(); ++k) select_table_[k] = static_cast<float>(acc[k]);
+  build_bound_table(pc);
+}
+
+// The bound table of light selection (kernels/shared/light_select.h, docs/sampling.md "The bound"):
+// per slope cell c, J(c) >= integral over S of max_{t in c} L(s, t) ds with
+// L(s, t) = sum_m C_m(s) Phi_m(s - delta t) R(t). Per image m and block b of about 16 x 16 pixels:
+//   integral_b max_t C_m(s) Phi_m(s - delta t) R(t) ds <= A_m(b) max_{s in b, t in c} Phi_m(s - delta t) R_max(c),
+// A_m(b) = the block's exact sum (SAT), Phi_m = phi(x) phi(y) with phi unimodal about n / 2, so its
+// largest value over the box u = s - delta t (s in b, t in c) is phi at the point of the box nearest
+// n / 2 per axis; R_max(c) = delta^2 (1 + max |t|^2)^2 for goesele2003, else 1. Appended to the direction
+// table as a SAT in float (sums in double); the margin 1e-6 J_total covers the float rounding of
+// four SAT entries (4 x 2^-24 of the total).
+void DeviceLuminaire::build_bound_table(const lum::Precomputed& pc) {
+  const NfLuminaire& p = params_;
+  constexpr int T = NF_SELECT_BOUND;
+  const int n = p.support, W = p.count_x;
+  const double d = p.delta, ta = select_ta_, tb = select_tb_;
+  const double sx0 = p.image_origin_x, sy1 = static_cast<double>(p.image_origin_y) + p.image_size_y;
+  const double ox = p.basis_origin_x, oy = p.basis_origin_y, cx = p.cell_x, cy = p.cell_y;
+  const lum::BasisKind kind = p.basis_kind == NF_BASIS_BSPLINE2 ? lum::BasisKind::bspline2 : lum::BasisKind::quadratic2;
+  const bool goesele = p.reconstruction == NF_RECON_GOESELE2003;
+  const double wa = 2.0 * ta / T, wb = 2.0 * tb / T;
+  // largest phi over [x0, x1] (cell units of one basis function)
+  auto phimax = [&](double x0, double x1) {
+    if (x1 <= 0.0 || x0 >= n) return 0.0;
+    return lum::phi(kind, std::clamp(0.5 * n, x0, x1));
+  };
+  std::vector<double> J(static_cast<std::size_t>(T) * T, 0.0);
+  const int w = p.res_x + 1, bx = std::max(1, p.res_x / 16), by = std::max(1, p.res_y / 16);
+  const double px = static_cast<double>(p.image_size_x) / p.res_x, py = static_cast<double>(p.image_size_y) / p.res_y;
+  double lpeak = 0.0;
+  std::vector<double> fa(T), fb(T);
+  for (int m = 0; m < p.num_images; ++m) {
+    if (!(info_[m].flux > 0.0f)) continue;
+    const std::int64_t* sat = pc.sat.data() + static_cast<std::size_t>(m) * static_cast<std::size_t>(p.sat_stride);
+    const double q = static_cast<double>(pc.quantum[m]) * p.pixel_area;
+    // the largest pixel (Y) of the image
+    std::int64_t peak = 0;
+    for (int r = 0; r < p.res_y; ++r)
+      for (int c = 0; c < p.res_x; ++c) {
+        const std::size_t i0 = static_cast<std::size_t>(r) * w + c, i1 = i0 + w;
+        peak = std::max(peak, sat[i1 + 1] - sat[i0 + 1] - sat[i1] + sat[i0]);
+      }
+    lpeak = std::max(lpeak, static_cast<double>(peak) * pc.quantum[m]);
+    const int bi = m % W, bj = m / W;
+    for (int r0 = 0; r0 < p.res_y; r0 += by) {
+      const int r1 = std::min(r0 + by, p.res_y);
+      const double s_y0 = sy1 - r1 * py, s_y1 = sy1 - r0 * py;
+      // phi along y of every row of cells: u_y = s_y - delta b over the block's rows and the cell's b
+      for (int j = 0; j < T; ++j) {
+        const double b0 = -tb + j * wb, b1 = b0 + wb;
+        fb[j] = phimax((s_y0 - d * b1 - oy) / cy - bj, (s_y1 - d * b0 - oy) / cy - bj);
+      }
+      for (int c0 = 0; c0 < p.res_x; c0 += bx) {
+        const int c1 = std::min(c0 + bx, p.res_x);
+        const std::int64_t units =
+            sat[static_cast<std::size_t>(r1) * w + c1] - sat[static_cast<std::size_t>(r0) * w + c1] -
+            sat[static_cast<std::size_t>(r1) * w + c0] + sat[static_cast<std::size_t>(r0) * w + c0];
+        if (units <= 0) continue;
+        const double y = static_cast<double>(units) * q;
+        const double s_x0 = sx0 + c0 * px, s_x1 = sx0 + c1 * px;
+        for (int i = 0; i < T; ++i) {
+          const double a0 = -ta + i * wa, a1 = a0 + wa;
+          fa[i] = phimax((s_x0 - d * a1 - ox) / cx - bi, (s_x1 - d * a0 - ox) / cx - bi);
+        }
+        for (int j = 0; j < T; ++j) {
+          if (fb[j] <= 0.0) continue;
+          for (int i = 0; i < T; ++i)
+            if (fa[i] > 0.0) J[static_cast<std::size_t>(j) * T + i] += y * fa[i] * fb[j];
+        }
+      }
+    }
+  }
+  double total = 0.0;
+  for (int j = 0; j < T; ++j)
+    for (int i = 0; i < T; ++i) {
+      double& v = J[static_cast<std::size_t>(j) * T + i];
+      if (goesele) {
+        const double a0 = -ta + i * wa, b0 = -tb + j * wb;
+        const double t2 = std::max(a0 * a0, (a0 + wa) * (a0 + wa)) + std::max(b0 * b0, (b0 + wb) * (b0 + wb));
+        v *= d * d * (1.0 + t2) * (1.0 + t2);
+      }
+      total += v;
+    }
+  select_lpeak_ = static_cast<float>(std::min(lpeak * (1.0 + 1e-6), 1e30));
+  select_margin_ = static_cast<float>(std::max(1e-6 * total, 1e-30));
+  const std::size_t base = select_table_.size();
+  select_table_.resize(base + static_cast<std::size_t>(T + 1) * (T + 1), 0.0f);
+  std::vector<double> acc(static_cast<std::size_t>(T + 1) * (T + 1), 0.0);
+  for (int b = 0; b < T; ++b)
+    for (int a = 0; a < T; ++a)
+      acc[static_cast<std::size_t>(b + 1) * (T + 1) + a + 1] =
+          J[static_cast<std::size_t>(b) * T + a] + acc[static_cast<std::size_t>(b) * (T + 1) + a + 1] +
+          acc[static_cast<std::size_t>(b + 1) * (T + 1) + a] - acc[static_cast<std::size_t>(b) * (T + 1) + a];
+  for (std::size_t k = 0; k < acc.size(); ++k) select_table_[base + k] = static_cast<float>(acc[k]);
 }
 
 }  // namespace nf::render

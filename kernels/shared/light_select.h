@@ -14,16 +14,34 @@ typedef struct {
   nf_float near2;        /* floor of the squared distance in the estimate (m^2), > 0 */
   nf_float sx0, sy0, sx1, sy1; /* S rectangle (z = 0) */
   nf_float ux0, uy0, ux1, uy1; /* U rectangle (z = -delta): the union of the basis supports */
-  nf_int table;   /* offset of the luminaire's direction table (NF_SELECT_TABLE + 1)^2 floats, a SAT */
-  nf_float ta, tb; /* the table covers directions (a, b) = (dx / dz, dy / dz) in [-ta, ta] x [-tb, tb] */
-  nf_int pad;
-} NfSelectLight; /* 160 bytes */
+  nf_int table;   /* offset of the luminaire's tables: the direction table ((NF_SELECT_TABLE + 1)^2 floats,
+                     a SAT), then the bound table ((NF_SELECT_BOUND + 1)^2 floats, a SAT) */
+  nf_float ta, tb; /* the tables cover directions (a, b) = (dx / dz, dy / dz) in [-ta, ta] x [-tb, tb] */
+  nf_int mode;     /* NF_SELECT_MODE_*: which estimate f_i (common/light_select.h) */
+  nf_float intensity; /* the instance's intensity (NF_SELECT_MODE_BOUND) */
+  nf_float lpeak;     /* the largest pixel value C_m(s) over the luminaire's images (Y) */
+  nf_float margin;    /* added to every sum of the bound table: covers its float rounding (> 0) */
+  nf_int goesele;     /* 1: Psi_m carries delta^2 / cos^4 (NF_RECON_GOESELE2003) */
+  nf_int pad0, pad1;
+} NfSelectLight; /* 184 bytes */
+
+/* The estimates f_i: the direction table's intensity estimate (the first one, kept for comparison in
+   bench/bench_selection), or the bound of the contribution E_i(p) built from the bound table. */
+#define NF_SELECT_MODE_TABLE 0
+#define NF_SELECT_MODE_BOUND 1
 
 /* Direction table of a luminaire (host/render/device_luminaire.cpp): its light per steradian on a
    NF_SELECT_TABLE^2 grid of directions (a, b) (slopes of the ray u -> s -> p), normalised to
    sum_cells I Omega = 1 and floored at 1e-3 of its maximum, stored as a summed-area table
    (NF_SELECT_TABLE + 1)^2, row b, column a. */
 #define NF_SELECT_TABLE 24
+
+/* Bound table of a luminaire (host/render/device_luminaire.cpp, docs/sampling.md "The bound"): on a
+   NF_SELECT_BOUND^2 grid of slope cells c over the same [-ta, ta] x [-tb, tb],
+     J(c) >= integral over S of max_{t in c} L(s, t) ds   (Y m^2),
+   L(s, t) = sum_m C_m(s) Phi_m(s - delta t) R(t) the radiance leaving S at s along slope t, stored as a
+   summed-area table (NF_SELECT_BOUND + 1)^2, row b, column a, right after the direction table. */
+#define NF_SELECT_BOUND 32
 
 /* A far-field goniometric point light (shared/farfield.h) as the selection sees it: its position, its
    world -> local rotation and a bound table of its intensity, NF_SELECT_FF_C x NF_SELECT_FF_G cells of
