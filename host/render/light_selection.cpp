@@ -54,6 +54,7 @@ NfSelectLight select_light(const LightInstance& li, int table) {
   s.intensity = std::isfinite(in) && in > 0.0 ? static_cast<float>(std::min(in, 1e30)) : 0.0f;
   s.lpeak = li.luminaire->selection_lpeak();
   s.margin = li.luminaire->selection_margin();
+  s.gmargin = li.luminaire->selection_gmargin();
   s.goesele = L.reconstruction == NF_RECON_GOESELE2003 ? 1 : 0;
   return s;
 }
@@ -95,14 +96,35 @@ double bound_estimate(const NfSelectLight& s, const float* tables, const glm::dv
   double e = static_cast<double>(s.lpeak) * r * std::min(2.0 * pi, c3 * (a1 - a0) * (b1 - b0));
   if (above) {
     constexpr int T = NF_SELECT_BOUND;
-    const float* sat = tables + (NF_SELECT_TABLE + 1) * (NF_SELECT_TABLE + 1);
-    const double sa = T / (2.0 * ta), sb = T / (2.0 * tb);
+    const double wa = 2.0 * static_cast<double>(s.ta) / T, wb = 2.0 * static_cast<double>(s.tb) / T;
     auto cell = [](double v) { return std::clamp(static_cast<int>(std::floor(std::clamp(v, -1.0, T + 1.0))), 0, T - 1); };
-    const int i0 = cell((a0 + ta) * sa), i1 = cell((a1 + ta) * sa), j0 = cell((b0 + tb) * sb), j1 = cell((b1 + tb) * sb);
-    constexpr int w = T + 1;
-    const double sum = static_cast<double>(sat[(j1 + 1) * w + i1 + 1]) - sat[j0 * w + i1 + 1] -
-                       sat[(j1 + 1) * w + i0] + sat[j0 * w + i0];
-    e = std::min(e, c3 / (l.z * l.z) * (std::max(sum, 0.0) + s.margin));
+    const int i0 = cell((a0 + ta) / wa), i1 = cell((a1 + ta) / wa), j0 = cell((b0 + tb) / wb), j1 = cell((b1 + tb) / wb);
+    const double iz2 = 1.0 / (l.z * l.z);
+    double far = 0.0;
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) <= NF_SELECT_LOOP_CELLS) {
+      for (int j = j0; j <= j1; ++j) {
+        const double cb0 = -tb + j * wb;
+        const double ob = std::max(std::min(b1, cb0 + wb) - std::max(b0, cb0), 0.0);
+        for (int i = i0; i <= i1; ++i) {
+          const double ca0 = -ta + i * wa;
+          const double oa = std::max(std::min(a1, ca0 + wa) - std::max(a0, ca0), 0.0);
+          const double ov = (oa + 1e-6 * wa) * (ob + 1e-6 * wb);
+          far += std::min(static_cast<double>(tables[NF_SELECT_B_J + j * T + i]) * iz2,
+                          static_cast<double>(tables[NF_SELECT_B_G + j * T + i]) * ov);
+        }
+      }
+      far = far * 1.00001 + static_cast<double>(s.margin) * iz2;
+    } else {
+      auto sat_sum = [&](const float* sat) {
+        constexpr int w = T + 1;
+        return std::max(static_cast<double>(sat[(j1 + 1) * w + i1 + 1]) - sat[j0 * w + i1 + 1] -
+                            sat[(j1 + 1) * w + i0] + sat[j0 * w + i0],
+                        0.0);
+      };
+      far = std::min((sat_sum(tables + NF_SELECT_B_JSAT) + s.margin) * iz2,
+                     sat_sum(tables + NF_SELECT_B_GSAT) + static_cast<double>(s.gmargin));
+    }
+    e = std::min(e, c3 * far);
   }
   e = std::max(e, static_cast<double>(s.margin) * c3 / std::max(hz * hz, 1e-12));
   const double f = static_cast<double>(s.intensity) * c * e;

@@ -53,7 +53,7 @@ NF_INLINE float nf_ls_table(__global const float* sat, float ta, float tb, float
   return fmax(s, 0.0f) / (float)((i1 - i0 + 1) * (j1 - j0 + 1));
 }
 
-/* Sum of a bound table (a SAT, NF_SELECT_BOUND^2 cells over [-ta, ta] x [-tb, tb]) over the cells that
+/* Sum of a bound SAT (NF_SELECT_BOUND^2 cells over [-ta, ta] x [-tb, tb]) over the cells that
    meet the slopes [a0, a1] x [b0, b1] (inside the table). */
 NF_INLINE float nf_ls_bound_sum(__global const float* sat, float ta, float tb, float a0, float a1, float b0, float b1) {
   const int T = NF_SELECT_BOUND;
@@ -76,14 +76,18 @@ NF_INLINE float nf_ls_max2(float t0, float t1) { return fmax(t0 * t0, t1 * t1); 
    above S, U between the planes). In slopes, dw = cos^3(theta) dt, so
      E_i(p) = I_i integral_T L(s(t), t) cos_n cos^3(theta) dt,  L(s, t) = sum_m C_m(s) Phi_m(s - delta t) R(t).
    Two bounds, the smaller taken:
-     far  (above S only; s = p - z t, ds = z^2 dt):
-          E_i <= I_i cn cos^3(theta_min) / z^2 sum_{cells c meeting T} J(c),  J = the bound table;
+     far  (above S only; s = p - z t, ds = z^2 dt; S_c = the part of S whose slope to p lies in cell c,
+          of area z^2 |c meeting T|):
+          E_i <= I_i cn cos^3(theta_min) sum_{cells c meeting T} min(J(c) / z^2, G(c) |c meeting T|),
+          J, G = the bound tables (shared/light_select.h): the light of the whole S along c, or the
+          brightest radiance along c over S_c's area; summed cell by cell when T meets at most
+          NF_SELECT_LOOP_CELLS cells, else min(sum J / z^2, sum G |c|) from the two SATs;
      near: L <= lpeak R_max(T) (the images' largest pixel; sum_m Phi_m <= 1), so
           E_i <= I_i cn lpeak R_max(T) min(2 pi, cos^3(theta_min) |T|);
    cn >= cos_n over R: the largest n . (c - p) over R's corners (linear in c) over the distance from p to
    R, in [1e-3, 1] (scalar probes: 1); theta_min from the smallest |t| in T; R_max = delta^2 (1 + |t|max^2)^2
-   for goesele2003, else 1. The margin added to the table's sum keeps f > 0 wherever L can be > 0 and
-   covers the SAT's float rounding. */
+   for goesele2003, else 1. The margin added to the tables' sums keeps f > 0 wherever L can be > 0 and
+   covers their float rounding. */
 NF_INLINE float nf_select_bound(__global const NfSelectLight* S, __global const float* tables, float lx, float ly,
                                 float lz, float h, float c) {
   const int above = lz > 0.0f;
@@ -101,9 +105,32 @@ NF_INLINE float nf_select_bound(__global const NfSelectLight* S, __global const 
   const float r = S->goesele ? S->delta * S->delta * (1.0f + t2max) * (1.0f + t2max) : 1.0f;
   float e = S->lpeak * r * fmin(2.0f * NF_PI, c3 * (a1 - a0) * (b1 - b0));
   if (above) {
-    const float j = nf_ls_bound_sum(tables + S->table + (NF_SELECT_TABLE + 1) * (NF_SELECT_TABLE + 1), S->ta, S->tb,
-                                    a0, a1, b0, b1) + S->margin;
-    e = fmin(e, c3 / (lz * lz) * j);
+    __global const float* tb = tables + S->table;
+    const int T = NF_SELECT_BOUND;
+    const float wa = 2.0f * S->ta / (float)T, wb = 2.0f * S->tb / (float)T;
+    const int i0 = clamp((int)floor((a0 + S->ta) / wa), 0, T - 1), i1 = clamp((int)floor((a1 + S->ta) / wa), 0, T - 1);
+    const int j0 = clamp((int)floor((b0 + S->tb) / wb), 0, T - 1), j1 = clamp((int)floor((b1 + S->tb) / wb), 0, T - 1);
+    const float iz2 = 1.0f / (lz * lz);
+    float far;
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) <= NF_SELECT_LOOP_CELLS) {
+      float sum = 0.0f;
+      for (int j = j0; j <= j1; ++j) {
+        const float cb0 = -S->tb + (float)j * wb;
+        const float ob = fmax(fmin(b1, cb0 + wb) - fmax(b0, cb0), 0.0f);
+        for (int i = i0; i <= i1; ++i) {
+          const float ca0 = -S->ta + (float)i * wa;
+          const float oa = fmax(fmin(a1, ca0 + wa) - fmax(a0, ca0), 0.0f);
+          /* the cell's overlap widened by 1e-6 of the cell (rounding of the slopes) */
+          const float ov = (oa + 1e-6f * wa) * (ob + 1e-6f * wb);
+          sum += fmin(tb[NF_SELECT_B_J + j * T + i] * iz2, tb[NF_SELECT_B_G + j * T + i] * ov);
+        }
+      }
+      far = sum * 1.00001f + S->margin * iz2; /* 1e-5: the float sum of <= 16 cells */
+    } else {
+      far = fmin((nf_ls_bound_sum(tb + NF_SELECT_B_JSAT, S->ta, S->tb, a0, a1, b0, b1) + S->margin) * iz2,
+                 nf_ls_bound_sum(tb + NF_SELECT_B_GSAT, S->ta, S->tb, a0, a1, b0, b1) + S->gmargin);
+    }
+    e = fmin(e, c3 * far);
   }
   /* e > 0 wherever T is not empty: a zero-area T (p on a line of the reach's edge) keeps the margin */
   e = fmax(e, S->margin * c3 / fmax(hz * hz, 1e-12f));
