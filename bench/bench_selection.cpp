@@ -110,7 +110,9 @@ int main(int argc, char** argv) {
   app.add_option("--spp", spp, "K per pixel and frame");
   app.add_option("--csv", csv, "write the rows as CSV");
   app.add_option("--worst", worst, "print the pixels that carry most of the first frame's squared error");
-  app.add_option("--modes", modes, "all, or flat:M[u][o] (M = selection_picks; u: unmerged picks; o: the direction-table estimate)")->delimiter(',');
+  app.add_option("--modes", modes,
+                 "all, or flat:M[u][o] (M = selection_picks; u: unmerged picks; b: the bound estimate; o: the direction table, the default)")
+      ->delimiter(',');
   CLI11_PARSE(app, argc, argv);
   if (ref_frames < 2 || ref_frames % 2) {
     std::fprintf(stderr, "bench_selection: --ref-frames must be even and >= 2, got %d\n", ref_frames);
@@ -133,14 +135,15 @@ int main(int argc, char** argv) {
         render::FrameSettings f = r.settings();
         const auto colon = mode.find(':');
         f.sampling.light_selection = render::parse_light_selection(mode.substr(0, colon));
-        // flat:M (merged picks) or flat:Mu (an instance picked c times shaded c times); a trailing `o`
-        // (flat:1o, flat:4uo) uses the first, direction-table estimate f_i instead of the bound
+        // flat:M (merged picks) or flat:Mu (an instance picked c times shaded c times); a trailing `b`
+        // (flat:1b, flat:4ub) uses the bound of E_i as f_i, `o` the direction-table estimate (the
+        // default)
         std::string m = colon == std::string::npos ? std::string("4") : mode.substr(colon + 1);
-        const bool old_estimate = !m.empty() && m.back() == 'o';
-        if (old_estimate) m.pop_back();
+        const bool bound = !m.empty() && m.back() == 'b';
+        if (bound || (!m.empty() && m.back() == 'o')) m.pop_back();
         f.sampling.selection_picks = std::stoi(m);
         render::set_selection_merge(m.back() != 'u');
-        render::set_selection_bound(!old_estimate);
+        render::set_selection_bound(bound);
         return f;
       };
       r.set_settings(settings_for(ref_mode));

@@ -57,6 +57,14 @@ double exact(const lum::Luminaire& l, const glm::dmat4& T, double intensity, con
   return intensity * references(l, {loc})[0].y;
 }
 
+// The bound is not the default estimate (render::set_selection_bound): on for one test's scope.
+struct BoundOn {
+  BoundOn() { set_selection_bound(true); }
+  ~BoundOn() { set_selection_bound(false); }
+  BoundOn(const BoundOn&) = delete;
+  BoundOn& operator=(const BoundOn&) = delete;
+};
+
 struct Kind {
   lum::BasisKind basis;
   lum::Reconstruction recon;
@@ -68,6 +76,7 @@ struct Kind {
 // evaluated at the same float point as the reference, so only the table's own float rounding, which
 // the margin covers, remains): f >= E (1 - 1e-5).
 TEST(SelectionBound, BoundsTheExactContribution) {
+  const BoundOn on;
   nf::cl::Runtime rt;
   const Kind kinds[] = {{lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, "bspline2/goesele2003"},
                         {lum::BasisKind::quadratic2, lum::Reconstruction::radiance, "quadratic2/radiance"}};
@@ -111,8 +120,8 @@ TEST(SelectionBound, BoundsTheExactContribution) {
         ++lit;
         far_lit += region == 2;
         worst = std::min(worst, f / e);
-        EXPECT_GE(f, e * (1.0 - 1e-5)) << k.name << " local " << local.x << " " << local.y << " " << local.z
-                                       << " n " << nl.x << " " << nl.y << " " << nl.z << " E " << e;
+        EXPECT_GE(f, e * (1.0 - 1e-5)) << k.name << " local " << local.x << " " << local.y << " " << local.z << " n "
+                                       << nl.x << " " << nl.y << " " << nl.z << " E " << e;
       }
       if (!(f > 0.0)) {
         EXPECT_EQ(e, 0.0) << k.name << " local " << local.x << " " << local.y << " " << local.z;
@@ -130,6 +139,7 @@ TEST(SelectionBound, BoundsTheExactContribution) {
 // overstated E by ~2 x 10^3 (docs/sampling.md "Two kinds of light"), so a ceiling 20x lower fails if
 // the bound falls back to it; a wrong unit (a missing delta^2 or pi) moves the ratio by > 100x.
 TEST(SelectionBound, TightInTheBeam) {
+  const BoundOn on;
   nf::cl::Runtime rt;
   const auto l = small_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 5);
   const auto pc = lum::precompute(l, 1);
@@ -160,9 +170,10 @@ TEST(SelectionBound, TightInTheBeam) {
     return std::array<double, 3>{v.front(), v[v.size() / 2], v.back()};
   };
   const auto b = stats(ratio), o = stats(ratio_old);
-  std::printf("f / E in the beam (%zu points): bound min %.3g median %.3g max %.3g; direction table min %.3g "
-              "median %.3g max %.3g\n",
-              ratio.size(), b[0], b[1], b[2], o[0], o[1], o[2]);
+  std::printf(
+      "f / E in the beam (%zu points): bound min %.3g median %.3g max %.3g; direction table min %.3g "
+      "median %.3g max %.3g\n",
+      ratio.size(), b[0], b[1], b[2], o[0], o[1], o[2]);
   EXPECT_GE(b[0], 1.0 - 1e-5);
   EXPECT_LT(b[2], 100.0);
 }
@@ -171,6 +182,7 @@ TEST(SelectionBound, TightInTheBeam) {
 // the side (nothing), so the q_i span orders of magnitude. chi-square of 40,000 choices per point,
 // false-failure rate 1e-3 per point (3 points).
 TEST(SelectionBound, KernelPicksFollowTheMirror) {
+  const BoundOn on;
   nf::cl::Runtime rt;
   const auto l = small_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 7);
   const auto pc = lum::precompute(l, 1);
@@ -179,7 +191,8 @@ TEST(SelectionBound, KernelPicksFollowTheMirror) {
   const std::vector<glm::dmat4> Ts = {place({0.0, 0.0, -0.3}), place({0.4, 0.1, -1.0}), place({-0.5, 0.0, -2.5}),
                                       place({0.2, -0.3, -0.6}, 15.0), place({30.0, 0.0, -1.0})};
   std::vector<LightInstance> lights;
-  for (std::size_t i = 0; i < Ts.size(); ++i) lights.push_back(instance_of(dl, Ts[i], 1.0 + 0.5 * static_cast<double>(i)));
+  for (std::size_t i = 0; i < Ts.size(); ++i)
+    lights.push_back(instance_of(dl, Ts[i], 1.0 + 0.5 * static_cast<double>(i)));
   SamplingSettings s;
   s.spp = 1;
   s.light_selection = LightSelection::flat;

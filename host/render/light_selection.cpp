@@ -14,7 +14,7 @@ namespace nf::render {
 static_assert(sizeof(NfSelectLight) == 184, "NfSelectLight layout (kernels/shared/light_select.h)");
 
 namespace {
-bool g_bound = true;
+bool g_bound = false;  // measured: the direction table is better at N >= 32 (bench run 4)
 }  // namespace
 
 bool selection_bound() { return g_bound; }
@@ -97,8 +97,11 @@ double bound_estimate(const NfSelectLight& s, const float* tables, const glm::dv
   if (above) {
     constexpr int T = NF_SELECT_BOUND;
     const double wa = 2.0 * static_cast<double>(s.ta) / T, wb = 2.0 * static_cast<double>(s.tb) / T;
-    auto cell = [](double v) { return std::clamp(static_cast<int>(std::floor(std::clamp(v, -1.0, T + 1.0))), 0, T - 1); };
-    const int i0 = cell((a0 + ta) / wa), i1 = cell((a1 + ta) / wa), j0 = cell((b0 + tb) / wb), j1 = cell((b1 + tb) / wb);
+    auto cell = [](double v) {
+      return std::clamp(static_cast<int>(std::floor(std::clamp(v, -1.0, T + 1.0))), 0, T - 1);
+    };
+    const int i0 = cell((a0 + ta) / wa), i1 = cell((a1 + ta) / wa), j0 = cell((b0 + tb) / wb),
+              j1 = cell((b1 + tb) / wb);
     const double iz2 = 1.0 / (l.z * l.z);
     double far = 0.0;
     if ((i1 - i0 + 1) * (j1 - j0 + 1) <= NF_SELECT_LOOP_CELLS) {
@@ -133,8 +136,8 @@ double bound_estimate(const NfSelectLight& s, const float* tables, const glm::dv
 
 double cos_bound(const glm::dvec3& n, const glm::dvec3& p, double x0, double x1, double y0, double y1, double cz) {
   const double dz = cz - p.z;
-  const double num =
-      std::max(std::max(n.x * (x0 - p.x), n.x * (x1 - p.x)) + std::max(n.y * (y0 - p.y), n.y * (y1 - p.y)) + n.z * dz, 0.0);
+  const double num = std::max(
+      std::max(n.x * (x0 - p.x), n.x * (x1 - p.x)) + std::max(n.y * (y0 - p.y), n.y * (y1 - p.y)) + n.z * dz, 0.0);
   const double dx = std::max({x0 - p.x, p.x - x1, 0.0}), dy = std::max({y0 - p.y, p.y - y1, 0.0});
   const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
   return std::clamp(d > 0.0 ? num / d : 1.0, 1e-3, 1.0);

@@ -21,8 +21,8 @@ NfSelectLight select_light(const LightInstance& li, int table = 0);
 
 // f_i(p) of kernels/common/light_select.h in double: p and n in the surfaces' frame; use_cos false
 // for scalar probes; `table` = the luminaire's tables (DeviceLuminaire::selection_table(): the
-// direction table, then the bound table). The record's mode picks the estimate: the bound of E_i(p)
-// (NF_SELECT_MODE_BOUND, the default) or the direction-table estimate. 0 exactly where the instance
+// direction table, then the bound tables). The record's mode picks the estimate: the bound of E_i(p)
+// (NF_SELECT_MODE_BOUND) or the direction-table estimate (the default). 0 exactly where the instance
 // provably sends no light to p.
 double selection_estimate(const NfSelectLight& s, const float* table, const glm::dvec3& p, const glm::dvec3& n,
                           bool use_cos);
@@ -51,8 +51,9 @@ std::vector<double> selection_probabilities(std::span<const LightInstance> light
 // instance and count; the default) or c times with round(K / M) (one list per instance). A
 // process-wide switch of the bench's `flat:Mu` comparison; M itself is the setting
 // `selection_picks` (SamplingSettings::selection_picks).
-// Which estimate select_light records: the bound of E_i(p) (true, the default) or the first
-// direction-table estimate (false; bench/bench_selection's `flat:Mo` comparison). Process-wide.
+// Which estimate select_light records: the bound of E_i(p) (true; bench/bench_selection's `flat:Mb`)
+// or the direction-table estimate (false, the default: it measured better at N = 32 and 128 in
+// bench/results/selection/README.md run 4). Process-wide.
 bool selection_bound();
 void set_selection_bound(bool bound);
 

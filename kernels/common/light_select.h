@@ -12,9 +12,9 @@
        points (z > 0) or the U rectangle's (z <= 0); n . (c - p) is linear in c, so its maximum over a
        rectangle is at a corner.
    Elsewhere f_i(p) is, by the record's mode, the bound of the instance's contribution E_i(p)
-   (NF_SELECT_MODE_BOUND, the default; nf_select_bound below, docs/sampling.md "The bound"), in the
-   same units as the far-field lights' bound, or the first direction-table estimate
-   (NF_SELECT_MODE_TABLE): power_i I_i cos_i / max(d_i^2, near2_i), power = intensity x total image
+   (NF_SELECT_MODE_BOUND; nf_select_bound below, docs/sampling.md "The bound"), in the same units as
+   the far-field lights' bound, or the direction-table estimate (NF_SELECT_MODE_TABLE, the default,
+   which measured better at N >= 32): power_i I_i cos_i / max(d_i^2, near2_i), power = intensity x total image
    flux, I_i = the mean of the luminaire's direction table (shared/light_select.h) over the slopes of
    the light reaching p, d = distance from p to the S rectangle, cos = the largest corner cosine (at
    least 0.05). Either only steers the variance: the estimator weights by 1 / q_i and stays unbiased
