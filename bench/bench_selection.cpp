@@ -135,14 +135,16 @@ int main(int argc, char** argv) {
         render::FrameSettings f = r.settings();
         const auto colon = mode.find(':');
         f.sampling.light_selection = render::parse_light_selection(mode.substr(0, colon));
-        // flat:M (merged picks) or flat:Mu (an instance picked c times shaded c times); a trailing `b`
-        // (flat:1b, flat:4ub) uses the bound of E_i as f_i, `o` the direction-table estimate (the
+        // flat:M: M picks, a light picked c times shaded once with round(c K / M) samples (the unmerged
+        // flat:Mu of bench/results/selection/README.md was removed with its process-wide switch); a
+        // trailing `b` (flat:4b) uses the bound of E_i as f_i, `o` the direction-table estimate (the
         // default)
         std::string m = colon == std::string::npos ? std::string("4") : mode.substr(colon + 1);
         const bool bound = !m.empty() && m.back() == 'b';
         if (bound || (!m.empty() && m.back() == 'o')) m.pop_back();
+        if (m.empty() || m.find_first_not_of("0123456789") != std::string::npos)
+          nf::fail(fmt::format("mode '{}': expected all or flat:M, flat:Mb or flat:Mo (M = 1..15)", mode));
         f.sampling.selection_picks = std::stoi(m);
-        render::set_selection_merge(m.back() != 'u');
         render::set_selection_bound(bound);
         return f;
       };

@@ -25,14 +25,14 @@ NF_INLINE float nf_ls_f(int i, int n, __global const NfSelectLight* lights, __gl
 /* The picks of every surface: sel[g * picks + j] = instance << 4 | c (NF_LS_NONE: no more picks; all
    NF_LS_NONE where no instance can light the surface, or background) and w = c / (x_i - x_{i-1}), where
    x_i = M C_i are the float CDF points the picks were drawn from (C = the running sums of q), so
-   the weight is exactly c over the expected count E[c] = x_i - x_{i-1} (u uniform) of that draw.
-   merge = 0: an instance picked c times gets c entries of count 1 (weight 1 / (x_i - x_{i-1}) each),
-   so the host keeps one list per instance (fewer launches, c set-ups of its A_m(p)). Two passes over
+   the weight is exactly c over the expected count E[c] = x_i - x_{i-1} (u uniform) of that draw: a
+   light picked c times is shaded once with round(c K / M) samples (c entries of count 1 each lost at
+   equal time, 0.97 against 1.06 at N = 32: bench/results/selection/README.md, flat:4u). Two passes over
    the lights: the sum, then the CDF. The lights are the n instances followed by the n_ff far-field
    lights (index n + k: far-field light k, shaded by kernels/farfield.cl farfield_shade_picks). */
 __kernel void ls_pick(__global const NfSurface* surfaces, const int count, __global const NfSelectLight* lights,
                         __global const float* tables, const int n, const uint seed, const uint frame,
-                        const int picks, const int merge, __global uint* sel, __global float* w,
+                        const int picks, __global uint* sel, __global float* w,
                         __global const NfSelectFarfield* ff, const int n_ff) {
   const int g = get_global_id(0);
   if (g >= count) return;
@@ -78,16 +78,9 @@ __kernel void ls_pick(__global const NfSurface* surfaces, const int count, __glo
         if (c > 0) {
           const float w1 = 1.0f / (x - x_prev);
           if (x > x_prev && isfinite(w1 * (float)c)) {
-            if (merge) {
-              sel[o + (size_t)j] = ((uint)i << NF_LS_COUNT_BITS) | (uint)c;
-              w[o + (size_t)j] = w1 * (float)c;
-              ++j;
-            } else {
-              for (int r = 0; r < c && j < picks; ++r, ++j) {
-                sel[o + (size_t)j] = ((uint)i << NF_LS_COUNT_BITS) | 1U;
-                w[o + (size_t)j] = w1;
-              }
-            }
+            sel[o + (size_t)j] = ((uint)i << NF_LS_COUNT_BITS) | (uint)c;
+            w[o + (size_t)j] = w1 * (float)c;
+            ++j;
           }
         }
         fl_prev = fl;

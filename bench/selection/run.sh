@@ -1,7 +1,7 @@
 #!/bin/sh
 # Light-selection bench (docs/sampling.md "Light selection"): street scenes with N in {2, 8, 32, 128}
-# car2 headlights (seeded, bench/selection/street_gen.py), all vs flat with M picks (flat:M, flat:Mu
-# unmerged) at equal K, 320 x 180. MODES, REF_MODE, FRAMES, REF_FRAMES (even), WORST override.
+# car2 headlights (seeded, bench/selection/street_gen.py), all vs flat with M picks (flat:M)
+# at equal K, 320 x 180. MODES, REF_MODE, FRAMES, REF_FRAMES (even), WORST override.
 #   bench/selection/run.sh [BUILD_DIR] [OUT_DIR]     (defaults: build, bench/results/selection)
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)

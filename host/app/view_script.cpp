@@ -150,7 +150,7 @@ void material_command(ScriptContext& x) {
 }
 
 void check_display(const Script& s, const ScriptCommand& c) {
-  if (!parse_display_mode(c.args[0])) {
+  if (!find_display_mode(c.args[0])) {
     std::string names = display_mode_names(", ");  // "image, A, K or VSGL"
     names.replace(names.rfind(", "), 2, " or ");
     fail(fmt::format("{}: display: expected {}, got '{}'", s.where(c), names, excerpt(c.args[0])));
@@ -379,7 +379,9 @@ const std::vector<ScriptCommandSpec>& script_commands() {
        "K",
        check_display,
        [](X& x) {
-         x.state.display = parse_display_mode(x.text(0)).value_or(DisplayMode::image);
+         const DisplayModeName* d = find_display_mode(x.text(0));
+         x.state.display = d ? d->mode : DisplayMode::image;
+         x.state.debug_view = d && d->mode == DisplayMode::debug ? d->name : std::string();
          x.state.redisplay = true;
        }},
       {"panel", {A::on_off}, {}, "on|off", "the panel", "off", {}, [](X& x) { x.state.panel = x.on(0); }},

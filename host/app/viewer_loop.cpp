@@ -19,9 +19,9 @@
 
 #include <fmt/format.h>
 
+#include "app/debug_view_picture.h"
 #include "app/material_edit.h"
 #include "app/viewer_panel.h"
-#include "app/vsgl_debug_view.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/timer.h"
@@ -334,20 +334,6 @@ void Viewer::save_scene(const std::filesystem::path& json) {
 
 // ---------------------------------------------------------------- display --------------------
 
-namespace {
-// The VSGL debug view of instance 0 (its VSGLs are the first vsgls().size() / instances()), or
-// one black pixel when the frame has no VSGL contribution or no instance.
-Image vsgl_view_image(const render::Renderer& r) {
-  auto* c = r.find<render::VsglContribution>();
-  if (!c || c->instances() == 0 || c->vsgls().empty()) return Image(1, 1, 3);
-  const std::vector<glm::vec4> e = c->read_irradiance(0);
-  const int size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(e.size()))));
-  const std::size_t per = c->vsgls().size() / static_cast<std::size_t>(c->instances());
-  const std::vector<NfVsgl> v0(c->vsgls().begin(), c->vsgls().begin() + static_cast<std::ptrdiff_t>(per));
-  return vsgl_debug_image(e, size, v0, c->rsm(0));
-}
-}  // namespace
-
 void Viewer::display() {
   int fw = 0, fh = 0;
   window_->framebuffer_size(fw, fh);
@@ -371,8 +357,9 @@ void Viewer::display() {
   }
   if (state_.display == DisplayMode::image) {
     tonemapper_->present(0, px, py, iw, ih);
-  } else if (state_.display == DisplayMode::vsgl) {
-    if (rendered_ || state_.redisplay || false_view_.empty()) false_view_.upload(vsgl_view_image(*renderer_));
+  } else if (state_.display == DisplayMode::debug) {  // a contribution's debug view (render/debug_view.h)
+    if (rendered_ || state_.redisplay || false_view_.empty())
+      false_view_.upload(debug_view_picture(renderer_->debug_view(state_.debug_view)));
     false_view_.present(0, px, py, iw, ih);
   } else {
     if (rendered_ || state_.redisplay || false_view_.empty()) {

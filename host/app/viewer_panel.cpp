@@ -335,24 +335,37 @@ void Panel::material(const scene::Material& m) {
 
 void Panel::display() {
   DisplayMode mode = s.display;
+  std::string view = mode == DisplayMode::debug ? s.debug_view : std::string();
+  const std::vector<render::DebugViewInfo> offered = r.debug_views();  // of the built contributions
+  const DisplayModeName* legend = nullptr;
   for (const auto& d : display_modes()) {
-    // the VSGL view needs the indirect light; without it the image is shown
-    if (d.mode == DisplayMode::vsgl && !r.contribution("indirect")) {
-      if (mode == d.mode) mode = DisplayMode::image;
+    const bool chosen = mode == d.mode && (d.mode != DisplayMode::debug || view == d.name);
+    // a debug view needs its contribution; without it the image is shown
+    if (d.mode == DisplayMode::debug &&
+        std::none_of(offered.begin(), offered.end(), [&](const auto& o) { return o.name == d.name; })) {
+      if (chosen) {
+        mode = DisplayMode::image;
+        view.clear();
+      }
       continue;
     }
-    if (ImGui::RadioButton(d.label, mode == d.mode)) mode = d.mode;
-    if (*d.tip && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d.tip);
+    if (ImGui::RadioButton(d.label.c_str(), chosen)) {
+      mode = d.mode;
+      view = d.mode == DisplayMode::debug ? d.name : std::string();
+    }
+    if (!d.tip.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d.tip.c_str());
     ImGui::SameLine();
+    if (d.mode == DisplayMode::debug && d.name == s.debug_view) legend = &d;
   }
   if (ImGui::Checkbox("log", &s.false_log)) s.redisplay = true;
-  if (mode != s.display) {
+  if (mode != s.display || view != s.debug_view) {
     s.display = mode;
+    s.debug_view = view;
     s.redisplay = true;
   }
-  if (s.display == DisplayMode::vsgl) {
+  if (s.display == DisplayMode::debug) {
     colour_bar(ImGui::GetContentRegionAvail().x, 12.0f);
-    ImGui::TextUnformatted("RSM irradiance (log, auto range); white: VSGL centres, magenta: sigma");
+    if (legend) ImGui::TextUnformatted(legend->legend.c_str());
   } else if (s.display != DisplayMode::image) {
     colour_bar(ImGui::GetContentRegionAvail().x, 12.0f);
     ImGui::Text("%s %.4g .. %.4g%s  (black: 0)", s.display == DisplayMode::a ? "A(p) [Y m^2]" : "K(p) [samples]",

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/excerpt.h"
 #include "luminaire/generator.h"
+#include "render/contributions.h"
 #include "scene/scene_writer.h"
 
 namespace nf::app {
@@ -76,25 +77,23 @@ void ViewerState::delete_instance(std::size_t i) {
 }
 
 const std::vector<DisplayModeName>& display_modes() {
-  static const std::vector<DisplayModeName> modes{
-      {DisplayMode::image, "image", "image", "", true},
-      {DisplayMode::a, "A", "A(p)", "", true},
-      {DisplayMode::k, "K", "K(p)", "", true},
-      {DisplayMode::vsgl, "VSGL", "VSGLs", "instance 0's RSM irradiance with its VSGLs (docs/indirect.md)", false},
-  };
+  static const std::vector<DisplayModeName> modes = [] {
+    std::vector<DisplayModeName> m{
+        {DisplayMode::image, "image", "image", "", "", true},
+        {DisplayMode::a, "A", "A(p)", "", "", true},
+        {DisplayMode::k, "K", "K(p)", "", "", true},
+    };
+    for (const auto& v : render::declared_debug_views())
+      m.push_back({DisplayMode::debug, v.name, v.label, v.tip, v.legend, false});
+    return m;
+  }();
   return modes;
 }
 
-const DisplayModeName& display_mode(DisplayMode m) {
+const DisplayModeName* find_display_mode(const std::string& name) {
   for (const auto& d : display_modes())
-    if (d.mode == m) return d;
-  return display_modes().front();
-}
-
-std::optional<DisplayMode> parse_display_mode(const std::string& name) {
-  for (const auto& d : display_modes())
-    if (name == d.name) return d.mode;
-  return std::nullopt;
+    if (name == d.name) return &d;
+  return nullptr;
 }
 
 std::string display_mode_names(const std::string& sep) {

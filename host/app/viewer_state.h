@@ -19,22 +19,25 @@
 
 namespace nf::app {
 
-// vsgl: the VSGL debug view of luminaire instance 0 (app/vsgl_debug_view.h)
-enum class DisplayMode { image, a, k, vsgl };
+// debug: a contribution's debug view (render/debug_view.h), the one ViewerState::debug_view names,
+// e.g. the indirect light's VSGL view of luminaire instance 0.
+enum class DisplayMode { image, a, k, debug };
 
 // The display modes, named once: the name scripts use, the panel's label and tooltip, and whether
-// the D key cycles through it (vsgl needs the indirect light, so it is chosen on purpose).
+// the D key cycles through it (debug views need their contribution, so they are chosen on purpose).
 struct DisplayModeName {
   DisplayMode mode;
-  const char* name;   // `display NAME` in scripts
-  const char* label;  // the panel's radio button
-  const char* tip;    // the panel's tooltip (empty: none)
-  bool cycled;        // the D key steps through it
+  std::string name;    // `display NAME` in scripts
+  std::string label;   // the panel's radio button
+  std::string tip;     // the panel's tooltip (empty: none)
+  std::string legend;  // debug views: the line under the colour bar
+  bool cycled;         // the D key steps through it
 };
+// image, A, K, then the debug views of every registered contribution
+// (render::declared_debug_views), whether or not the scene builds it.
 const std::vector<DisplayModeName>& display_modes();
-const DisplayModeName& display_mode(DisplayMode m);
-// The mode called `name`, nullopt if none.
-std::optional<DisplayMode> parse_display_mode(const std::string& name);
+// The mode called `name`, nullptr if none.
+const DisplayModeName* find_display_mode(const std::string& name);
 // "image|A|K|VSGL" (separator `sep`).
 std::string display_mode_names(const std::string& sep);
 // The D key: the next cycled mode after m.
@@ -75,7 +78,8 @@ struct ViewerState {
   // loop pushes the ones that differ into the renderer (render::Renderer::set_material).
   std::vector<scene::Material> materials;
   DisplayMode display = DisplayMode::image;
-  bool false_log = true;  // false colour on a log scale
+  std::string debug_view;  // display == debug: the view's name (render::DebugViewInfo::name)
+  bool false_log = true;   // false colour on a log scale
   bool panel = true;
   // Panel layout (docs/viewer.md, "Layout"): docked at the left, the image beside it (false), or
   // floating translucently over the image, which then fills the window (true).

@@ -1,8 +1,9 @@
 #pragma once
-// The viewer's VSGL debug view (docs/indirect.md, "Debug view"; Tokuyoshi 2016 Fig. 1): one
-// luminaire instance's RSM irradiance in false colour (log luminance) with each VSGL drawn over
-// it: its centre texel in white and a circle (magenta) of its projected sigma. Rows from the top,
-// as the RSM.
+// The viewer's VSGL debug view (docs/indirect.md, "Debug view"; Tokuyoshi 2016 Fig. 1) in one
+// call, as the viewer shows it: the indirect light's debug data (render/vsgl_debug_view.h) drawn by
+// app/debug_view_picture.h. The viewer itself reaches it through the contribution's debug view
+// (render::Renderer::debug_view("VSGL")); this is the image-making function without a window
+// (tests/vsgl_debug_view_test.cpp).
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -10,17 +11,12 @@
 #include "core/image.h"
 #include "kernels/shared/vsgl.h"
 #include "render/vsgl_contribution.h"
+#include "render/vsgl_debug_view.h"
 
 namespace nf::app {
 
-// The texel (column, row from the top) of VSGL g's centre on an RSM of size^2 texels: the
-// generation's sample point (g.u, g.v) in [0, 1)^2, floor(u size), floor(v size).
-void vsgl_centre_texel(const NfVsgl& g, int size, int& column, int& row);
-
-// sigma of VSGL g projected onto the RSM, in texels: sqrt(sigma^2) / (depth pix), depth the
-// distance of mu along the RSM's forward axis, pix = 2 tan_half / size the texel's side at unit
-// distance (a disc facing the RSM camera; 0 when mu is behind it).
-double vsgl_projected_sigma(const NfVsgl& g, const render::RsmView& view, int size);
+using render::vsgl_centre_texel;
+using render::vsgl_projected_sigma;
 
 // `irradiance`: size^2 texels (RGB, rows from the top), e.g. VsglContribution::read_irradiance;
 // `vsgls`: that instance's VSGLs. VSGLs without power are not drawn. 3 channels in [0, 1].

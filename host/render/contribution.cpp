@@ -2,7 +2,10 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "cl/buffers.h"
+#include "core/error.h"
 #include "core/timer.h"
 #include "render/device_frame.h"
 
@@ -15,6 +18,10 @@ void add_radiance(std::vector<glm::vec4>& radiance, const std::vector<glm::vec4>
 
 std::vector<glm::vec4> read_radiance(cl::Runtime& rt, const ::cl::Buffer& out, int count, const std::string& what) {
   return cl::download<glm::vec4>(rt, out, static_cast<std::size_t>(std::max(count, 0)), 0, what);
+}
+
+DebugImage Contribution::debug_view(const std::string& view) {
+  fail(fmt::format("the {} contribution has no debug view '{}'", name(), view));
 }
 
 // The host fallback of Contribution::add_device: the radiance comes back to the host and goes up

@@ -18,6 +18,7 @@
 #include <glm/vec4.hpp>
 
 #include "cl/runtime.h"
+#include "render/debug_view.h"
 #include "render/frame_settings.h"
 #include "render/luminaire_view.h"
 #include "render/sampler.h"
@@ -114,6 +115,12 @@ class Contribution {
   virtual void set_materials(const std::vector<scene::Material>& materials) = 0;
   // Device memory the contribution holds (bytes), for the stats.
   virtual std::size_t device_bytes() const = 0;
+
+  // ---- optional capabilities (defaults: none) ----------------------------------------------
+  // The picture of debug view `name` for the current frame (render/debug_view.h), one of the
+  // views the contribution's registration declares (ContributionKind::debug_views). The default
+  // offers none: it throws nf::Error naming the view.
+  virtual DebugImage debug_view(const std::string& name);
 };
 
 }  // namespace nf::render

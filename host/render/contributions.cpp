@@ -27,9 +27,16 @@ const std::vector<ContributionKind>& contribution_kinds() {
          return !c.scene.luminaires.empty() &&
                 scene::choice_value<scene::Indirect>(c.settings.declared.indirect) == scene::Indirect::vsgl;
        },
-       [](const ContributionContext& c) { return std::make_unique<VsglContribution>(c.rt, c.scene); }},
+       [](const ContributionContext& c) { return std::make_unique<VsglContribution>(c.rt, c.scene); },
+       {VsglContribution::debug_view_info()}},
   };
   return kinds;
+}
+
+std::vector<DebugViewInfo> declared_debug_views() {
+  std::vector<DebugViewInfo> out;
+  for (const auto& k : contribution_kinds()) out.insert(out.end(), k.debug_views.begin(), k.debug_views.end());
+  return out;
 }
 
 std::vector<std::unique_ptr<Contribution>> make_contributions(const ContributionContext& ctx) {

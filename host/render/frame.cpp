@@ -117,6 +117,21 @@ Contribution* Renderer::contribution(const std::string& name) const {
   return nullptr;
 }
 
+std::vector<DebugViewInfo> Renderer::debug_views() const {
+  std::vector<DebugViewInfo> out;
+  for (const auto& k : contribution_kinds())
+    if (contribution(k.name)) out.insert(out.end(), k.debug_views.begin(), k.debug_views.end());
+  return out;
+}
+
+DebugImage Renderer::debug_view(const std::string& name) const {
+  for (const auto& k : contribution_kinds())
+    for (const auto& v : k.debug_views)
+      if (v.name == name)
+        if (Contribution* c = contribution(k.name)) return c->debug_view(name);
+  return {};
+}
+
 Renderer::~Renderer() {
   // GL objects need their context current when they go.
   if (context_ && (step0_ || tonemapper_)) {

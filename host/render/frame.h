@@ -171,6 +171,11 @@ class Renderer {
       if (auto* t = dynamic_cast<T*>(c.get())) return t;
     return nullptr;
   }
+  // The debug views the built contributions offer (render/debug_view.h), in registration order.
+  std::vector<DebugViewInfo> debug_views() const;
+  // Debug view `name`'s picture for the current frame; nothing (a 1 x 1 zero image) when no built
+  // contribution offers it (e.g. a script chose it before the scene had that contribution).
+  DebugImage debug_view(const std::string& name) const;
   // The last frame of each contribution with its name, in registration order (the viewer's rows).
   std::vector<std::pair<std::string, ContributionFrame>> contribution_rows() const;
   cl::Runtime& runtime() { return *rt_; }

@@ -211,7 +211,6 @@ double selection_estimate(const NfSelectLight& s, const float* table, const glm:
 static_assert(sizeof(NfSelectFarfield) == 64, "NfSelectFarfield layout (kernels/shared/light_select.h)");
 
 namespace {
-bool g_merge = true;
 
 // The nodes of `a` (ascending) that bracket [lo, hi]: from the last node <= lo to the first >= hi
 // (all of them inside); empty when [lo, hi] lies outside [a.front(), a.back()].
@@ -303,9 +302,6 @@ double farfield_selection_estimate(const NfSelectFarfield& f, const float* table
   const double v = static_cast<double>(f.colour) * table[ic * NF_SELECT_FF_G + ig] * c / r2;
   return std::isfinite(v) ? std::min(v, 1e30) : 1e30;
 }
-
-bool selection_merge() { return g_merge; }
-void set_selection_merge(bool merge) { g_merge = merge; }
 
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
                                             const FarfieldSelect* farfield) {

@@ -47,17 +47,10 @@ double farfield_selection_estimate(const NfSelectFarfield& f, const float* table
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
                                             const FarfieldSelect* farfield = nullptr);
 
-// Whether an instance picked c times is shaded once with round(c K / M) samples (merge, one list per
-// instance and count; the default) or c times with round(K / M) (one list per instance). A
-// process-wide switch of the bench's `flat:Mu` comparison; M itself is the setting
-// `selection_picks` (SamplingSettings::selection_picks).
 // Which estimate select_light records: the bound of E_i(p) (true; bench/bench_selection's `flat:Mb`)
 // or the direction-table estimate (false, the default: it measured better at N = 32 and 128 in
 // bench/results/selection/README.md run 4). Process-wide.
 bool selection_bound();
 void set_selection_bound(bool bound);
-
-bool selection_merge();
-void set_selection_merge(bool merge);
 
 }  // namespace nf::render

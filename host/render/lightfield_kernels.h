@@ -39,8 +39,8 @@ inline constexpr bool kTakesDir = std::is_same_v<K, Step2> || std::is_same_v<K, 
 // lf_add(src, dst, count)
 using Add = cl::TypedKernel<Buf, Buf, cl_int>;
 
-// light_select.cl: ls_pick(surfaces, count, lights, tables, n, seed, frame, picks, merge, sel, w, ff, n_ff)
-using Pick = cl::TypedKernel<Buf, cl_int, Buf, Buf, cl_int, cl_uint, cl_uint, cl_int, cl_int, Buf, Buf, Buf, cl_int>;
+// light_select.cl: ls_pick(surfaces, count, lights, tables, n, seed, frame, picks, sel, w, ff, n_ff)
+using Pick = cl::TypedKernel<Buf, cl_int, Buf, Buf, cl_int, cl_uint, cl_uint, cl_int, Buf, Buf, Buf, cl_int>;
 // ls_gather(surfaces, idx, total, out)
 using Gather = cl::TypedKernel<Buf, Buf, cl_int, Buf>;
 // ls_gather_vis(vis, idx, base, n, words, out)

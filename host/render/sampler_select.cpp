@@ -130,8 +130,7 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
   grow(sel_.w, entries * sizeof(float));
   Pick ks(kern("ls_pick"), "ls_pick");
   ks.bind(surfaces, count, sel_.lights, sel_.tables, static_cast<int>(n), static_cast<cl_uint>(s.seed),
-          static_cast<cl_uint>(s.frame), M, selection_merge() ? 1 : 0, sel_.sel, sel_.w, sel_.ff,
-          static_cast<int>(n_ff));
+          static_cast<cl_uint>(s.frame), M, sel_.sel, sel_.w, sel_.ff, static_cast<int>(n_ff));
   ev.clears.push_back(rt_.launch(ks.get(), range1(count), ::cl::NDRange(kGroup)));
   std::vector<nf_uint> chosen(entries);
   cl::call([&] { q.enqueueReadBuffer(sel_.sel, CL_TRUE, 0, chosen.size() * sizeof(nf_uint), chosen.data()); },

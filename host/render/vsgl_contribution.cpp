@@ -16,6 +16,7 @@
 #include "gl/scene_gpu.h"
 #include "gl/shadow_maps.h"
 #include "render/kurt_table.h"
+#include "render/vsgl_debug_view.h"
 #include "render/vsgl_kernels.h"
 #include "render/vsgl_split.h"
 
@@ -138,6 +139,21 @@ void VsglContribution::set_materials(const std::vector<scene::Material>& materia
 const std::vector<NfSurface>& VsglContribution::rsm_surfaces(int i) const {
   return rsms_.at(static_cast<std::size_t>(i)).surfaces;
 }
+DebugViewInfo VsglContribution::debug_view_info() {
+  return {"VSGL", "VSGLs", "instance 0's RSM irradiance with its VSGLs (docs/indirect.md)",
+          "RSM irradiance (log, auto range); white: VSGL centres, magenta: sigma"};
+}
+
+DebugImage VsglContribution::debug_view(const std::string& name) {
+  if (name != debug_view_info().name) return Contribution::debug_view(name);
+  if (instances() == 0 || vsgls().empty()) return {};
+  const std::vector<glm::vec4> e = read_irradiance(0);
+  const int size = static_cast<int>(std::lround(std::sqrt(static_cast<double>(e.size()))));
+  const std::size_t per = vsgls().size() / static_cast<std::size_t>(instances());
+  const std::vector<NfVsgl> v0(vsgls().begin(), vsgls().begin() + static_cast<std::ptrdiff_t>(per));
+  return vsgl_debug_data(e, size, v0, rsm(0));
+}
+
 const RsmView& VsglContribution::rsm(int i) const { return rsms_.at(static_cast<std::size_t>(i)).view; }
 
 void VsglContribution::ensure_gl(int size) {

@@ -77,6 +77,11 @@ class VsglContribution final : public Contribution {
   // The Kurt table and the RSMs' materials: everything (RSMs, lighting, VSGLs, their shadow
   // maps) is rebuilt on the next frame. Needs the GL context current.
   void set_materials(const std::vector<scene::Material>& materials) override;
+  // The debug view "VSGL" (render/vsgl_debug_view.h): luminaire instance 0's RSM irradiance with
+  // its VSGLs (instance 0's are the first vsgls().size() / instances()); nothing (black) before
+  // the first build or without an instance.
+  static DebugViewInfo debug_view_info();
+  DebugImage debug_view(const std::string& name) override;
 
   // Builds (RSMs, lighting, pyramids, VSGLs) for these inputs if anything they depend on
   // changed; needs a current GL context. Returns true when it rebuilt.

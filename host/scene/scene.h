@@ -16,6 +16,7 @@
 
 #include "luminaire/goniometric.h"
 #include "luminaire/luminaire.h"
+#include "scene/choices.h"
 #include "scene/geometry.h"
 #include "scene/settings.h"
 
@@ -94,7 +95,9 @@ struct Scene {
   std::optional<double> radiometric_to_photometric;
 
   // Step 0 builds shadow maps only when this holds (docs/rendering.md).
-  bool needs_shadow_maps() const { return render.visibility == "shadowmaps" && geometry.can_occlude(); }
+  bool needs_shadow_maps() const {
+    return choice_value<Visibility>(render.visibility) == Visibility::shadowmaps && geometry.can_occlude();
+  }
 };
 
 // Reads and validates a scene file; loads its glTF files and textures. Throws nf::Error.
