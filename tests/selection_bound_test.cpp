@@ -57,14 +57,6 @@ double exact(const lum::Luminaire& l, const glm::dmat4& T, double intensity, con
   return intensity * references(l, {loc})[0].y;
 }
 
-// The bound is not the default estimate (render::set_selection_bound): on for one test's scope.
-struct BoundOn {
-  BoundOn() { set_selection_bound(true); }
-  ~BoundOn() { set_selection_bound(false); }
-  BoundOn(const BoundOn&) = delete;
-  BoundOn& operator=(const BoundOn&) = delete;
-};
-
 struct Kind {
   lum::BasisKind basis;
   lum::Reconstruction recon;
@@ -76,7 +68,6 @@ struct Kind {
 // evaluated at the same float point as the reference, so only the table's own float rounding, which
 // the margin covers, remains): f >= E (1 - 1e-5).
 TEST(SelectionBound, BoundsTheExactContribution) {
-  const BoundOn on;
   nf::cl::Runtime rt;
   const Kind kinds[] = {{lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, "bspline2/goesele2003"},
                         {lum::BasisKind::quadratic2, lum::Reconstruction::radiance, "quadratic2/radiance"}};
@@ -88,7 +79,7 @@ TEST(SelectionBound, BoundsTheExactContribution) {
     const glm::dmat4 T = place({0.1, -0.05, 0.2}, 25.0);
     const double intensity = 2.5;
     const LightInstance li = instance_of(dl, T, intensity);
-    const NfSelectLight rec = select_light(li);
+    const NfSelectLight rec = select_light(li, SelectionEstimate::bound);
     ASSERT_EQ(rec.mode, NF_SELECT_MODE_BOUND);
     std::mt19937 rng(seed * 17u);
     std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
@@ -139,17 +130,14 @@ TEST(SelectionBound, BoundsTheExactContribution) {
 // overstated E by ~2 x 10^3 (docs/sampling.md "Two kinds of light"), so a ceiling 20x lower fails if
 // the bound falls back to it; a wrong unit (a missing delta^2 or pi) moves the ratio by > 100x.
 TEST(SelectionBound, TightInTheBeam) {
-  const BoundOn on;
   nf::cl::Runtime rt;
   const auto l = small_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 5);
   const auto pc = lum::precompute(l, 1);
   DeviceLuminaire dl(rt, pc);
   const glm::dmat4 T = place({0.0, 0.0, 0.0});
   const LightInstance li = instance_of(dl, T, 1.0);
-  NfSelectLight rec = select_light(li);
-  set_selection_bound(false);
-  const NfSelectLight old = select_light(li);
-  set_selection_bound(true);
+  const NfSelectLight rec = select_light(li, SelectionEstimate::bound);
+  const NfSelectLight old = select_light(li, SelectionEstimate::table);
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
   std::vector<double> ratio, ratio_old;
@@ -182,7 +170,6 @@ TEST(SelectionBound, TightInTheBeam) {
 // the side (nothing), so the q_i span orders of magnitude. chi-square of 40,000 choices per point,
 // false-failure rate 1e-3 per point (3 points).
 TEST(SelectionBound, KernelPicksFollowTheMirror) {
-  const BoundOn on;
   nf::cl::Runtime rt;
   const auto l = small_luminaire(lum::BasisKind::bspline2, lum::Reconstruction::goesele2003, 7);
   const auto pc = lum::precompute(l, 1);
@@ -197,10 +184,11 @@ TEST(SelectionBound, KernelPicksFollowTheMirror) {
   s.spp = 1;
   s.light_selection = LightSelection::flat;
   s.selection_picks = 1;
+  s.selection_estimate = SelectionEstimate::bound;  // the setting selection_estimate; table is the default
   const std::vector<NfSurface> pts = {surface({0.1, 0.0, 0.5}, {0, 0, -1}), surface({0.3, 0.1, 0.2}, {0.2, 0, -1}),
                                       surface({-0.3, 0.05, 0.8}, {0, 0.3, -1})};
   for (std::size_t pi = 0; pi < pts.size(); ++pi) {
-    const auto q = selection_probabilities(lights, pts[pi]);
+    const auto q = selection_probabilities(lights, pts[pi], s.selection_estimate);
     EXPECT_EQ(q[4], 0.0);
     const int n = 40000;
     const std::vector<NfSurface> surf(n, pts[pi]);

@@ -13,14 +13,7 @@ namespace nf::render {
 
 static_assert(sizeof(NfSelectLight) == 184, "NfSelectLight layout (kernels/shared/light_select.h)");
 
-namespace {
-bool g_bound = false;  // measured: the direction table is better at N >= 32 (bench run 4)
-}  // namespace
-
-bool selection_bound() { return g_bound; }
-void set_selection_bound(bool bound) { g_bound = bound; }
-
-NfSelectLight select_light(const LightInstance& li, int table) {
+NfSelectLight select_light(const LightInstance& li, SelectionEstimate estimate, int table) {
   if (!li.luminaire) fail("select_light: a light instance has no luminaire");
   const NfLuminaire& L = li.luminaire->params();
   const NfInstance& I = li.instance;
@@ -49,7 +42,7 @@ NfSelectLight select_light(const LightInstance& li, int table) {
   s.table = table;
   s.ta = li.luminaire->selection_ta();
   s.tb = li.luminaire->selection_tb();
-  s.mode = g_bound ? NF_SELECT_MODE_BOUND : NF_SELECT_MODE_TABLE;
+  s.mode = estimate == SelectionEstimate::bound ? NF_SELECT_MODE_BOUND : NF_SELECT_MODE_TABLE;
   const double in = static_cast<double>(I.intensity);
   s.intensity = std::isfinite(in) && in > 0.0 ? static_cast<float>(std::min(in, 1e30)) : 0.0f;
   s.lpeak = li.luminaire->selection_lpeak();
@@ -304,7 +297,7 @@ double farfield_selection_estimate(const NfSelectFarfield& f, const float* table
 }
 
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
-                                            const FarfieldSelect* farfield) {
+                                            SelectionEstimate estimate, const FarfieldSelect* farfield) {
   const std::size_t nf = farfield ? farfield->size() : 0;
   std::vector<double> q(lights.size() + nf, 0.0);
   if (!surface.valid) return q;
@@ -312,7 +305,8 @@ std::vector<double> selection_probabilities(std::span<const LightInstance> light
   const bool use_cos = surface.brdf != NF_BRDF_SCALAR;
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    q[i] = selection_estimate(select_light(lights[i]), lights[i].luminaire->selection_table().data(), p, n, use_cos);
+    q[i] = selection_estimate(select_light(lights[i], estimate), lights[i].luminaire->selection_table().data(), p, n,
+                              use_cos);
     total += q[i];
   }
   double total_ff = 0.0;

@@ -15,9 +15,10 @@
 
 namespace nf::render {
 
-// The kernel's record of one instance (its luminaire must be set); `table` = the offset of its
-// luminaire's direction table in the tables buffer the kernel gets.
-NfSelectLight select_light(const LightInstance& li, int table = 0);
+// The kernel's record of one instance (its luminaire must be set); `estimate` = the setting
+// selection_estimate (the record's mode: NF_SELECT_MODE_TABLE or NF_SELECT_MODE_BOUND); `table` = the
+// offset of its luminaire's tables in the tables buffer the kernel gets.
+NfSelectLight select_light(const LightInstance& li, SelectionEstimate estimate, int table = 0);
 
 // f_i(p) of kernels/common/light_select.h in double: p and n in the surfaces' frame; use_cos false
 // for scalar probes; `table` = the luminaire's tables (DeviceLuminaire::selection_table(): the
@@ -42,15 +43,10 @@ FarfieldSelect farfield_select(const std::vector<scene::FarfieldLightRef>& light
 double farfield_selection_estimate(const NfSelectFarfield& f, const float* table, const glm::dvec3& p,
                                    const glm::dvec3& n, bool use_cos);
 
-// q_i(p) for every instance, then every far-field light of `farfield` (sums to 1), or all zeros
-// where no light can light the surface (background surfaces included).
+// q_i(p) for every instance (f_i by `estimate`, the setting selection_estimate), then every far-field
+// light of `farfield` (sums to 1), or all zeros where no light can light the surface (background
+// surfaces included).
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
-                                            const FarfieldSelect* farfield = nullptr);
-
-// Which estimate select_light records: the bound of E_i(p) (true; bench/bench_selection's `flat:Mb`)
-// or the direction-table estimate (false, the default: it measured better at N = 32 and 128 in
-// bench/results/selection/README.md run 4). Process-wide.
-bool selection_bound();
-void set_selection_bound(bool bound);
+                                            SelectionEstimate estimate, const FarfieldSelect* farfield = nullptr);
 
 }  // namespace nf::render

@@ -26,8 +26,8 @@ typedef struct {
   nf_int pad1;
 } NfSelectLight; /* 184 bytes */
 
-/* The estimates f_i: the direction table's intensity estimate (the default; render::set_selection_bound),
-   or the bound of the contribution E_i(p) built from the bound tables (bench/bench_selection flat:Mb). */
+/* The estimates f_i (the setting selection_estimate): the direction table's intensity estimate (table,
+   the default) or the bound of the contribution E_i(p) built from the bound tables (bound). */
 #define NF_SELECT_MODE_TABLE 0
 #define NF_SELECT_MODE_BOUND 1
 
