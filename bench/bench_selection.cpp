@@ -110,7 +110,9 @@ int main(int argc, char** argv) {
   app.add_option("--spp", spp, "K per pixel and frame");
   app.add_option("--csv", csv, "write the rows as CSV");
   app.add_option("--worst", worst, "print the pixels that carry most of the first frame's squared error");
-  app.add_option("--modes", modes, "all, or flat:M (M = selection_picks)")->delimiter(',');
+  app.add_option("--modes", modes,
+                 "all, or flat:M[b|o] (M = selection_picks; b: selection_estimate bound, o: table, the default)")
+      ->delimiter(',');
   CLI11_PARSE(app, argc, argv);
   if (ref_frames < 2 || ref_frames % 2) {
     std::fprintf(stderr, "bench_selection: --ref-frames must be even and >= 2, got %d\n", ref_frames);
@@ -134,11 +136,16 @@ int main(int argc, char** argv) {
         const auto colon = mode.find(':');
         f.sampling.light_selection = render::parse_light_selection(mode.substr(0, colon));
         // flat:M: M picks, a light picked c times shaded once with round(c K / M) samples (the unmerged
-        // flat:Mu of bench/results/selection/README.md was removed with its process-wide switch)
-        const std::string m = colon == std::string::npos ? std::string("4") : mode.substr(colon + 1);
+        // flat:Mu of bench/results/selection/README.md was removed with its process-wide switch); a
+        // trailing `b` (flat:4b) sets selection_estimate bound (the bound of E_i as f_i), `o` table (the
+        // direction-table estimate, the default)
+        std::string m = colon == std::string::npos ? std::string("4") : mode.substr(colon + 1);
+        const bool bound = !m.empty() && m.back() == 'b';
+        if (bound || (!m.empty() && m.back() == 'o')) m.pop_back();
         if (m.empty() || m.find_first_not_of("0123456789") != std::string::npos)
-          nf::fail(fmt::format("mode '{}': expected all or flat:M (M = 1..15)", mode));
+          nf::fail(fmt::format("mode '{}': expected all or flat:M, flat:Mb or flat:Mo (M = 1..15)", mode));
         f.sampling.selection_picks = std::stoi(m);
+        f.sampling.selection_estimate = bound ? render::SelectionEstimate::bound : render::SelectionEstimate::table;
         return f;
       };
       r.set_settings(settings_for(ref_mode));

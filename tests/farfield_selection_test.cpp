@@ -196,7 +196,7 @@ TEST(FarfieldSelection, ChoicesFollowTheMirrorProbabilities) {
   s.light_selection = LightSelection::flat;
   const std::size_t ni = lights.size(), nt = ni + ffl.size();
   for (int pi : {0, 2, 4}) {
-    const auto q = selection_probabilities(lights, pts[pi], &fs);
+    const auto q = selection_probabilities(lights, pts[pi], s.selection_estimate, &fs);
     ASSERT_EQ(q.size(), nt);
     double sum = 0.0;
     for (const double v : q) sum += v;
@@ -318,7 +318,7 @@ TEST_P(FarfieldUnbiased, AgainstTheDoubleValue) {
   // gives q close to the shares; the estimator is unbiased whatever q)
   const FarfieldSelect fsd = farfield_select(ffl);
   for (std::size_t i = 0; i < pts.size(); ++i) {
-    const auto q = selection_probabilities(lights, pts[i], &fsd);
+    const auto q = selection_probabilities(lights, pts[i], SamplingSettings{}.selection_estimate, &fsd);
     std::printf("  point %zu q/share:", i);
     for (std::size_t k = 0; k < q.size(); ++k) {
       const double e =

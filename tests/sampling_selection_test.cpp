@@ -189,7 +189,7 @@ TEST(LightSelection, ChoicesFollowTheMirrorProbabilities) {
   s.light_selection = LightSelection::flat;  // auto is all below 26 instances
   const std::size_t ni = placed.size();
   for (int pi : {0, 1, 2}) {
-    const auto q = selection_probabilities(lights, pts[pi]);
+    const auto q = selection_probabilities(lights, pts[pi], s.selection_estimate);
     double sum = 0.0;
     for (const double v : q) sum += v;
     EXPECT_NEAR(sum, 1.0, 1e-12);
@@ -270,7 +270,7 @@ TEST(LightSelection, NeverZeroWhereAnInstanceContributes) {
   DeviceLuminaire dl(rt, pc);
   const Placed pl{place({0.02, -0.01, 0.03}, 20.0), 1.0};
   const auto lights = instances(dl, {pl});
-  const NfSelectLight rec = select_light(lights[0]);
+  const NfSelectLight rec = select_light(lights[0], SamplingSettings{}.selection_estimate);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int lit = 0, zero_q = 0;

@@ -12,6 +12,7 @@
 #include "cl/cl_error.h"
 #include "core/error.h"
 #include "kernels/shared/light_select.h"
+#include "luminaire/basis.h"
 #include "render/block_table.h"
 
 namespace nf::render {
@@ -202,6 +203,131 @@ void DeviceLuminaire::build_selection_table(const lum::Precomputed& pc) {
           S[static_cast<std::size_t>(b) * T + a] + acc[static_cast<std::size_t>(b) * (T + 1) + a + 1] +
           acc[static_cast<std::size_t>(b + 1) * (T + 1) + a] - acc[static_cast<std::size_t>(b) * (T + 1) + a];
   for (std::size_t k = 0; k < acc.size(); ++k) select_table_[k] = static_cast<float>(acc[k]);
+  build_bound_table(pc);
+}
+
+// The bound tables of light selection (kernels/shared/light_select.h, docs/sampling.md "The bound"):
+// per slope cell c, J(c) >= integral over S of max_{t in c} L(s, t) ds and G(c) >= max_s max_{t in c}
+// L(s, t), L(s, t) = sum_m C_m(s) Phi_m(s - delta t) R(t). Per image m and block b of 4 x 4 pixels:
+//   integral_b max_t C_m Phi_m R ds <= A_m(b) P_m(b, c) R_max(c),   max_{s in b} ... <= C_m,max(b) P_m(b, c) R_max(c),
+// A_m(b) = the block's exact sum (SAT), C_m,max(b) its largest pixel, P_m(b, c) = the largest Phi_m over the
+// box u = s - delta t (s in b, t in c): Phi_m = phi(x) phi(y), phi unimodal about n / 2, so per axis phi
+// at the box's point nearest n / 2; R_max(c) = delta^2 (1 + max |t|^2)^2 for goesele2003, else 1. J sums
+// over m and b, G sums over m and takes the largest over b. Stored in float after the direction table:
+// J as a SAT and per cell, G per cell and G x the cell's slope area as a SAT (sums in double); the
+// margins 1e-6 of each SAT's total cover the float rounding of four SAT entries (4 x 2^-24 of the total).
+void DeviceLuminaire::build_bound_table(const lum::Precomputed& pc) {
+  const NfLuminaire& p = params_;
+  constexpr int T = NF_SELECT_BOUND;
+  const int n = p.support, W = p.count_x;
+  const double d = p.delta, ta = select_ta_, tb = select_tb_;
+  const double sx0 = p.image_origin_x, sy1 = static_cast<double>(p.image_origin_y) + p.image_size_y;
+  const double ox = p.basis_origin_x, oy = p.basis_origin_y, cx = p.cell_x, cy = p.cell_y;
+  const lum::BasisKind kind = p.basis_kind == NF_BASIS_BSPLINE2 ? lum::BasisKind::bspline2 : lum::BasisKind::quadratic2;
+  const bool goesele = p.reconstruction == NF_RECON_GOESELE2003;
+  const double wa = 2.0 * ta / T, wb = 2.0 * tb / T;
+  // largest phi over [x0, x1] (cell units of one basis function)
+  auto phimax = [&](double x0, double x1) {
+    if (x1 <= 0.0 || x0 >= n) return 0.0;
+    return lum::phi(kind, std::clamp(0.5 * n, x0, x1));
+  };
+  const int w = p.res_x + 1, bx = std::max(1, std::min(4, p.res_x / 16)), by = std::max(1, std::min(4, p.res_y / 16));
+  const int nbx = (p.res_x + bx - 1) / bx, nby = (p.res_y + by - 1) / by;
+  std::vector<double> J(static_cast<std::size_t>(T) * T, 0.0);
+  // Gb[block][cell]: sum over m of C_m,max(b) P_m(b, c)
+  std::vector<double> Gb(static_cast<std::size_t>(nbx) * nby * T * T, 0.0);
+  const double px = static_cast<double>(p.image_size_x) / p.res_x, py = static_cast<double>(p.image_size_y) / p.res_y;
+  double lpeak = 0.0;
+  std::vector<double> fa(T), fb(T);
+  for (int m = 0; m < p.num_images; ++m) {
+    if (!(info_[m].flux > 0.0f)) continue;
+    const std::int64_t* sat = pc.sat.data() + static_cast<std::size_t>(m) * static_cast<std::size_t>(p.sat_stride);
+    const double q = static_cast<double>(pc.quantum[m]) * p.pixel_area;
+    const int bi = m % W, bj = m / W;
+    for (int kb = 0; kb < nby; ++kb) {
+      const int r0 = kb * by, r1 = std::min(r0 + by, p.res_y);
+      const double s_y0 = sy1 - r1 * py, s_y1 = sy1 - r0 * py;
+      for (int j = 0; j < T; ++j) {
+        const double b0 = -tb + j * wb, b1 = b0 + wb;
+        fb[j] = phimax((s_y0 - d * b1 - oy) / cy - bj, (s_y1 - d * b0 - oy) / cy - bj);
+      }
+      int jb0 = 0, jb1 = T - 1;
+      while (jb0 < T && fb[jb0] <= 0.0) ++jb0;
+      while (jb1 >= jb0 && fb[jb1] <= 0.0) --jb1;
+      for (int ka = 0; ka < nbx; ++ka) {
+        const int c0 = ka * bx, c1 = std::min(c0 + bx, p.res_x);
+        const std::int64_t units =
+            sat[static_cast<std::size_t>(r1) * w + c1] - sat[static_cast<std::size_t>(r0) * w + c1] -
+            sat[static_cast<std::size_t>(r1) * w + c0] + sat[static_cast<std::size_t>(r0) * w + c0];
+        if (units <= 0) continue;
+        std::int64_t peak = 0;  // the block's largest pixel
+        for (int r = r0; r < r1; ++r)
+          for (int c = c0; c < c1; ++c) {
+            const std::size_t e0 = static_cast<std::size_t>(r) * w + c, e1 = e0 + w;
+            peak = std::max(peak, sat[e1 + 1] - sat[e0 + 1] - sat[e1] + sat[e0]);
+          }
+        const double cmax = static_cast<double>(peak) * pc.quantum[m];
+        lpeak = std::max(lpeak, cmax);
+        const double y = static_cast<double>(units) * q;
+        const double s_x0 = sx0 + c0 * px, s_x1 = sx0 + c1 * px;
+        for (int i = 0; i < T; ++i) {
+          const double a0 = -ta + i * wa, a1 = a0 + wa;
+          fa[i] = phimax((s_x0 - d * a1 - ox) / cx - bi, (s_x1 - d * a0 - ox) / cx - bi);
+        }
+        double* g = Gb.data() + (static_cast<std::size_t>(kb) * nbx + ka) * T * T;
+        int ia0 = 0, ia1 = T - 1;  // the cells where phi along x is not 0
+        while (ia0 < T && fa[ia0] <= 0.0) ++ia0;
+        while (ia1 >= ia0 && fa[ia1] <= 0.0) --ia1;
+        for (int j = jb0; j <= jb1; ++j) {
+          if (fb[j] <= 0.0) continue;
+          for (int i = ia0; i <= ia1; ++i)
+            if (fa[i] > 0.0) {
+              J[static_cast<std::size_t>(j) * T + i] += y * fa[i] * fb[j];
+              g[static_cast<std::size_t>(j) * T + i] += cmax * fa[i] * fb[j];
+            }
+        }
+      }
+    }
+  }
+  std::vector<double> G(static_cast<std::size_t>(T) * T, 0.0);
+  for (std::size_t b = 0; b < static_cast<std::size_t>(nbx) * nby; ++b)
+    for (std::size_t k = 0; k < G.size(); ++k) G[k] = std::max(G[k], Gb[b * T * T + k]);
+  for (int j = 0; j < T; ++j)
+    for (int i = 0; i < T; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * T + i;
+      if (goesele) {
+        const double a0 = -ta + i * wa, b0 = -tb + j * wb;
+        const double t2 = std::max(a0 * a0, (a0 + wa) * (a0 + wa)) + std::max(b0 * b0, (b0 + wb) * (b0 + wb));
+        const double r = d * d * (1.0 + t2) * (1.0 + t2);
+        J[k] *= r;
+        G[k] *= r;
+      }
+    }
+  // float copies rounded up (a bound stays a bound)
+  auto up = [](double v) { return std::nextafter(static_cast<float>(std::min(v, 1e30)), 1e38f); };
+  auto sat_of = [&](const std::vector<double>& v, double scale, float& margin) {
+    std::vector<double> acc(static_cast<std::size_t>(T + 1) * (T + 1), 0.0);
+    for (int b = 0; b < T; ++b)
+      for (int a = 0; a < T; ++a)
+        acc[static_cast<std::size_t>(b + 1) * (T + 1) + a + 1] =
+            v[static_cast<std::size_t>(b) * T + a] * scale + acc[static_cast<std::size_t>(b) * (T + 1) + a + 1] +
+            acc[static_cast<std::size_t>(b + 1) * (T + 1) + a] - acc[static_cast<std::size_t>(b) * (T + 1) + a];
+    margin = static_cast<float>(std::max(1e-6 * acc.back(), 1e-30));
+    std::vector<float> out(acc.size());
+    for (std::size_t k = 0; k < acc.size(); ++k) out[k] = static_cast<float>(acc[k]);
+    return out;
+  };
+  select_lpeak_ = up(lpeak * (1.0 + 1e-6));
+  const auto jsat = sat_of(J, 1.0, select_margin_);
+  const auto gsat = sat_of(G, wa * wb, select_gmargin_);
+  static_assert(NF_SELECT_B_JSAT == (NF_SELECT_TABLE + 1) * (NF_SELECT_TABLE + 1));
+  select_table_.resize(NF_SELECT_TABLES_SIZE, 0.0f);
+  std::copy(jsat.begin(), jsat.end(), select_table_.begin() + NF_SELECT_B_JSAT);
+  for (std::size_t k = 0; k < J.size(); ++k) {
+    select_table_[NF_SELECT_B_J + k] = up(J[k]);
+    select_table_[NF_SELECT_B_G + k] = up(G[k]);
+  }
+  std::copy(gsat.begin(), gsat.end(), select_table_.begin() + NF_SELECT_B_GSAT);
 }
 
 }  // namespace nf::render

@@ -37,10 +37,16 @@ class DeviceLuminaire {
 
   // Light selection (kernels/shared/light_select.h, docs/sampling.md "Light selection"): the
   // luminaire's direction table as a summed-area table of (NF_SELECT_TABLE + 1)^2 floats over
-  // slopes (a, b) in [-ta, ta] x [-tb, tb].
+  // slopes (a, b) in [-ta, ta] x [-tb, tb], followed by its bound tables (NF_SELECT_TABLES_SIZE floats
+  // in all; kernels/shared/light_select.h).
   const std::vector<float>& selection_table() const { return select_table_; }
   float selection_ta() const { return select_ta_; }
   float selection_tb() const { return select_tb_; }
+  // The bound's scalars: the largest pixel value over the images (Y) and the margin added to every
+  // sum of the bound table (1e-6 of its total, above the SAT's float rounding).
+  float selection_lpeak() const { return select_lpeak_; }
+  float selection_margin() const { return select_margin_; }
+  float selection_gmargin() const { return select_gmargin_; }
 
  private:
   struct HostFree {
@@ -54,7 +60,9 @@ class DeviceLuminaire {
   double flux_total_ = 0.0;
   std::vector<float> select_table_;
   float select_ta_ = 1.0f, select_tb_ = 1.0f;
+  float select_lpeak_ = 0.0f, select_margin_ = 0.0f, select_gmargin_ = 0.0f;
   void build_selection_table(const lum::Precomputed& pc);
+  void build_bound_table(const lum::Precomputed& pc);
   ::cl::Buffer sat_, quantum_, info_buf_, chroma_;
   std::size_t bytes_ = 0;
 };

@@ -3,7 +3,7 @@
 // Instances of one luminaire share its device data: one DeviceLuminaire per distinct manifest or
 // preset (render/luminaire_cache.h, Renderer), holding the images' SAT, the chroma and the selection
 // direction table. What one more instance adds on the device:
-//   - its selection record (NfSelectLight, 160 bytes) when light selection runs;
+//   - its selection record (NfSelectLight, 184 bytes) when light selection runs;
 //   - with `light_selection all`: its pixel cache, 4 bytes per image and pixel (A_m(p) kept across
 //     progressive frames; only while every instance's cache fits in `pixel_cache` MiB, else none);
 //   - with shadow maps: its cells' maps, (W + n - 1)(H + n - 1) maps of size^2 float texels, and

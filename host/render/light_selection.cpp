@@ -11,9 +11,9 @@
 
 namespace nf::render {
 
-static_assert(sizeof(NfSelectLight) == 160, "NfSelectLight layout (kernels/shared/light_select.h)");
+static_assert(sizeof(NfSelectLight) == 184, "NfSelectLight layout (kernels/shared/light_select.h)");
 
-NfSelectLight select_light(const LightInstance& li, int table) {
+NfSelectLight select_light(const LightInstance& li, SelectionEstimate estimate, int table) {
   if (!li.luminaire) fail("select_light: a light instance has no luminaire");
   const NfLuminaire& L = li.luminaire->params();
   const NfInstance& I = li.instance;
@@ -42,6 +42,13 @@ NfSelectLight select_light(const LightInstance& li, int table) {
   s.table = table;
   s.ta = li.luminaire->selection_ta();
   s.tb = li.luminaire->selection_tb();
+  s.mode = estimate == SelectionEstimate::bound ? NF_SELECT_MODE_BOUND : NF_SELECT_MODE_TABLE;
+  const double in = static_cast<double>(I.intensity);
+  s.intensity = std::isfinite(in) && in > 0.0 ? static_cast<float>(std::min(in, 1e30)) : 0.0f;
+  s.lpeak = li.luminaire->selection_lpeak();
+  s.margin = li.luminaire->selection_margin();
+  s.gmargin = li.luminaire->selection_gmargin();
+  s.goesele = L.reconstruction == NF_RECON_GOESELE2003 ? 1 : 0;
   return s;
 }
 
@@ -57,6 +64,76 @@ double corner_cos(const glm::dvec3& n, const glm::dvec3& p, const glm::dvec3& c)
   const glm::dvec3 d = c - p;
   const double l = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
   return l > 0.0 ? (n.x * d.x + n.y * d.y + n.z * d.z) / l : 1.0;
+}
+
+double min2(double t0, double t1) { return t0 > 0.0 ? t0 * t0 : (t1 < 0.0 ? t1 * t1 : 0.0); }
+double max2(double t0, double t1) { return std::max(t0 * t0, t1 * t1); }
+
+// Mirror of nf_select_bound (kernels/common/light_select.h; docs/sampling.md "The bound").
+double bound_estimate(const NfSelectLight& s, const float* tables, const glm::dvec3& l, double h, double c) {
+  const bool above = l.z > 0.0;
+  const double hz = above ? l.z : h;
+  const double ta = s.ta, tb = s.tb;
+  double a0 = std::max((l.x - s.ux1) / h, -ta), a1 = std::min((l.x - s.ux0) / h, ta);
+  double b0 = std::max((l.y - s.uy1) / h, -tb), b1 = std::min((l.y - s.uy0) / h, tb);
+  if (above) {
+    a0 = std::max(a0, (l.x - s.sx1) / l.z), a1 = std::min(a1, (l.x - s.sx0) / l.z);
+    b0 = std::max(b0, (l.y - s.sy1) / l.z), b1 = std::min(b1, (l.y - s.sy0) / l.z);
+  }
+  if (!(a0 <= a1 && b0 <= b1)) return 0.0;
+  const double t2min = min2(a0, a1) + min2(b0, b1), t2max = max2(a0, a1) + max2(b0, b1);
+  const double c3 = 1.0 / ((1.0 + t2min) * std::sqrt(1.0 + t2min));
+  const double delta = s.delta;
+  const double r = s.goesele ? delta * delta * (1.0 + t2max) * (1.0 + t2max) : 1.0;
+  constexpr double pi = 3.14159265358979323846;
+  double e = static_cast<double>(s.lpeak) * r * std::min(2.0 * pi, c3 * (a1 - a0) * (b1 - b0));
+  if (above) {
+    constexpr int T = NF_SELECT_BOUND;
+    const double wa = 2.0 * static_cast<double>(s.ta) / T, wb = 2.0 * static_cast<double>(s.tb) / T;
+    auto cell = [](double v) {
+      return std::clamp(static_cast<int>(std::floor(std::clamp(v, -1.0, T + 1.0))), 0, T - 1);
+    };
+    const int i0 = cell((a0 + ta) / wa), i1 = cell((a1 + ta) / wa), j0 = cell((b0 + tb) / wb),
+              j1 = cell((b1 + tb) / wb);
+    const double iz2 = 1.0 / (l.z * l.z);
+    double far = 0.0;
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) <= NF_SELECT_LOOP_CELLS) {
+      for (int j = j0; j <= j1; ++j) {
+        const double cb0 = -tb + j * wb;
+        const double ob = std::max(std::min(b1, cb0 + wb) - std::max(b0, cb0), 0.0);
+        for (int i = i0; i <= i1; ++i) {
+          const double ca0 = -ta + i * wa;
+          const double oa = std::max(std::min(a1, ca0 + wa) - std::max(a0, ca0), 0.0);
+          const double ov = (oa + 1e-6 * wa) * (ob + 1e-6 * wb);
+          far += std::min(static_cast<double>(tables[NF_SELECT_B_J + j * T + i]) * iz2,
+                          static_cast<double>(tables[NF_SELECT_B_G + j * T + i]) * ov);
+        }
+      }
+      far = far * 1.00001 + static_cast<double>(s.margin) * iz2;
+    } else {
+      auto sat_sum = [&](const float* sat) {
+        constexpr int w = T + 1;
+        return std::max(static_cast<double>(sat[(j1 + 1) * w + i1 + 1]) - sat[j0 * w + i1 + 1] -
+                            sat[(j1 + 1) * w + i0] + sat[j0 * w + i0],
+                        0.0);
+      };
+      far = std::min((sat_sum(tables + NF_SELECT_B_JSAT) + s.margin) * iz2,
+                     sat_sum(tables + NF_SELECT_B_GSAT) + static_cast<double>(s.gmargin));
+    }
+    e = std::min(e, c3 * far);
+  }
+  e = std::max(e, static_cast<double>(s.margin) * c3 / std::max(hz * hz, 1e-12));
+  const double f = static_cast<double>(s.intensity) * c * e;
+  return std::isfinite(f) ? std::min(f, 1e30) : 1e30;
+}
+
+double cos_bound(const glm::dvec3& n, const glm::dvec3& p, double x0, double x1, double y0, double y1, double cz) {
+  const double dz = cz - p.z;
+  const double num = std::max(
+      std::max(n.x * (x0 - p.x), n.x * (x1 - p.x)) + std::max(n.y * (y0 - p.y), n.y * (y1 - p.y)) + n.z * dz, 0.0);
+  const double dx = std::max({x0 - p.x, p.x - x1, 0.0}), dy = std::max({y0 - p.y, p.y - y1, 0.0});
+  const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+  return std::clamp(d > 0.0 ? num / d : 1.0, 1e-3, 1.0);
 }
 
 double table_mean(const float* sat, double ta, double tb, double a0, double a1, double b0, double b1) {
@@ -78,7 +155,8 @@ double selection_estimate(const NfSelectLight& s, const float* table, const glm:
   const auto* M = s.to_local;
   const double h = static_cast<double>(M[8]) * p.x + static_cast<double>(M[9]) * p.y +
                    static_cast<double>(M[10]) * p.z + static_cast<double>(s.u_offset);
-  if (!(h > 0.0) || !(s.power > 0.0f)) return 0.0;
+  const bool bound = s.mode == NF_SELECT_MODE_BOUND;
+  if (!(h > 0.0) || !((bound ? s.intensity : s.power) > 0.0f)) return 0.0;
   const glm::dvec3 l(static_cast<double>(M[0]) * p.x + static_cast<double>(M[1]) * p.y +
                          static_cast<double>(M[2]) * p.z + static_cast<double>(M[3]),
                      static_cast<double>(M[4]) * p.x + static_cast<double>(M[5]) * p.y +
@@ -107,8 +185,9 @@ double selection_estimate(const NfSelectLight& s, const float* table, const glm:
     c = std::max({corner_cos(nl, l, {ax, ay, cz}), corner_cos(nl, l, {bx, ay, cz}), corner_cos(nl, l, {ax, by, cz}),
                   corner_cos(nl, l, {bx, by, cz})});
     if (!(c > -1e-3)) return 0.0;
-    c = std::clamp(c, 0.05, 1.0);
+    c = bound ? cos_bound(nl, l, ax, bx, ay, by, cz) : std::clamp(c, 0.05, 1.0);
   }
+  if (bound) return bound_estimate(s, table, l, h, c);
   const double dx = std::max({static_cast<double>(s.sx0) - l.x, l.x - static_cast<double>(s.sx1), 0.0});
   const double dy = std::max({static_cast<double>(s.sy0) - l.y, l.y - static_cast<double>(s.sy1), 0.0});
   const double d2 = std::max(dx * dx + dy * dy + l.z * l.z, static_cast<double>(s.near2));
@@ -218,7 +297,7 @@ double farfield_selection_estimate(const NfSelectFarfield& f, const float* table
 }
 
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
-                                            const FarfieldSelect* farfield) {
+                                            SelectionEstimate estimate, const FarfieldSelect* farfield) {
   const std::size_t nf = farfield ? farfield->size() : 0;
   std::vector<double> q(lights.size() + nf, 0.0);
   if (!surface.valid) return q;
@@ -226,7 +305,8 @@ std::vector<double> selection_probabilities(std::span<const LightInstance> light
   const bool use_cos = surface.brdf != NF_BRDF_SCALAR;
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    q[i] = selection_estimate(select_light(lights[i]), lights[i].luminaire->selection_table().data(), p, n, use_cos);
+    q[i] = selection_estimate(select_light(lights[i], estimate), lights[i].luminaire->selection_table().data(), p, n,
+                              use_cos);
     total += q[i];
   }
   double total_ff = 0.0;

@@ -15,13 +15,16 @@
 
 namespace nf::render {
 
-// The kernel's record of one instance (its luminaire must be set); `table` = the offset of its
-// luminaire's direction table in the tables buffer the kernel gets.
-NfSelectLight select_light(const LightInstance& li, int table = 0);
+// The kernel's record of one instance (its luminaire must be set); `estimate` = the setting
+// selection_estimate (the record's mode: NF_SELECT_MODE_TABLE or NF_SELECT_MODE_BOUND); `table` = the
+// offset of its luminaire's tables in the tables buffer the kernel gets.
+NfSelectLight select_light(const LightInstance& li, SelectionEstimate estimate, int table = 0);
 
 // f_i(p) of kernels/common/light_select.h in double: p and n in the surfaces' frame; use_cos false
-// for scalar probes; `table` = the luminaire's direction table (DeviceLuminaire::selection_table()).
-// 0 exactly where the instance provably sends no light to p.
+// for scalar probes; `table` = the luminaire's tables (DeviceLuminaire::selection_table(): the
+// direction table, then the bound tables). The record's mode picks the estimate: the bound of E_i(p)
+// (NF_SELECT_MODE_BOUND) or the direction-table estimate (the default). 0 exactly where the instance
+// provably sends no light to p.
 double selection_estimate(const NfSelectLight& s, const float* table, const glm::dvec3& p, const glm::dvec3& n,
                           bool use_cos);
 
@@ -40,9 +43,10 @@ FarfieldSelect farfield_select(const std::vector<scene::FarfieldLightRef>& light
 double farfield_selection_estimate(const NfSelectFarfield& f, const float* table, const glm::dvec3& p,
                                    const glm::dvec3& n, bool use_cos);
 
-// q_i(p) for every instance, then every far-field light of `farfield` (sums to 1), or all zeros
-// where no light can light the surface (background surfaces included).
+// q_i(p) for every instance (f_i by `estimate`, the setting selection_estimate), then every far-field
+// light of `farfield` (sums to 1), or all zeros where no light can light the surface (background
+// surfaces included).
 std::vector<double> selection_probabilities(std::span<const LightInstance> lights, const NfSurface& surface,
-                                            const FarfieldSelect* farfield = nullptr);
+                                            SelectionEstimate estimate, const FarfieldSelect* farfield = nullptr);
 
 }  // namespace nf::render

@@ -92,7 +92,7 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
     } else {
       off = it->second;
     }
-    rec.push_back(select_light(li, off));
+    rec.push_back(select_light(li, s.selection_estimate, off));
   }
   auto grow = [&](::cl::Buffer& b, std::size_t bytes) {
     bytes = std::max<std::size_t>(bytes, 16);

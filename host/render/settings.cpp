@@ -32,6 +32,7 @@ void bind(R& r, S& s, F&& f) {
   f("pixel_cache", r.pixel_cache, s.pixel_cache_mib);
   f("light_selection", r.light_selection, s.light_selection);
   f("selection_picks", r.selection_picks, s.selection_picks);
+  f("selection_estimate", r.selection_estimate, s.selection_estimate);
 }
 
 }  // namespace
@@ -42,6 +43,7 @@ std::string to_string(Balance v) { return scene::choice_name(v); }
 std::string to_string(SearchKind v) { return scene::choice_name(v); }
 std::string to_string(Structure v) { return scene::choice_name(v); }
 std::string to_string(LightSelection v) { return scene::choice_name(v); }
+std::string to_string(SelectionEstimate v) { return scene::choice_name(v); }
 std::string to_string(Mis v) { return scene::choice_name(v); }
 std::string to_string(BalanceEstimate v) { return scene::choice_name(v); }
 
@@ -124,6 +126,8 @@ std::string SamplingSettings::describe() const {
       search_depth < 0 ? std::string("unlimited") : std::to_string(search_depth), to_string(structure), spp,
       k_max == 0 ? std::string("none") : std::to_string(k_max), seed, frame, to_string(light_selection));
   if (light_selection != LightSelection::all && selection_picks != 1) d += fmt::format(" picks={}", selection_picks);
+  if (light_selection != LightSelection::all && selection_estimate != SelectionEstimate::table)
+    d += " selection_estimate=" + to_string(selection_estimate);
   if (effective_mis() != Mis::none) d += " mis=" + to_string(mis);
   if (balance_estimate != BalanceEstimate::exact) d += " balance_estimate=" + to_string(balance_estimate);
   return d;

@@ -19,6 +19,7 @@ using scene::Method;
 using scene::Mis;
 using scene::SamplerKind;
 using scene::SearchKind;
+using scene::SelectionEstimate;
 using scene::Structure;
 
 // Light selection `auto` is `flat` from kAutoSelectionInstances light-field instances on, `all`
@@ -36,6 +37,7 @@ std::string to_string(Balance v);
 std::string to_string(SearchKind v);
 std::string to_string(Structure v);
 std::string to_string(LightSelection v);
+std::string to_string(SelectionEstimate v);
 std::string to_string(Mis v);
 std::string to_string(BalanceEstimate v);
 
@@ -89,6 +91,8 @@ struct SamplingSettings {
   int pixel_cache_mib;             // pixel_cache (docs/sampling.md "Pixel cache"); 0 = recompute every frame
   LightSelection light_selection;  // light_selection
   int selection_picks;             // selection_picks: M, picks per pixel and frame (docs/sampling.md)
+  // selection_estimate: the f_i(p) the picks are drawn from (docs/sampling.md "The bound")
+  SelectionEstimate selection_estimate;
 
   // Each bound field checked by its declaration in the registry (the messages a scene file gets,
   // prefixed "sampling."), and band; throws nf::Error naming the bad field.

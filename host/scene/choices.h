@@ -34,6 +34,10 @@ enum class Structure { per_image, fused };
 // `automatic` ("auto") is `flat` from kAutoSelectionInstances instances on, `all` below (measured
 // crossover of the equal-time error, bench/results/selection/README.md).
 enum class LightSelection { all, flat, automatic };
+// The estimate f_i(p) the selection draws from (docs/sampling.md "Two kinds of light", "The bound"):
+// the direction table's intensity estimate (`table`, the default: it measured better at N = 32 and
+// 128, bench/results/selection/README.md run 4) or the bound of the instance's contribution E_i(p).
+enum class SelectionEstimate { table, bound };
 // MIS of the light-field samples with BRDF samples (docs/mis.md): off, balance or power heuristic.
 enum class Mis { none, balance, power };
 // What K_m(p) is balanced from (docs/sampling.md "Balancing from block estimates"): the block estimate
@@ -72,6 +76,7 @@ NF_CHOICE_TABLE(SearchKind, {SearchKind::secant, "secant"}, {SearchKind::binary,
 NF_CHOICE_TABLE(Structure, {Structure::per_image, "per-image"}, {Structure::fused, "fused"})
 NF_CHOICE_TABLE(LightSelection, {LightSelection::automatic, "auto"}, {LightSelection::all, "all"},
                 {LightSelection::flat, "flat"})
+NF_CHOICE_TABLE(SelectionEstimate, {SelectionEstimate::table, "table"}, {SelectionEstimate::bound, "bound"})
 NF_CHOICE_TABLE(Mis, {Mis::none, "none"}, {Mis::balance, "balance"}, {Mis::power, "power"})
 NF_CHOICE_TABLE(BalanceEstimate, {BalanceEstimate::blocks, "blocks"}, {BalanceEstimate::exact, "exact"})
 NF_CHOICE_TABLE(Visibility, {Visibility::none, "none"}, {Visibility::shadowmaps, "shadowmaps"})

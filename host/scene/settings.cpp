@@ -213,6 +213,12 @@ std::vector<Setting> declare() {
           "M, picks per pixel and frame with light selection (systematic sampling of q_i; a light picked c "
           "times gets round(c K / M) samples, weight c / (M q_i); docs/sampling.md \"Light selection\")",
           [](auto& r) -> auto& { return r.selection_picks; }),
+      choice<SelectionEstimate>(
+          "selection_estimate", "selection_estimate", "luminaires", R,
+          "the estimate f_i(p) light selection draws from: table = the direction table's intensity estimate "
+          "(measured better at 32 and 128 instances), bound = a conservative bound of the instance's "
+          "contribution E_i(p) (docs/sampling.md \"The bound\")",
+          [](auto& r) -> auto& { return r.selection_estimate; }),
       choice<EnvGlossy>(
           "env_glossy", "env_glossy", "environment", R,
           "environment glossy estimator: BRDF sampling, filtered importance sampling, rotated, map sampling, "

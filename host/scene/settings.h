@@ -43,6 +43,8 @@ struct RenderSettings {
   std::string light_selection = "auto";  // auto | all | flat (M picks per pixel and frame, q_i(p))
   int selection_picks = 1;               // M, picks per pixel and frame of light_selection flat, 1..15
   TonemapParams tonemap;                 // exposure, gamma
+  // table | bound: the estimate f_i(p) light selection draws from (docs/sampling.md "The bound")
+  std::string selection_estimate = "table";
   // environment (docs/environment.md)
   std::string env_glossy = "fis";       // mc | fis | fis-rotated | env-is | env-fis | regular
   int env_samples = 32;                 // N, glossy (and diffuse mc) directions per pixel per frame

@@ -14,16 +14,46 @@ typedef struct {
   nf_float near2;        /* floor of the squared distance in the estimate (m^2), > 0 */
   nf_float sx0, sy0, sx1, sy1; /* S rectangle (z = 0) */
   nf_float ux0, uy0, ux1, uy1; /* U rectangle (z = -delta): the union of the basis supports */
-  nf_int table;   /* offset of the luminaire's direction table (NF_SELECT_TABLE + 1)^2 floats, a SAT */
-  nf_float ta, tb; /* the table covers directions (a, b) = (dx / dz, dy / dz) in [-ta, ta] x [-tb, tb] */
-  nf_int pad;
-} NfSelectLight; /* 160 bytes */
+  nf_int table;   /* offset of the luminaire's tables: the direction table ((NF_SELECT_TABLE + 1)^2 floats,
+                     a SAT), then the bound tables (NF_SELECT_B_*), NF_SELECT_TABLES_SIZE floats in all */
+  nf_float ta, tb; /* the tables cover directions (a, b) = (dx / dz, dy / dz) in [-ta, ta] x [-tb, tb] */
+  nf_int mode;     /* NF_SELECT_MODE_*: which estimate f_i (common/light_select.h) */
+  nf_float intensity; /* the instance's intensity (NF_SELECT_MODE_BOUND) */
+  nf_float lpeak;     /* the largest pixel value C_m(s) over the luminaire's images (Y) */
+  nf_float margin;    /* added to every sum of J (shared below): covers its float rounding (> 0) */
+  nf_int goesele;     /* 1: Psi_m carries delta^2 / cos^4 (NF_RECON_GOESELE2003) */
+  nf_float gmargin;   /* the same for the SAT of G x the cells' slope areas */
+  nf_int pad1;
+} NfSelectLight; /* 184 bytes */
+
+/* The estimates f_i (the setting selection_estimate): the direction table's intensity estimate (table,
+   the default) or the bound of the contribution E_i(p) built from the bound tables (bound). */
+#define NF_SELECT_MODE_TABLE 0
+#define NF_SELECT_MODE_BOUND 1
 
 /* Direction table of a luminaire (host/render/device_luminaire.cpp): its light per steradian on a
    NF_SELECT_TABLE^2 grid of directions (a, b) (slopes of the ray u -> s -> p), normalised to
    sum_cells I Omega = 1 and floored at 1e-3 of its maximum, stored as a summed-area table
    (NF_SELECT_TABLE + 1)^2, row b, column a. */
 #define NF_SELECT_TABLE 24
+
+/* Bound tables of a luminaire (host/render/device_luminaire.cpp, docs/sampling.md "The bound"), on a
+   NF_SELECT_BOUND^2 grid of slope cells c (row b, column a) over the same [-ta, ta] x [-tb, tb], with
+   L(s, t) = sum_m C_m(s) Phi_m(s - delta t) R(t) the radiance leaving S at s along slope t:
+     J(c) >= integral over S of max_{t in c} L(s, t) ds   (Y m^2)
+     G(c) >= max over s of max_{t in c} L(s, t)           (Y)
+   stored after the direction table, at these offsets from it: J as a summed-area table
+   (NF_SELECT_BOUND + 1)^2, J per cell, G per cell, and G x the cell's slope area as a SAT. */
+#define NF_SELECT_BOUND 32
+#define NF_SELECT_DIR_SIZE ((NF_SELECT_TABLE + 1) * (NF_SELECT_TABLE + 1))
+#define NF_SELECT_BSAT_SIZE ((NF_SELECT_BOUND + 1) * (NF_SELECT_BOUND + 1))
+#define NF_SELECT_B_JSAT NF_SELECT_DIR_SIZE
+#define NF_SELECT_B_J (NF_SELECT_B_JSAT + NF_SELECT_BSAT_SIZE)
+#define NF_SELECT_B_G (NF_SELECT_B_J + NF_SELECT_BOUND * NF_SELECT_BOUND)
+#define NF_SELECT_B_GSAT (NF_SELECT_B_G + NF_SELECT_BOUND * NF_SELECT_BOUND)
+#define NF_SELECT_TABLES_SIZE (NF_SELECT_B_GSAT + NF_SELECT_BSAT_SIZE)
+/* Loop over the cells T(p) meets when there are at most this many; else use the SATs */
+#define NF_SELECT_LOOP_CELLS 16
 
 /* A far-field goniometric point light (shared/farfield.h) as the selection sees it: its position, its
    world -> local rotation and a bound table of its intensity, NF_SELECT_FF_C x NF_SELECT_FF_G cells of
