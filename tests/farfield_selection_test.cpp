@@ -15,6 +15,7 @@
 #include <memory>
 #include <random>
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "luminaire/goniometric.h"
@@ -390,7 +391,7 @@ TEST(FarfieldSelection, ThousandFarfieldLightsStayFinite) {
                                            surf[static_cast<std::size_t>(i)].pz)
                               : glm::dvec3(2.0 * u(rng), 2.0 * u(rng), -0.5 + 0.5 * u(rng));
     const double intensity = i % 11 == 0 ? 0.0 : (i % 13 == 0 ? 1e6 : 1.0 + u(rng));
-    ffl.push_back(lamp("l" + std::to_string(i), place(at, 40.0 * u(rng)), intensity, i % 2 == 0));
+    ffl.push_back(lamp(fmt::format("l{}", i), place(at, 40.0 * u(rng)), intensity, i % 2 == 0));
     ffl.push_back(ffl.back());  // coincident
   }
   LuminaireContribution lc(rt, {}, ffl);

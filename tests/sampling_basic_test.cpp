@@ -193,6 +193,7 @@ TEST(SamplingKernels, LanesAndStructuresAgree) {
     s.search = v.search;
     s.balance = v.balance;
     s.balance_estimate = v.estimate;
+    s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
     s.spp = 48;
     s.lanes = 1;
     // block balancing is the fused pass's (the per-image passes balance from the exact A_m(p),

@@ -196,6 +196,7 @@ TEST(BlockBalance, KernelsComputeTheRefinedEstimate) {
   li.luminaire = &dl;
   SamplingSettings s;
   s.balance_estimate = BalanceEstimate::blocks;
+  s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
   s.spp = 12;
   ASSERT_TRUE(Sampler::block_balance(s));
   sampler.run(buf, static_cast<int>(pts.size()), {&li, 1}, s);
@@ -267,6 +268,7 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
     for (auto st : {Structure::fused}) {
       SamplingSettings s;
       s.balance_estimate = BalanceEstimate::blocks;
+      s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
       s.sampler = SamplerKind::random;
       s.spp = 2;
       s.seed = 77;
@@ -292,6 +294,8 @@ TEST(BlockBalance, OnlyTheBalancedMethodsWithoutMisUseIt) {
   SamplingSettings s;
   EXPECT_FALSE(Sampler::block_balance(s));  // the default balances from the exact A_m(p) (docs/sampling.md)
   s.balance_estimate = BalanceEstimate::blocks;
+  EXPECT_FALSE(Sampler::block_balance(s));  // the default mis (power) needs the exact masses (docs/mis.md)
+  s.mis = Mis::none;
   EXPECT_TRUE(Sampler::block_balance(s));
   for (auto m : {Method::ours, Method::paper, Method::uniform}) {
     s.method = m;
@@ -376,6 +380,7 @@ TEST(BlockBalance, RefinementKeepsTheBikeGrazingPointUnbiased) {
   const auto ref = references(l, pts);
   SamplingSettings s;
   s.balance_estimate = BalanceEstimate::blocks;
+  s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
   s.sampler = SamplerKind::random;
   s.spp = K;
   s.seed = 77;
@@ -441,6 +446,7 @@ TEST(BlockBalance, KeptBoxesServeEveryLane) {
   for (const int K : {64, 8}) {
     SamplingSettings s;
     s.balance_estimate = BalanceEstimate::blocks;
+    s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
     s.sampler = SamplerKind::random;
     s.seed = 41;
     s.spp = K;
