@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
@@ -87,6 +88,45 @@ TEST(ClRuntime, BuildFailureReportsFileErrorNameAndLog) {
     EXPECT_NE(msg.find("CL_BUILD_PROGRAM_FAILURE"), std::string::npos) << msg;
     EXPECT_NE(msg.find("this_is_not_defined"), std::string::npos) << "build log missing: " << msg;
   }
+}
+
+// An error inside an included header names the header and its own line (the loader's #line
+// directives), and the line after the #include is numbered as in the including file.
+TEST(ClRuntime, BuildErrorsNameTheIncludedFileAndItsLine) {
+  const auto dir = nf::testing::temp_dir("broken_include");
+  std::filesystem::create_directories(dir / "common");
+  std::ofstream(dir / "common" / "bad.h") << "/* line 1 */\n/* line 2 */\nfloat bad(void) { return not_defined_in_h; }\n";
+  std::ofstream(dir / "main.cl") << "/* 1 */\n#include \"common/bad.h\"\n/* 3 */\n"
+                                    "__kernel void k(__global float* x) { x[0] = bad() + not_defined_in_cl; }\n";
+  setenv("NEARFIELD_KERNEL_DIR", dir.c_str(), 1);
+  const std::string src = nf::cl::kernel_source("main.cl");
+  nf::cl::Runtime rt("cpu");
+  std::string msg;
+  try {
+    rt.program("main.cl");
+  } catch (const nf::Error& e) {
+    msg = e.what();
+  }
+  unsetenv("NEARFIELD_KERNEL_DIR");
+  EXPECT_NE(src.find("#line 1 \"common/bad.h\""), std::string::npos) << src;
+  EXPECT_NE(msg.find("common/bad.h:3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("main.cl:4"), std::string::npos) << msg;
+}
+
+// NEARFIELD_CL_EXTRA_OPTIONS is appended to every build (bench/README.md: -g for a per-line profile);
+// a define given there reaches the kernel.
+TEST(ClRuntime, ExtraOptionsReachTheBuild) {
+  setenv("NEARFIELD_CL_EXTRA_OPTIONS", "-DNF_TEST_EXTRA=1", 1);
+  nf::cl::Runtime rt("cpu");
+  const auto dir = nf::testing::temp_dir("extra_options");
+  std::ofstream(dir / "extra.cl") << "#ifndef NF_TEST_EXTRA\n#error NF_TEST_EXTRA missing\n#endif\n"
+                                     "__kernel void k(__global float* x) { x[0] = NF_TEST_EXTRA; }\n";
+  setenv("NEARFIELD_KERNEL_DIR", dir.c_str(), 1);
+  EXPECT_NO_THROW(rt.program("extra.cl"));
+  unsetenv("NEARFIELD_CL_EXTRA_OPTIONS");
+  nf::cl::Runtime plain("cpu");
+  EXPECT_THROW(plain.program("extra.cl"), nf::Error);
+  unsetenv("NEARFIELD_KERNEL_DIR");
 }
 
 TEST(ClRuntime, MissingKernelNameIsReported) {

@@ -201,6 +201,8 @@ std::string inline_includes(const std::string& file, int depth) {
   static const std::regex inc_re(R"(^\s*#\s*include\s*\"([^\"]+)\"\s*$)");
   std::istringstream in(raw_source(file));
   std::ostringstream out;
+  // #line with the file's name: build logs and debug line tables (-g) name the kernel file and its line.
+  out << "#line 1 \"" << file << "\"\n";
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {
@@ -208,7 +210,7 @@ std::string inline_includes(const std::string& file, int depth) {
     std::smatch m;
     if (std::regex_match(line, m, inc_re)) {
       out << inline_includes(m[1].str(), depth + 1) << "\n";
-      out << "#line " << line_no + 1 << "\n";
+      out << "#line " << line_no + 1 << " \"" << file << "\"\n";
     } else {
       out << line << "\n";
     }
@@ -258,7 +260,10 @@ Runtime::Runtime(const std::string& device_spec) {
   if (auto it = programs_.find(key); it != programs_.end()) return it->second;
   const std::string source = kernel_source(file);
   ::cl::Program prog(context_, source);
-  const std::string opts = "-cl-std=CL1.2 " + options;
+  std::string opts = "-cl-std=CL1.2 " + options;
+  // NEARFIELD_CL_EXTRA_OPTIONS (e.g. "-g" for a per-line kernel profile, bench/README.md) is appended
+  // to every program's options; it changes no result.
+  if (const char* extra = std::getenv("NEARFIELD_CL_EXTRA_OPTIONS"); extra && *extra) opts += std::string(" ") + extra;
   auto build_log = [&] {
     try {
       return trim(prog.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_));
