@@ -95,7 +95,8 @@ TEST(ClRuntime, BuildFailureReportsFileErrorNameAndLog) {
 TEST(ClRuntime, BuildErrorsNameTheIncludedFileAndItsLine) {
   const auto dir = nf::testing::temp_dir("broken_include");
   std::filesystem::create_directories(dir / "common");
-  std::ofstream(dir / "common" / "bad.h") << "/* line 1 */\n/* line 2 */\nfloat bad(void) { return not_defined_in_h; }\n";
+  std::ofstream(dir / "common" / "bad.h")
+      << "/* line 1 */\n/* line 2 */\nfloat bad(void) { return not_defined_in_h; }\n";
   std::ofstream(dir / "main.cl") << "/* 1 */\n#include \"common/bad.h\"\n/* 3 */\n"
                                     "__kernel void k(__global float* x) { x[0] = bad() + not_defined_in_cl; }\n";
   setenv("NEARFIELD_KERNEL_DIR", dir.c_str(), 1);
