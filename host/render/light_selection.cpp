@@ -316,8 +316,8 @@ std::vector<double> selection_probabilities(std::span<const LightInstance> light
     total_ff += q[lights.size() + k];
   }
   // the far-field lights' share of the picks, clamped where both kinds can light p (NF_LS_KIND_MIN,
-  // kernels/common/light_select.h)
-  constexpr double kKindMin = 0.1;
+  // kernels/shared/light_select.h; the kernel clamps in float with the same constant)
+  constexpr double kKindMin = NF_LS_KIND_MIN;
   const bool both = total > 0.0 && total_ff > 0.0;
   const double s_ff =
       both ? std::clamp(total_ff / (total + total_ff), kKindMin, 1.0 - kKindMin) : (total_ff > 0.0 ? 1.0 : 0.0);

@@ -22,11 +22,10 @@
 #include "shared/light_select.h"
 
 /* With both kinds of light able to reach p, the far-field lights get the share
-   sum_ff f / (sum_instances f + sum_ff f) of the picks clamped to [NF_LS_KIND_MIN, 1 - NF_LS_KIND_MIN],
-   the instances the rest, each kind in proportion to its own f. The two kinds' estimates are not in
-   the same units (docs/sampling.md "Two kinds of light"), so neither may starve the other. Host
-   mirror: render::selection_probabilities (host/render/light_selection.cpp, kKindMin). */
-#define NF_LS_KIND_MIN 0.1f
+   sum_ff f / (sum_instances f + sum_ff f) of the picks clamped to [NF_LS_KIND_MIN, 1 - NF_LS_KIND_MIN]
+   (shared/light_select.h), the instances the rest, each kind in proportion to its own f. The two kinds'
+   estimates are not in the same units (docs/sampling.md "Two kinds of light"), so neither may starve
+   the other. Host mirror: render::selection_probabilities (host/render/light_selection.cpp). */
 
 /* [lo, hi] of (1 - lambda) u + lambda s over u in [u0, u1], s in [s0, s1] (lambda > 0). */
 NF_INLINE void nf_ls_reach(float lambda, float s0, float s1, float u0, float u1, float* lo, float* hi) {
