@@ -168,7 +168,7 @@ NF_INLINE vf nf_roulette_u(vu rkey, int m) { return nf_unit(nf_hash_m(rkey, m));
 
 /* Surface shaded by launch slot `slot` (docs/sampling.md "Surface order"; shared/surface_order.h). */
 NF_INLINE uint nf_slot_surface(const NfSampleParams* P, uint slot) {
-  return nf_surface_at(slot, (uint)P->count, P->shuffle_bits, NF_SURFACE_ORDER_KEY);
+  return nf_slot_pixel(slot, (uint)P->count, P->shuffle_bits, P->image_width, NF_SURFACE_ORDER_KEY);
 }
 
 /* The surfaces of the NF_LANES slots from `first` on (slots past the count map to themselves). */

@@ -16,7 +16,8 @@
 static_assert(sizeof(NfInstance) == 112);
 static_assert(offsetof(NfInstance, normal) == 48);
 static_assert(offsetof(NfInstance, intensity) == 96);
-static_assert(sizeof(NfSampleParams) == 56);
+static_assert(sizeof(NfSampleParams) == 60);
+static_assert(offsetof(NfSampleParams, image_width) == 56);
 static_assert(offsetof(NfSampleParams, shuffle_bits) == 52);
 static_assert(offsetof(NfSampleParams, roulette_block) == 48);
 static_assert(offsetof(NfSampleParams, seed) == 16);

@@ -20,6 +20,9 @@ void LuminaireContribution::set_materials(const std::vector<scene::Material>& ma
 SamplingSettings LuminaireContribution::frame_sampling(const FrameInputs& in) const {
   SamplingSettings s = in.settings.sampling;
   s.frame = in.frame;
+  // the surfaces are the camera's pixels (rows from the top): visited in tiles (docs/sampling.md "Surface order")
+  if (in.camera && in.camera->width > 0 && in.count == in.camera->width * in.camera->height)
+    s.image_width = in.camera->width;
   return s;
 }
 

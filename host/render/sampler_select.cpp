@@ -238,6 +238,7 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
     const Outputs out{&v[1], &v[2], &v[3], mean_direction_ ? &v[4] : nullptr, false};
     // this list's share of K; its own seed, so lists of one instance do not repeat each other's numbers
     SamplingSettings sk = s;
+    sk.image_width = 0;  // a compact list, not an image
     sk.spp = std::max(1, (picked * s.spp + M / 2) / M);
     sk.seed = s.seed + 0x9e3779b9U * static_cast<std::uint32_t>(picked - 1);
     launch_instance(li, i, v[0], static_cast<int>(c), out, sk, 0, false, st, ev);

@@ -62,8 +62,8 @@ std::vector<std::string> mis_names();
 std::vector<std::string> balance_estimate_names();
 
 // The light-field contribution's typed view of its declared settings (scene/settings.cpp declares
-// them, their defaults and ranges). Default-constructed from the declared defaults; `frame` and
-// `band` are not user settings.
+// them, their defaults and ranges). Default-constructed from the declared defaults; `frame`,
+// `image_width` and `band` are not user settings.
 struct SamplingSettings {
   SamplingSettings();                                         // the declared defaults
   explicit SamplingSettings(const scene::RenderSettings& r);  // r's values (r validated by the registry)
@@ -84,6 +84,7 @@ struct SamplingSettings {
   int search_depth;                // search_depth: CDF evaluations per 1D inversion; < 0 = unlimited (exact)
   std::uint32_t seed;              // seed: random and scrambled sequences
   std::uint32_t frame = 0;         // progressive frame index: advances every sequence
+  int image_width = 0;             // > 0: the surfaces are an image this wide, visited in tiles (not a user setting)
   double band = 0.05;              // |z| < band * delta: U-parametrised estimator (docs/sampling.md)
   int lanes;                       // lanes: surfaces per work-item (1, 4, 8, 16); 0 = automatic
   int roulette_block;              // roulette_block (docs/sampling.md "Roulette blocks")

@@ -77,7 +77,9 @@ typedef struct {
                              and frame (docs/sampling.md "Roulette blocks") */
   nf_uint shuffle_bits;   /* slots visit the surfaces in a pseudo-random order inside chunks of
                              2^shuffle_bits (0 = row order; shared/surface_order.h) */
-} NfSampleParams;         /* 56 bytes */
+  nf_uint image_width;    /* > 0: the surfaces are the pixels of an image this wide, and the chunks
+                             are tiles of it (nf_slot_pixel); 0: a list */
+} NfSampleParams;         /* 60 bytes */
 
 /* One sample of the debug kernel lf_debug_samples (tests: distributions and search cost). */
 typedef struct {

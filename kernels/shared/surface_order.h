@@ -49,6 +49,34 @@ NF_SO_INLINE nf_uint nf_surface_at(nf_uint slot, nf_uint count, nf_uint bits, nf
   return base + x;
 }
 
+/* Surfaces that are the pixels of an image `width` wide (count = width x height, rows from the top)
+   are visited tile by tile: index g of the chunked order above runs through the image cut into bands
+   of th rows, each band into tiles of tw columns (the last band and each band's last tile may be
+   smaller), tiles along the band, pixels row by row inside a tile; this returns g's row-major pixel.
+   A bijection on [0, count). With chunks of tw x th (the default 2^6 = 8 x 8), the lanes and
+   roulette blocks of a chunk come from one tile instead of a run along a row: nearer each other,
+   so they take more of the same images and SAT lines (docs/sampling.md "Surface order"). width = 0
+   (or a count that is not a whole number of rows) keeps g. */
+NF_SO_INLINE nf_uint nf_tile_pixel(nf_uint g, nf_uint width, nf_uint count, nf_uint tw, nf_uint th) {
+  if (width == 0U || g >= count || count % width != 0U) return g;
+  const nf_uint height = count / width;
+  const nf_uint band = g / (th * width);
+  const nf_uint r = g - band * th * width;
+  const nf_uint hb = height - band * th < th ? height - band * th : th;
+  const nf_uint tile = r / (tw * hb);
+  const nf_uint within = r - tile * tw * hb;
+  const nf_uint wt = width - tile * tw < tw ? width - tile * tw : tw;
+  return (band * th + within / wt) * width + tile * tw + within % wt;
+}
+
+/* The surface slot `slot` shades: the chunked order (nf_surface_at), through the tiles of an image
+   `width` wide when width > 0; a chunk of 2^bits is a tile of 2^ceil(bits/2) x 2^floor(bits/2). */
+NF_SO_INLINE nf_uint nf_slot_pixel(nf_uint slot, nf_uint count, nf_uint bits, nf_uint width, nf_uint key) {
+  const nf_uint g = nf_surface_at(slot, count, bits, key);
+  if (width == 0U || bits == 0U) return g;
+  return nf_tile_pixel(g, width, count, 1U << ((bits + 1U) / 2U), 1U << (bits / 2U));
+}
+
 /* The permutation key: fixed, independent of the sampler seed, so the order (and the pixel cache
    laid out by it) is the same for every seed. */
 #define NF_SURFACE_ORDER_KEY 0x1b873593U
