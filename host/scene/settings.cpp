@@ -193,7 +193,7 @@ std::vector<Setting> declare() {
           [](auto& r) -> auto& { return r.roulette_block; }),
       integer(
           "surface_shuffle", "surface_shuffle", 0, 20, "luminaires", R,
-          "log2 of the chunks of consecutive pixels inside which the kernels visit surfaces in a fixed "
+          "log2 of the chunks (image tiles, 8 x 8 at 6) inside which the kernels visit surfaces in a fixed "
           "pseudo-random order, so roulette blocks and SIMD lanes are scattered instead of runs along a row "
           "(0 = row order; docs/sampling.md \"Surface order\")",
           [](auto& r) -> auto& { return r.surface_shuffle; }),
