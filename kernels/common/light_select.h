@@ -41,27 +41,30 @@ NF_INLINE float nf_ls_corner_cos(float nx, float ny, float nz, float px, float p
   return d > 0.0f ? (nx * dx + ny * dy + nz * dz) / d : 1.0f;
 }
 
-/* Mean of a direction table (a SAT) over the slopes [a0, a1] x [b0, b1]. */
-NF_INLINE float nf_ls_table(__global const float* sat, float ta, float tb, float a0, float a1, float b0, float b1) {
-  const int T = NF_SELECT_TABLE;
+/* Sum (>= 0) of a SAT of T x T cells over [-ta, ta] x [-tb, tb] over the cells that meet the slopes
+   [a0, a1] x [b0, b1] (clamped to the table); *cells gets their number. */
+NF_INLINE float nf_ls_cells_sum(__global const float* sat, int T, float ta, float tb, float a0, float a1, float b0,
+                                float b1, int* cells) {
   const float sa = (float)T / (2.0f * ta), sb = (float)T / (2.0f * tb);
   const int i0 = clamp((int)floor((a0 + ta) * sa), 0, T - 1), i1 = clamp((int)floor((a1 + ta) * sa), 0, T - 1);
   const int j0 = clamp((int)floor((b0 + tb) * sb), 0, T - 1), j1 = clamp((int)floor((b1 + tb) * sb), 0, T - 1);
   const int w = T + 1;
   const float s = sat[(j1 + 1) * w + i1 + 1] - sat[j0 * w + i1 + 1] - sat[(j1 + 1) * w + i0] + sat[j0 * w + i0];
-  return fmax(s, 0.0f) / (float)((i1 - i0 + 1) * (j1 - j0 + 1));
+  *cells = (i1 - i0 + 1) * (j1 - j0 + 1);
+  return fmax(s, 0.0f);
 }
 
-/* Sum of a bound SAT (NF_SELECT_BOUND^2 cells over [-ta, ta] x [-tb, tb]) over the cells that
-   meet the slopes [a0, a1] x [b0, b1] (inside the table). */
+/* Mean of a direction table (a SAT of NF_SELECT_TABLE^2 cells) over the slopes [a0, a1] x [b0, b1]. */
+NF_INLINE float nf_ls_table(__global const float* sat, float ta, float tb, float a0, float a1, float b0, float b1) {
+  int cells;
+  const float s = nf_ls_cells_sum(sat, NF_SELECT_TABLE, ta, tb, a0, a1, b0, b1, &cells);
+  return s / (float)cells;
+}
+
+/* Sum of a bound SAT (NF_SELECT_BOUND^2 cells) over the cells that meet the slopes [a0, a1] x [b0, b1]. */
 NF_INLINE float nf_ls_bound_sum(__global const float* sat, float ta, float tb, float a0, float a1, float b0, float b1) {
-  const int T = NF_SELECT_BOUND;
-  const float sa = (float)T / (2.0f * ta), sb = (float)T / (2.0f * tb);
-  const int i0 = clamp((int)floor((a0 + ta) * sa), 0, T - 1), i1 = clamp((int)floor((a1 + ta) * sa), 0, T - 1);
-  const int j0 = clamp((int)floor((b0 + tb) * sb), 0, T - 1), j1 = clamp((int)floor((b1 + tb) * sb), 0, T - 1);
-  const int w = T + 1;
-  const float s = sat[(j1 + 1) * w + i1 + 1] - sat[j0 * w + i1 + 1] - sat[(j1 + 1) * w + i0] + sat[j0 * w + i0];
-  return fmax(s, 0.0f);
+  int cells;
+  return nf_ls_cells_sum(sat, NF_SELECT_BOUND, ta, tb, a0, a1, b0, b1, &cells);
 }
 
 /* min and max of t^2 over t in [t0, t1] */
