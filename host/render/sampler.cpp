@@ -188,10 +188,17 @@ K Sampler::kernel(const std::string& name, const std::string& options) {
   return K(it->second, name, lf_kernels::kTakesDir<K> && !dir ? 1 : 0);
 }
 
+namespace {
+// NfSampleParams::image_width: the image's width when `count` surfaces are whole rows of it, else 0 (a list).
+nf_uint image_width_of(const SamplingSettings& s, int count) {
+  return s.image_width > 0 && count % s.image_width == 0 ? static_cast<nf_uint>(s.image_width) : 0;
+}
+}  // namespace
+
 std::uint32_t surface_of_slot(const SamplingSettings& s, int count, int slot) {
-  const nf_uint width = s.image_width > 0 && count % s.image_width == 0 ? static_cast<nf_uint>(s.image_width) : 0;
   return nf_slot_pixel(static_cast<nf_uint>(slot), static_cast<nf_uint>(count),
-                       static_cast<nf_uint>(std::clamp(s.surface_shuffle, 0, 20)), width, NF_SURFACE_ORDER_KEY);
+                       static_cast<nf_uint>(std::clamp(s.surface_shuffle, 0, 20)), image_width_of(s, count),
+                       NF_SURFACE_ORDER_KEY);
 }
 
 NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire& lum, int count, int vis_words) const {
@@ -208,7 +215,7 @@ NfSampleParams Sampler::params(const SamplingSettings& s, const DeviceLuminaire&
   p.band = static_cast<float>(s.band);
   p.roulette_block = static_cast<nf_uint>(std::max(s.roulette_block, 1));
   p.shuffle_bits = static_cast<nf_uint>(std::clamp(s.surface_shuffle, 0, 20));
-  p.image_width = s.image_width > 0 && count % s.image_width == 0 ? static_cast<nf_uint>(s.image_width) : 0;
+  p.image_width = image_width_of(s, count);
   p.vis_words = vis_words;
   p.flux_total = static_cast<float>(lum.flux_total());
   p.group_mul = 1;

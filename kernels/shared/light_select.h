@@ -69,9 +69,6 @@ typedef struct {
   nf_int pad0, pad1;
 } NfSelectFarfield; /* 64 bytes */
 
-/* The picks (kernels/light_select.cl ls_pick): per surface and pick slot, light << NF_LS_COUNT_BITS |
-   c (c = times picked, 1..15), light = index into the luminaire instances followed by the far-field
-   lights; NF_LS_NONE: no more picks. */
 /* The smallest share of the picks each kind of light (instances, far-field lights) gets where both can
    light p (common/light_select.h; host mirror render::selection_probabilities). Measured against 0 to
    0.3 in docs/sampling.md "Two kinds of light". A build option -DNF_LS_KIND_MIN=x
@@ -80,6 +77,9 @@ typedef struct {
 #define NF_LS_KIND_MIN 0.1f
 #endif
 
+/* The picks (kernels/light_select.cl ls_pick): per surface and pick slot, light << NF_LS_COUNT_BITS |
+   c (c = times picked, 1..15), light = index into the luminaire instances followed by the far-field
+   lights; NF_LS_NONE: no more picks. */
 #define NF_LS_NONE 0xffffffffU
 #define NF_LS_COUNT_BITS 4
 
