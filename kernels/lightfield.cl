@@ -731,9 +731,6 @@ NF_INLINE vi nf_balance(const NfSampleParams* P, const NfCtx* c, int m, int M, v
 }
 
 #include "common/lf_mis.h"
-#if NF_BLOCK_BALANCE && NF_MIS != NF_MIS_NONE
-#error "NF_BLOCK_BALANCE: MIS needs A_m(p) of every image (common/lf_mis.h); the host builds MIS exact"
-#endif
 
 /* One sample of image m = (i, j) at p from the 2D point (ux, uy) (Eq. 11 with Eq. 5 in the box,
    Eq. 9 in the band): the lanes in `sband` take the U-parametrised sample of the band, the lanes in
@@ -799,9 +796,11 @@ NF_INLINE vf nf_sample(const NfCtx* c, const NfLuminaire* L, __global const long
 /* I_m(p) of Eq. 14 for image m with K = K_m(p) samples per lane (0: lane idle), added to (ar, ag, ab):
      (A_m / K_m) sum_k Psi_m(u_k -> s_k) Delta / |s_k - p|^3 rho_k v_m c_m(s_k)
    (uniform: area(B_m) Y_m(s_k) in place of A_m; band: the U-parametrised sum of Eq. 9),
-   divided by the roulette probability, times v_m and the instance intensity. */
+   divided by the roulette probability, times v_m and the instance intensity. Under MIS the light sample's
+   weight uses c_m = E[K_m] and Wm, the A_m(p) that balanced K_m (with NF_BLOCK_BALANCE the refined block
+   estimate: the BRDF samples' weights use the same, common/lf_mis.h). */
 NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, int m, vi K, vf inv_p, vf Am,
-                        vf cm, const NfBox* b, float intensity, __global const long* sat, __global const float* quantum,
+                        vf Wm, vf cm, const NfBox* b, float intensity, __global const long* sat, __global const float* quantum,
                         __global const float4* chroma, __global const uint* vis, __global const float* t3, vf* ar,
                         vf* ag, vf* ab NF_DIR_PARAMS) {
   const int i = m % L->count_x, j = m / L->count_x;
@@ -823,6 +822,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
   const vi sband = has & c->band, sbox = has & !c->band;
 #if NF_MIS == NF_MIS_NONE
   (void)cm;
+  (void)Wm;
 #endif
 #if NF_UNIFORM_BOX
   const vf Aest = (b->sx.hi - b->sx.lo) * (b->sr.hi - b->sr.lo) * L->pixel_area; /* 1 / pdf, m^2 */
@@ -846,7 +846,7 @@ NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSamplePara
     const vi use = act & (g > 0.0f);
 #if NF_MIS != NF_MIS_NONE
     /* cm = E[K_m]: the MIS weight of this light sample against the BRDF strategy (common/lf_mis.h) */
-    if (ANY(use)) g *= nf_mis_light_weight(c, L, P, b, img, q, Am, cm, col, row, wx, wy, wz, use);
+    if (ANY(use)) g *= nf_mis_light_weight(c, L, P, b, img, q, Wm, cm, col, row, wx, wy, wz, use);
 #endif
     if (ANY(use)) {
       vf rr, rg, rb, cr, cg, cb;
@@ -975,7 +975,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
   vf dx = (vf)(0.0f), dy = (vf)(0.0f), dz = (vf)(0.0f);
 #endif
   const vf cm = nf_mis_count(&P, L.num_images, Am, A);
-  nf_image(&c, &L, &P, m, K, inv_p, Am, cm, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g,
+  nf_image(&c, &L, &P, m, K, inv_p, Am, Am, cm, &b, I.intensity, sat, quantum, chroma, vis, halton3, &r, &g,
            &bl NF_DIR_PASS);
 #if NF_MIS != NF_MIS_NONE
   /* the BRDF samples' share of image m (the same directions in every image's pass) */
@@ -1069,16 +1069,16 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
   for (int m = 0; m < M; ++m) {
     NfBox b;
     const NfBox* bp = &b;
-    vf Am, inv_p;
+    vf Am, Wm, inv_p;
     vi K;
 #if NF_BLOCK_BALANCE
     /* K_m from the weight of loop 1 (the refined block estimate, nf_refine); the exact A_m(p) and the box
        only for the images that get samples, taken from the refinement where it built them (kept). A_m = 0
        where the estimate was not: no samples (they would carry 0). */
     {
-      const vf Wm = est      ? am[m]
-                    : shared ? VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first)
-                             : nf_prepare(&c, &L, m, sat, quantum, info, &b);
+      Wm = est      ? am[m]
+           : shared ? VLOAD(am_cache + (size_t)m * (size_t)cache_stride + first)
+                    : nf_prepare(&c, &L, m, sat, quantum, info, &b);
       if (!ANY(Wm > 0.0f)) continue;
       K = nf_balance(&P, &c, m, L.num_images, Wm, A, &inv_p);
       if (!ANY(K > 0)) continue;
@@ -1103,15 +1103,17 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
       K = nf_balance(&P, &c, m, L.num_images, Am, A, &inv_p);
       if (!ANY(K > 0)) continue;
     }
+    Wm = Am;
 #endif
-    nf_image(&c, &L, &P, m, K, inv_p, Am, nf_mis_count(&P, M, Am, A), bp, I.intensity, sat, quantum, chroma, vis,
+    nf_image(&c, &L, &P, m, K, inv_p, Am, Wm, nf_mis_count(&P, M, Wm, A), bp, I.intensity, sat, quantum, chroma, vis,
              halton3, &r, &g, &bl NF_DIR_PASS);
     total += K;
   }
 #if NF_MIS != NF_MIS_NONE
   /* BRDF samples (common/lf_mis.h): N_B <= K directions per glossy lane, drawn a chunk at a time and
      shared by the images of the chunk's window on U (nf_mis_window); A_m(p) from loop 1 (private or
-     pixel cache) or recomputed */
+     pixel cache) or recomputed: with NF_BLOCK_BALANCE the weights loop 2 balanced with, as its light
+     samples' MIS weights use */
   const vi mis = nf_mis_lanes(&c) & (A > 0.0f);
   for (int k0 = 0; ANY(mis) && k0 < P.spp; k0 += NF_MIS_CHUNK) {
     NfMisDirs d;

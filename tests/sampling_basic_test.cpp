@@ -194,7 +194,7 @@ TEST(SamplingKernels, LanesAndStructuresAgree) {
     s.search = v.search;
     s.balance = v.balance;
     s.balance_estimate = v.estimate;
-    s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
+    s.mis = Mis::none;  // the block balance alone (with MIS: tests/mis_estimator_test.cpp)
     s.spp = 48;
     s.lanes = 1;
     // block balancing is the fused pass's (the per-image passes balance from the exact A_m(p),

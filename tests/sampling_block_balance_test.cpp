@@ -196,7 +196,7 @@ TEST(BlockBalance, KernelsComputeTheRefinedEstimate) {
   li.luminaire = &dl;
   SamplingSettings s;
   s.balance_estimate = BalanceEstimate::blocks;
-  s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
+  s.mis = Mis::none;  // the block balance alone (with MIS: tests/mis_estimator_test.cpp)
   s.spp = 12;
   ASSERT_TRUE(Sampler::block_balance(s));
   sampler.run(buf, static_cast<int>(pts.size()), {&li, 1}, s);
@@ -268,7 +268,7 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
     for (auto st : {Structure::fused}) {
       SamplingSettings s;
       s.balance_estimate = BalanceEstimate::blocks;
-      s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
+      s.mis = Mis::none;  // the block balance alone (with MIS: tests/mis_estimator_test.cpp)
       s.sampler = SamplerKind::random;
       s.spp = 2;
       s.seed = 77;
@@ -287,14 +287,14 @@ TEST(BlockBalance, UnbiasedWhereTheEstimateAndTheExactMassDiffer) {
 }
 
 // Which settings balance from the block estimates: the balanced methods that compute A_m(p) (ours, paper,
-// uniform) without MIS (its BRDF samples need the exact A_m(p) of every image); the equal-count methods
-// and global never compute A_m(p) to balance; balance_estimate exact turns it off, and so does the
-// per-image structure (the refinement needs every image's weight at once: the fused pass).
-TEST(BlockBalance, OnlyTheBalancedMethodsWithoutMisUseIt) {
+// uniform), with or without MIS (its weights use the balance weights, docs/mis.md "Block estimates"); the
+// equal-count methods and global never compute A_m(p) to balance; balance_estimate exact turns it off, and
+// so does the per-image structure (the refinement needs every image's weight at once: the fused pass).
+TEST(BlockBalance, OnlyTheBalancedMethodsOfTheFusedPassUseIt) {
   SamplingSettings s;
   EXPECT_FALSE(Sampler::block_balance(s));  // the default balances from the exact A_m(p) (docs/sampling.md)
   s.balance_estimate = BalanceEstimate::blocks;
-  EXPECT_FALSE(Sampler::block_balance(s));  // the default mis (power) needs the exact masses (docs/mis.md)
+  EXPECT_TRUE(Sampler::block_balance(s));  // also under the default mis (power)
   s.mis = Mis::none;
   EXPECT_TRUE(Sampler::block_balance(s));
   for (auto m : {Method::ours, Method::paper, Method::uniform}) {
@@ -306,8 +306,8 @@ TEST(BlockBalance, OnlyTheBalancedMethodsWithoutMisUseIt) {
     EXPECT_FALSE(Sampler::block_balance(s)) << to_string(m);
   }
   s.method = Method::ours;
-  s.mis = Mis::power;
-  EXPECT_FALSE(Sampler::block_balance(s));
+  s.mis = Mis::balance;
+  EXPECT_TRUE(Sampler::block_balance(s));
   s.mis = Mis::none;
   s.structure = Structure::per_image;
   EXPECT_FALSE(Sampler::block_balance(s));
@@ -380,7 +380,7 @@ TEST(BlockBalance, RefinementKeepsTheBikeGrazingPointUnbiased) {
   const auto ref = references(l, pts);
   SamplingSettings s;
   s.balance_estimate = BalanceEstimate::blocks;
-  s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
+  s.mis = Mis::none;  // the block balance alone (with MIS: tests/mis_estimator_test.cpp)
   s.sampler = SamplerKind::random;
   s.spp = K;
   s.seed = 77;
@@ -446,7 +446,7 @@ TEST(BlockBalance, KeptBoxesServeEveryLane) {
   for (const int K : {64, 8}) {
     SamplingSettings s;
     s.balance_estimate = BalanceEstimate::blocks;
-    s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md "The default")
+    s.mis = Mis::none;  // the block balance alone (with MIS: tests/mis_estimator_test.cpp)
     s.sampler = SamplerKind::random;
     s.seed = 41;
     s.spp = K;

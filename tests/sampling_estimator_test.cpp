@@ -122,7 +122,7 @@ void check_method(Method method, const std::vector<Case>& cases, int R, int spp,
       s.spp = spp;
       s.seed = 77;
       s.balance_estimate = be;
-      if (be == BalanceEstimate::blocks) s.mis = Mis::none;  // blocks balance only without MIS (docs/mis.md)
+      if (be == BalanceEstimate::blocks) s.mis = Mis::none;  // the block balance alone (with MIS: mis_estimator_test)
       const auto e = estimate(sampler, dl, ps.pts, R, s);
       EXPECT_TRUE(e.finite);
       // global: a point whose box holds a tiny part of the image flux gets (almost) no hits at

@@ -163,12 +163,12 @@ std::string Sampler::build_options(const SamplingSettings& s, bool chroma, bool 
 }
 
 // Counts balanced from the block estimates (docs/sampling.md "Balancing from block estimates"): the
-// balanced methods that sample the box (ours, paper, uniform) without MIS, whose BRDF samples need A_m(p)
-// of every image. The equal-count methods and global never compute A_m(p) to balance. Fused pass only:
-// the refinement of the estimates (kernels/lightfield.cl nf_refine) needs every image's weight at once.
+// balanced methods that sample the box (ours, paper, uniform), with or without MIS (the MIS weights then
+// use the balance weights, docs/mis.md "Block estimates"). The equal-count methods and global never compute
+// A_m(p) to balance. Fused pass only: the refinement of the estimates (kernels/lightfield.cl nf_refine)
+// needs every image's weight at once.
 bool Sampler::block_balance(const SamplingSettings& s) {
-  return s.balance_estimate == BalanceEstimate::blocks && s.effective_mis() == Mis::none &&
-         s.structure == Structure::fused &&
+  return s.balance_estimate == BalanceEstimate::blocks && s.structure == Structure::fused &&
          (s.method == Method::ours || s.method == Method::paper || s.method == Method::uniform);
 }
 

@@ -42,7 +42,7 @@ enum class SelectionEstimate { table, bound };
 enum class Mis { none, balance, power };
 // What K_m(p) is balanced from (docs/sampling.md "Balancing from block estimates"): the block estimate
 // of A_m(p) (exact A_m(p) only for the images that get samples) or the exact A_m(p) of every image.
-// blocks applies to ours, paper and uniform without MIS; the others always balance from exact.
+// blocks applies to ours, paper and uniform (fused pass); the others always balance from exact.
 enum class BalanceEstimate { blocks, exact };
 // ---- frame
 enum class Visibility { none, shadowmaps };

@@ -20,7 +20,11 @@
      light sample of m:  weight w_L = h(c_m p_m, N_B p_B),  BRDF sample: w_B = h(N_B p_B, c_m p_m),
      balance h(a, b) = a / (a + b), power (beta = 2) h(a, b) = a^2 / (a^2 + b^2);
    w_L + w_B = 1 for every direction, so the sum stays unbiased whatever c_m is (also c_m = 0: the
-   BRDF samples then carry f_m alone). A BRDF direction that misses every support or the image
+   BRDF samples then carry f_m alone), and whatever A_m(p) the weights' p_m is written with, as long as
+   both weights use the same: balanced from block estimates (NF_BLOCK_BALANCE) the weights use the
+   weight W_m that balanced K_m (the refined estimate, exact for every image with K W_m / W >= 1; an
+   image left estimated has c_m = K W_m / W < 1, so c_m p_m = K Y_m(s) J / W, W = sum_m W_m, J the
+   Jacobian above), and no image needs its exact A_m(p) for a weight (docs/mis.md "Block estimates"). A BRDF direction that misses every support or the image
    carries nothing; one that hits uses L(u -> s) = C_m(s) Psi_m(u -> s) as camera rays do, with the
    same per-image visibility v_m (shadow maps) as the light samples. */
 #include "common/brdf_sample.h"
