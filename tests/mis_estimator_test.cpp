@@ -283,6 +283,9 @@ TEST(MisEstimator, ExtremesStayFinite) {
         const Estimates e = estimate(sampler, dl, pts, 3, mis_settings(mis, Method::ours, st));
         EXPECT_TRUE(e.finite) << to_string(mis) << " " << to_string(st);
       }
+    SamplingSettings blocks = mis_settings(Mis::power);
+    blocks.balance_estimate = BalanceEstimate::blocks;
+    EXPECT_TRUE(estimate(sampler, dl, pts, 3, blocks).finite) << "power blocks";
   }
 }
 
