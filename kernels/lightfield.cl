@@ -800,9 +800,9 @@ NF_INLINE vf nf_sample(const NfCtx* c, const NfLuminaire* L, __global const long
    weight uses c_m = E[K_m] and Wm, the A_m(p) that balanced K_m (with NF_BLOCK_BALANCE the refined block
    estimate: the BRDF samples' weights use the same, common/lf_mis.h). */
 NF_INLINE void nf_image(const NfCtx* c, const NfLuminaire* L, const NfSampleParams* P, int m, vi K, vf inv_p, vf Am,
-                        vf Wm, vf cm, const NfBox* b, float intensity, __global const long* sat, __global const float* quantum,
-                        __global const float4* chroma, __global const uint* vis, __global const float* t3, vf* ar,
-                        vf* ag, vf* ab NF_DIR_PARAMS) {
+                        vf Wm, vf cm, const NfBox* b, float intensity, __global const long* sat,
+                        __global const float* quantum, __global const float4* chroma, __global const uint* vis,
+                        __global const float* t3, vf* ar, vf* ag, vf* ab NF_DIR_PARAMS) {
   const int i = m % L->count_x, j = m / L->count_x;
   vi has = K > 0;
 #if NF_HAS_VIS

@@ -67,9 +67,16 @@ void compare_bits(int cells_x, int cells_y, bool far = false) {
   const ::cl::Buffer surf = render::upload_surfaces(rt, step0.surfaces());
   ::cl::Buffer out;
   std::size_t out_bytes = 0;
-  cv.run(surf, count, *step0.shadow_maps(0), out, out_bytes);
+  cv.run(surf, count, s.camera.width, *step0.shadow_maps(0), out, out_bytes);
   std::vector<std::uint32_t> cl_bits(gl_bits.size());
   rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, cl_bits.size() * sizeof(std::uint32_t), cl_bits.data());
+  // the surfaces in 4 x 4 tiles (the frame's order) or in their own order: the same bits per surface
+  ::cl::Buffer rows;
+  std::size_t rows_bytes = 0;
+  cv.run(surf, count, 0, *step0.shadow_maps(0), rows, rows_bytes);
+  std::vector<std::uint32_t> row_bits(gl_bits.size());
+  rt.queue().enqueueReadBuffer(rows, CL_TRUE, 0, row_bits.size() * sizeof(std::uint32_t), row_bits.data());
+  EXPECT_EQ(cl_bits, row_bits);
 
   const int cells = cells_x * cells_y;
   std::size_t differ = 0, lit = 0, dark = 0, total = 0;

@@ -93,7 +93,7 @@ class KernelLightFields {
         sm.render(gpu);
         render::ClShadowVisibility cv(rt_);
         cv.upload(sm);
-        cv.run(surfaces_, count_, sm, vis_[i], vis_bytes_[i]);
+        cv.run(surfaces_, count_, 0, sm, vis_[i], vis_bytes_[i]);  // calculation points: no image
         words[i] = sm.words_per_pixel();
       }
       visibility = fmt::format(

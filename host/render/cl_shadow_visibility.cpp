@@ -31,8 +31,8 @@ void ClShadowVisibility::upload(const gl::ShadowMaps& maps) {
   lights_bytes_ = std::max<std::size_t>(lights.size(), 1) * sizeof(cl_float4);
 }
 
-double ClShadowVisibility::run(const ::cl::Buffer& surfaces, int count, const gl::ShadowMaps& maps, ::cl::Buffer& out,
-                               std::size_t& out_bytes) {
+double ClShadowVisibility::run(const ::cl::Buffer& surfaces, int count, int width, const gl::ShadowMaps& maps,
+                               ::cl::Buffer& out, std::size_t& out_bytes) {
   const int words = maps.words_per_pixel();
   const std::size_t bytes =
       std::max<std::size_t>(static_cast<std::size_t>(std::max(count, 0)) * static_cast<std::size_t>(words), 1) *
@@ -56,7 +56,7 @@ double ClShadowVisibility::run(const ::cl::Buffer& surfaces, int count, const gl
         const cl_float4 bias{{static_cast<float>(spec.bias.constant), static_cast<float>(spec.bias.depth_texels),
                               static_cast<float>(spec.bias.normal_texels), 0.0f}};
         kernel_.bind(surfaces, count, maps_, lights_, m, maps.cells(), words, spec.size, frustum,
-                     static_cast<float>(spec.frustum.near), bias, out);
+                     static_cast<float>(spec.frustum.near), bias, width > 0 && count % width == 0 ? width : 0, out);
         const int lanes = ClShadowVisibility::lanes(rt_);
         ::cl::Event e = rt_.launch(kernel_.get(), ::cl::NDRange(static_cast<std::size_t>((count + lanes - 1) / lanes)));
         e.wait();

@@ -25,8 +25,9 @@ class ClShadowVisibility {
   void upload(const gl::ShadowMaps& maps);
   // The bitmask of `count` surfaces (NfSurface) into `out` (count x words_per_pixel() words,
   // reallocated when too small; `out_bytes` tracks its size) with the transform, frustum and bias
-  // of `maps`' spec. Returns the kernel's device time (ms).
-  double run(const ::cl::Buffer& surfaces, int count, const gl::ShadowMaps& maps, ::cl::Buffer& out,
+  // of `maps`' spec. `width` > 0: the surfaces are the pixels of an image that wide (row-major), tested
+  // in 4 x 4 tiles; 0: any surfaces, in their order. Returns the kernel's device time (ms).
+  double run(const ::cl::Buffer& surfaces, int count, int width, const gl::ShadowMaps& maps, ::cl::Buffer& out,
              std::size_t& out_bytes);
   std::size_t device_bytes() const { return maps_bytes_ + lights_bytes_; }
   // Surfaces per work-item (kernels/common/lanes.h): 16 on CPUs (explicit vectors), 1 on GPUs.
@@ -40,9 +41,9 @@ class ClShadowVisibility {
   ::cl::Buffer maps_, lights_;
   std::size_t maps_bytes_ = 0, lights_bytes_ = 0;
   // shadow_visibility(surfaces, count, maps, lights, world_to_local, cells, words, map_size, frustum, near_z,
-  //                   bias, vis)
+  //                   bias, width, vis)
   cl::TypedKernel<::cl::Buffer, cl_int, ::cl::Buffer, ::cl::Buffer, cl_float16, cl_int, cl_int, cl_int, cl_float4,
-                  cl_float, cl_float4, ::cl::Buffer>
+                  cl_float, cl_float4, cl_int, ::cl::Buffer>
       kernel_;
 };
 

@@ -388,7 +388,7 @@ void Renderer::cl_visibility(StepTimes& t) {
   const int count = static_cast<int>(pixel_count(camera_));
   for (std::size_t i = 0; i < cl_vis_.size(); ++i) {
     if (step0_->maps_needed(i)) {
-      cl_vis_[i]->run(surfaces_buf_, count, *step0_->shadow_maps(i), vis_bufs_[i], vis_sizes_[i]);
+      cl_vis_[i]->run(surfaces_buf_, count, camera_.width, *step0_->shadow_maps(i), vis_bufs_[i], vis_sizes_[i]);
       continue;
     }
     const auto& v = step0_->visibility(i);  // culled (gl/step0.h): the all-lit bitmask, no maps
