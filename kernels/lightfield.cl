@@ -75,10 +75,8 @@
 #if NF_BLOCK_BALANCE && (NF_EQUAL_COUNTS || NF_METHOD == NF_METHOD_GLOBAL)
 #error "NF_BLOCK_BALANCE applies to the balanced methods ours, paper and uniform only"
 #endif
-/* The fused kernel keeps A_m(p) of up to this many images in private memory between its loops. */
-#ifndef NF_FUSED_CACHE
-#define NF_FUSED_CACHE 128
-#endif
+/* NF_FUSED_CACHE (shared/sampling.h): the fused kernel keeps A_m(p) of up to this many images in private
+   memory between its loops. */
 /* With NF_BLOCK_BALANCE the fused kernel keeps the boxes (NfBox: spans, SAT entries, masses) of up to this
    many images that the refinement (nf_refine) built, so loop 2 samples them without building them again
    (docs/sampling.md "Refinement"); images past it are rebuilt in loop 2, with the same result. */
@@ -1004,26 +1002,56 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
 
 /* The pixel cache (docs/sampling.md "Pixel cache"): A_m(p) of every image, [m * stride + p], kept
    across progressive frames of the same view and instance. OFF: not used; WRITE: computed and
-   stored; READ: loaded instead of computed (the same floats, so the frame is bit-identical). */
+   stored; READ: loaded instead of computed (the same floats, so the frame is bit-identical).
+   PIXEL (light selection's compact lists, "Pixel cache with light selection"): the surfaces are a list,
+   surface g is image pixel cache_pix[cache_base + g] & NF_CACHE_PIX_MASK, the cache is indexed by that pixel, and
+   row M holds the generation (cache_gen) each pixel's entries were written in: lanes whose pixel holds
+   the current generation load, the others compute (their SAT reads only) and write theirs (a pixel is
+   in at most one list of an instance per frame, so no two work-items write one pixel). */
 #define NF_CACHE_OFF 0
 #define NF_CACHE_WRITE 1
 #define NF_CACHE_READ 2
+#define NF_CACHE_PIXEL 3
+#define NF_CACHE_PIX_MASK 0x0fffffffU
 
 /* Fused pass: per pixel, loop 1 over the images accumulates A(p) (Step 1), loop 2 balances,
    draws and shades (Step 2). A_m(p) of up to NF_FUSED_CACHE images stays in private memory, so
    B_m(p) is recomputed only for images that get samples; with the pixel cache, loop 1 reads
    A_m(p) from the last frame instead of computing it. */
 __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* rgb, __global uint* kcount,
-                       __global float* am_cache, const int cache_mode, const int cache_stride NF_DIR_KARG) {
+                       __global float* am_cache, const int cache_mode, const int cache_stride, const uint cache_gen,
+                       __global const uint* cache_pix, const int cache_base NF_DIR_KARG) {
   const uint first = nf_first_surface(&P);
   if (first >= (uint)P.count) return;
   NfCtx c;
   if (!ANY(nf_setup(&c, &L, &I, &P, surfaces, first, kurt, kurt_count))) return;
   const int M = L.num_images;
   const int priv = M <= NF_FUSED_CACHE;
-  const int shared = cache_mode != NF_CACHE_OFF;
+  const int shared = cache_mode == NF_CACHE_WRITE || cache_mode == NF_CACHE_READ;
   vf am[NF_FUSED_CACHE];
   vf A = (vf)(0.0f);
+  /* NF_CACHE_PIXEL: each lane's image pixel (-1: no surface); `need`: the lanes whose entries are not
+     current, computed with the context cn (lit only there) */
+  const int by_pixel = cache_mode == NF_CACHE_PIXEL && priv;
+  __global uint* tag = (__global uint*)(am_cache + (size_t)M * (size_t)cache_stride);
+  int cpix[NF_LANES], miss[NF_LANES];
+  for (int l = 0; l < NF_LANES; ++l) cpix[l] = -1, miss[l] = 0;
+  if (by_pixel) {
+    uint g[NF_LANES];
+    VSTORE(c.pix, g);
+    for (int l = 0; l < NF_LANES; ++l) {
+      cpix[l] = g[l] < (uint)P.count ? (int)(cache_pix[(size_t)cache_base + g[l]] & NF_CACHE_PIX_MASK) : -1;
+      miss[l] = cpix[l] >= 0 && tag[cpix[l]] != cache_gen ? -1 : 0;
+    }
+  }
+#if NF_LANES == 1
+  const vi need = miss[0] != 0;
+#else
+  const vi need = VLOAD(miss);
+#endif
+  NfCtx cn = c;
+  cn.lit = c.lit & need;
+  const int loaded = cache_mode == NF_CACHE_READ || (by_pixel && !ANY(need));
 #if NF_BLOCK_BALANCE
   /* the refinement below needs the weights of every image in private memory: with more than
      NF_FUSED_CACHE images the weights are the exact A_m(p) (the same with and without the pixel cache) */
@@ -1034,6 +1062,15 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     vf a;
     if (cache_mode == NF_CACHE_READ) {
       a = VLOAD(slot);
+    } else if (by_pixel) {
+      __global const float* row = am_cache + (size_t)m * (size_t)cache_stride;
+      float v[NF_LANES];
+      for (int l = 0; l < NF_LANES; ++l) v[l] = cpix[l] >= 0 && !miss[l] ? row[cpix[l]] : 0.0f;
+      a = SEL((vf)(0.0f), VLOAD(v), c.lit);
+      if (!loaded) {
+        NfBox b;
+        a = SEL(a, nf_weight(&cn, &L, m, sat, quantum, info, &b), need);
+      }
     } else {
       NfBox b;
 #if NF_BLOCK_BALANCE
@@ -1051,12 +1088,25 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
   /* the boxes built by the refinement, for loop 2 */
   NfKept kept;
   nf_kept_clear(&kept, est ? M : 0);
-  if (cache_mode != NF_CACHE_READ && est && ANY(A > 0.0f)) {
-    A = nf_refine(&c, &L, &P, sat, quantum, info, am, A, &kept);
+  if (by_pixel) kept.n = NF_KEPT_BOXES; /* boxes refined for the lanes in need only: none kept for loop 2 */
+  if (!loaded && est && ANY(A > 0.0f)) {
+    A = nf_refine(by_pixel ? &cn : &c, &L, &P, sat, quantum, info, am, A, &kept);
     if (cache_mode == NF_CACHE_WRITE)
       for (int m = 0; m < M; ++m) VSTORE(am[m], am_cache + (size_t)m * (size_t)cache_stride + first);
   }
 #endif
+  if (by_pixel && !loaded) {
+    /* the lanes in need: the weights balanced with (refined under NF_BLOCK_BALANCE), then their generation */
+    for (int m = 0; m < M; ++m) {
+      float v[NF_LANES];
+      VSTORE(am[m], v);
+      __global float* row = am_cache + (size_t)m * (size_t)cache_stride;
+      for (int l = 0; l < NF_LANES; ++l)
+        if (miss[l]) row[cpix[l]] = v[l];
+    }
+    for (int l = 0; l < NF_LANES; ++l)
+      if (miss[l]) tag[cpix[l]] = cache_gen;
+  }
   if (!ANY(A > 0.0f)) return;
 #if NF_HAS_VIS
   nf_load_visibility(&c, vis, P.vis_words);

@@ -41,7 +41,7 @@ static_assert(!can_bind<Pattern, Buf, float, Buf, float, int>);       // two arg
 static_assert(can_set<Pattern, 2, float> && !can_set<Pattern, 2, int> && !can_set<Pattern, 5, int>);
 // The light field's shared block: its parameter structs in front, the kernel's own after kCommon.
 static_assert(nf::render::lf_kernels::kCommon == 12);
-static_assert(nf::render::lf_kernels::Fused::kArgs == 12 + 7);
+static_assert(nf::render::lf_kernels::Fused::kArgs == 12 + 10);
 static_assert(can_set<nf::render::lf_kernels::Step2, 0, NfSampleParams>);
 static_assert(!can_set<nf::render::lf_kernels::Step2, 0, NfInstance>);  // a struct in the wrong slot
 static_assert(nf::render::env_kernels::Shade::kArgs == 32);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/shared/light_select.h"
 #include "render/device_luminaire.h"
 #include "render/sampler.h"
 #include "render/settings.h"
@@ -166,6 +167,91 @@ TEST(PixelCacheBudget, AboveTheBudgetItRecomputes) {
   sampler.run(buf, count, lights, s, 1);
   EXPECT_EQ(sampler.run(buf, count, lights, s, 1).cache_reads, 1);
   EXPECT_EQ(sampler.cache_bytes(), 6u * 262144u * sizeof(float));
+}
+
+// Light selection (docs/sampling.md "Pixel cache with light selection"): the compact lists change every
+// frame, so the cache is kept per image pixel and instance and marked current per pixel. Frames with it
+// equal the recomputed ones bit for bit (exact and block balance, 1 and 16 lanes); the first frame of a
+// view writes nothing; from the second on, the pixels an instance was picked at hold its current A_m(p)
+// (read back), and a new view or a moved instance makes none current.
+TEST(PixelCacheSelection, IdenticalFramesAndPerPixelEntries) {
+  nf::cl::Runtime rt;
+  auto l =
+      make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, 3, 2, 10, 8, 0.1, 0.02, 0.24, false);
+  fill_random(l, 5);
+  const auto pc = lum::precompute(l, 1);
+  DeviceLuminaire dl(rt, pc);
+  const auto surf = scattered_surfaces(301);
+  const int count = static_cast<int>(surf.size());
+  const auto buf = upload_surfaces(rt, surf);
+  std::vector<LightInstance> lights(3);
+  for (int i = 0; i < 3; ++i) {
+    glm::dmat4 shift(1.0);
+    shift[3] = glm::dvec4(0.02 * i, -0.01 * i, 0.004 * i, 1.0);
+    lights[static_cast<std::size_t>(i)].luminaire = &dl;
+    lights[static_cast<std::size_t>(i)].instance = make_instance(shift, 1.0 + 0.5 * i);
+  }
+  for (const int lanes : {1, 16})
+    for (const auto estimate : {BalanceEstimate::exact, BalanceEstimate::blocks}) {
+      SamplingSettings s;
+      s.spp = 8;
+      s.lanes = lanes;
+      s.light_selection = LightSelection::flat;
+      s.balance_estimate = estimate;
+      s.mis = Mis::none;
+      SamplingSettings off = s;
+      off.pixel_cache_mib = 0;
+      Sampler cached(rt), plain(rt);
+      const std::string what = std::to_string(lanes) + " lanes, " + to_string(estimate);
+      std::vector<int> picked_total(3, 0);
+      for (std::uint32_t frame = 0; frame < 6; ++frame) {
+        s.frame = off.frame = frame;
+        const Frame x = run(cached, buf, count, lights, s, 1);
+        expect_identical(x, run(plain, buf, count, lights, off, 1), what + ", frame " + std::to_string(frame));
+        EXPECT_EQ(plain.cache_bytes(), 0u);
+        if (frame == 0) {
+          EXPECT_EQ(cached.cache_bytes(), 0u) << what;  // a view's first frame writes nothing
+          continue;
+        }
+        // every pixel an instance was picked at this frame now holds that instance's entries
+        const auto sel = cached.read_selection();
+        ASSERT_EQ(sel.size(), static_cast<std::size_t>(count));  // one pick per pixel (selection_picks 1)
+        for (std::size_t i = 0; i < 3; ++i) {
+          const auto cur = cached.read_cache_current(i);
+          ASSERT_EQ(cur.size(), static_cast<std::size_t>(count)) << what;
+          for (int p = 0; p < count; ++p)
+            if (sel[static_cast<std::size_t>(p)] != 0xffffffffu &&
+                (sel[static_cast<std::size_t>(p)] >> NF_LS_COUNT_BITS) == i) {
+              EXPECT_EQ(cur[static_cast<std::size_t>(p)], 1) << what << " pixel " << p << " instance " << i;
+              ++picked_total[i];
+            }
+        }
+      }
+      for (int i = 0; i < 3; ++i) EXPECT_GT(picked_total[static_cast<std::size_t>(i)], 50) << what << " instance " << i;
+      EXPECT_EQ(cached.cache_bytes(), 3u * 7u * 304u * sizeof(float)) << what;  // 6 images + generations, stride 304
+      // a new view: its first frame recomputes and writes nothing; the second starts a new generation
+      const Frame v2 = run(cached, buf, count, lights, s, 2);
+      expect_identical(v2, run(plain, buf, count, lights, off, 2), what + ", new view");
+      EXPECT_TRUE(cached.read_cache_current(0).empty()) << what;
+      const Frame v2b = run(cached, buf, count, lights, s, 2);
+      expect_identical(v2b, run(plain, buf, count, lights, off, 2), what + ", new view, second frame");
+      const auto cur = cached.read_cache_current(0);
+      const auto sel = cached.read_selection();
+      int current = 0, stale_picked = 0;
+      for (int p = 0; p < count; ++p) {
+        current += cur[static_cast<std::size_t>(p)];
+        const bool picked = sel[static_cast<std::size_t>(p)] != 0xffffffffu &&
+                            (sel[static_cast<std::size_t>(p)] >> NF_LS_COUNT_BITS) == 0;
+        stale_picked += picked && !cur[static_cast<std::size_t>(p)];
+      }
+      EXPECT_EQ(stale_picked, 0) << what;
+      EXPECT_GT(current, 0) << what;
+      // an instance moved: its entries are recomputed, frames stay identical
+      lights[1].instance = make_instance(glm::translate(glm::dmat4(1.0), glm::dvec3(0.005, 0.0, 0.0)), 1.5);
+      for (int k = 0; k < 2; ++k)
+        expect_identical(run(cached, buf, count, lights, s, 2), run(plain, buf, count, lights, off, 2),
+                         what + ", moved instance " + std::to_string(k));
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, PixelCache, ::testing::Values(Case{3, 2, 1}, Case{3, 2, 16}, Case{12, 11, 4}),

@@ -24,6 +24,7 @@
 #include "luminaire/precompute.h"
 #include "luminaire/rayset.h"
 #include "luminaire/type_c.h"
+#include "kernels/shared/sampling.h"
 #include "render/instance_memory.h"
 
 namespace nf::app {
@@ -163,9 +164,11 @@ void run_info(const std::string& file) {
   const render::InstanceBytes per = render::instance_device_bytes(l, 1920ULL * 1080ULL, true, 256);
   std::printf(
       "instance    each instance shares the device data above; one more adds %zu B (selection record), with "
-      "light_selection all a pixel cache of %d B per pixel (%.1f MiB at 1920 x 1080), with shadow maps %d maps "
+      "light_selection all a pixel cache of %d B per pixel (%.1f MiB at 1920 x 1080; with light selection %d B per "
+      "pixel%s), with shadow maps %d maps "
       "(%.1f MiB at 256^2) and %d B of visibility per pixel (%.1f MiB at 1920 x 1080)\n",
       static_cast<std::size_t>(per.record), 4 * l.num_images(), static_cast<double>(per.pixel_cache) / 1048576.0,
+      4 * (l.num_images() + 1), l.num_images() > NF_FUSED_CACHE ? ", but not cached: more than 128 images" : "",
       render::shadow_cells(l), static_cast<double>(per.shadow_maps) / 1048576.0,
       static_cast<int>(per.visibility / (1920ULL * 1080ULL)), static_cast<double>(per.visibility) / 1048576.0);
   std::printf("timing      read %.1f ms, precompute %.1f ms\n", read_ms, pc.precompute_ms);

@@ -15,6 +15,7 @@
 #include "render/environment_contribution.h"
 #include "render/farfield_contribution.h"
 #include "render/kurt_table.h"
+#include "kernels/shared/sampling.h"
 #include "render/luminaire_cache.h"
 #include "render/settings.h"
 
@@ -132,14 +133,19 @@ std::vector<InstanceCost> instance_costs(const scene::Scene& s) {
   const std::size_t n = s.luminaires.size() + 1;  // with the one more instance
   const bool all =
       !render::selects_instances(render::parse_light_selection(s.render.light_selection), n, s.farfield_lights.size());
-  std::uint64_t cache = 0;  // every instance's pixel cache, the one more included (the cache holds all or none)
+  // every instance's pixel cache, the one more included (the cache holds all or none); with light
+  // selection by image pixel, one more row, and none when a luminaire has more than NF_FUSED_CACHE images
+  std::uint64_t cache = 0;
+  bool cacheable = s.render.pixel_cache > 0;
+  for (std::size_t k = 0; k < lums.size(); ++k) {
+    cache += 4ULL * static_cast<std::uint64_t>(lums[k].num_images() + (all ? 0 : 1)) * pixels *
+             (out[k].instances + (k == 0 ? 1 : 0));
+    cacheable = cacheable && (all || lums[k].num_images() <= NF_FUSED_CACHE);
+  }
+  const bool cache_on = cacheable && cache <= (static_cast<std::uint64_t>(s.render.pixel_cache) << 20);
   for (std::size_t k = 0; k < lums.size(); ++k)
-    cache += 4ULL * static_cast<std::uint64_t>(lums[k].num_images()) * pixels * (out[k].instances + (k == 0 ? 1 : 0));
-  const bool cache_on =
-      all && s.render.pixel_cache > 0 && cache <= (static_cast<std::uint64_t>(s.render.pixel_cache) << 20);
-  for (std::size_t k = 0; k < lums.size(); ++k)
-    out[k].more =
-        render::instance_device_bytes(lums[k], pixels, cache_on, s.needs_shadow_maps() ? s.render.shadow_map_size : 0);
+    out[k].more = render::instance_device_bytes(lums[k], pixels, cache_on,
+                                                s.needs_shadow_maps() ? s.render.shadow_map_size : 0, !all);
   return out;
 }
 

@@ -11,10 +11,10 @@ int shadow_cells(const lum::Luminaire& l) {
 }
 
 InstanceBytes instance_device_bytes(const lum::Luminaire& l, std::uint64_t pixels, bool pixel_cache,
-                                    int shadow_map_size) {
+                                    int shadow_map_size, bool selection) {
   InstanceBytes b;
   b.record = sizeof(NfSelectLight);
-  if (pixel_cache) b.pixel_cache = 4ULL * static_cast<std::uint64_t>(l.num_images()) * pixels;
+  if (pixel_cache) b.pixel_cache = 4ULL * static_cast<std::uint64_t>(l.num_images() + (selection ? 1 : 0)) * pixels;
   if (shadow_map_size > 0) {
     const auto cells = static_cast<std::uint64_t>(shadow_cells(l));
     const auto s = static_cast<std::uint64_t>(shadow_map_size);

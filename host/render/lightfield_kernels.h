@@ -26,8 +26,9 @@ using WithCommon = typename cl::ExtendKernel<Common, Own...>::type;
 using Step1 = WithCommon<Buf>;
 // lf_step2_image(NF_KERNEL_ARGS, A_in, rgb, kcount [, dir])
 using Step2 = WithCommon<Buf, Buf, Buf, Buf>;
-// lf_fused(NF_KERNEL_ARGS, A_out, rgb, kcount, am_cache, cache_mode, cache_stride [, dir])
-using Fused = WithCommon<Buf, Buf, Buf, Buf, cl_int, cl_int, Buf>;
+// lf_fused(NF_KERNEL_ARGS, A_out, rgb, kcount, am_cache, cache_mode, cache_stride, cache_gen, cache_pix,
+//          cache_base [, dir])
+using Fused = WithCommon<Buf, Buf, Buf, Buf, cl_int, cl_int, cl_uint, Buf, cl_int, Buf>;
 // lf_debug_pdf(NF_KERNEL_ARGS, dirs, n, out)
 using DebugPdf = WithCommon<Buf, cl_int, Buf>;
 // lf_debug_samples(NF_KERNEL_ARGS, out, n)

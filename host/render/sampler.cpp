@@ -282,12 +282,12 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
 
 namespace {
 
-constexpr int kCacheOff = 0, kCacheWrite = 1, kCacheRead = 2;  // NF_CACHE_* of kernels/lightfield.cl
-constexpr int kCacheAlign = 16;                                // the widest lane count
-
-int cache_stride(int count) { return (count + kCacheAlign - 1) / kCacheAlign * kCacheAlign; }
+constexpr int kCacheOff = 0, kCacheWrite = 1, kCacheRead = 2, kCachePixel = 3;  // NF_CACHE_* of lightfield.cl
+constexpr int kCacheAlign = 16;                                                 // the widest lane count
 
 }  // namespace
+
+int cache_stride(int count) { return (count + kCacheAlign - 1) / kCacheAlign * kCacheAlign; }
 
 // What A_m(p) depends on besides the surfaces: the luminaire, the instance's transform and the
 // method's box (method, band, lanes through the build options); the cache is laid out by launch
@@ -311,7 +311,7 @@ int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const PixelCacheKey
   int mode = kCacheOff;
   if (enabled) {
     const std::size_t need = static_cast<std::size_t>(images) * static_cast<std::size_t>(stride) * sizeof(float);
-    if (c.bytes != need) {
+    if (c.bytes != need || c.by_pixel) {
       c = PixelCache{};
       cl::call([&] { c.am = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, need); }, "Sampler: pixel cache buffer");
       c.bytes = need;
@@ -321,16 +321,72 @@ int Sampler::bind_cache(lf_kernels::Fused& k, std::size_t i, const PixelCacheKey
       c.key.reset();
       c.pending = key;
     }
-  } else {
+  } else if (!c.by_pixel) {  // light selection's cache (list_cache) stays for the lists that use it
     c = PixelCache{};
   }
-  k.bind_at<lf_kernels::kCommon + 3>(mode == kCacheOff ? no_cache_ : c.am, mode, stride);
+  k.bind_at<lf_kernels::kCommon + 3>(mode == kCacheOff ? no_cache_ : c.am, mode, stride, cl_uint{0}, no_cache_, 0);
   return mode;
+}
+
+std::optional<Sampler::ListCache> Sampler::list_cache(std::size_t i, const PixelCacheKey& key, int count, int images) {
+  if (cache_.size() <= i) cache_.resize(i + 1);
+  PixelCache& c = cache_[i];
+  if (!c.by_pixel) {  // leaving the `all` layout
+    c = PixelCache{};
+    c.by_pixel = true;
+  }
+  // The first frame of a view writes nothing: a camera that moves every frame would pay for the writes
+  // and never read them. From the second frame on, a new generation: nothing of another view is current.
+  if (c.key != key) {
+    c.key = key;
+    c.live = false;
+    return std::nullopt;
+  }
+  const int stride = cache_stride(count);
+  const std::size_t row = static_cast<std::size_t>(stride) * sizeof(float);
+  const std::size_t need = static_cast<std::size_t>(images + 1) * row;
+  auto clear_generations = [&] {
+    cl::call(
+        [&] {
+          const cl_uint zero = 0;  // no entry is current: generations start at 1
+          rt_.queue().enqueueFillBuffer(c.am, zero, static_cast<std::size_t>(images) * row, row);
+        },
+        "Sampler: light selection pixel cache generations");
+  };
+  if (c.bytes != need) {
+    cl::call([&] { c.am = ::cl::Buffer(rt_.context(), CL_MEM_READ_WRITE, need); },
+             "Sampler: light selection pixel cache buffer");
+    c.bytes = need;
+    c.generation = 0;
+    c.live = false;
+    clear_generations();
+  }
+  if (!c.live) {
+    c.live = true;
+    if (++c.generation == 0) {  // wrapped: clear, so that no old entry is current by chance
+      clear_generations();
+      c.generation = 1;
+    }
+  }
+  return ListCache{c.am, nullptr, 0, c.generation, stride};
+}
+
+std::vector<std::uint8_t> Sampler::read_cache_current(std::size_t i) {
+  std::vector<std::uint8_t> out;
+  if (i >= cache_.size() || !cache_[i].by_pixel || !cache_[i].live || cache_[i].bytes == 0) return out;
+  const PixelCache& c = cache_[i];
+  const std::size_t row = static_cast<std::size_t>(cache_stride(count_)) * sizeof(float);
+  std::vector<cl_uint> gen(row / sizeof(float));
+  cl::call([&] { rt_.queue().enqueueReadBuffer(c.am, CL_TRUE, c.bytes - row, row, gen.data()); },
+           "Sampler: reading the pixel cache's generations");
+  out.resize(static_cast<std::size_t>(count_));
+  for (std::size_t p = 0; p < out.size(); ++p) out[p] = gen[p] == c.generation ? 1 : 0;
+  return out;
 }
 
 void Sampler::launch_instance(const LightInstance& li, std::size_t li_index, const ::cl::Buffer& surfaces, int count,
                               const Outputs& out, const SamplingSettings& s, std::uint64_t view_version, bool use_cache,
-                              FrameStats& st, Events& ev) {
+                              FrameStats& st, Events& ev, const ListCache* list) {
   if (!li.luminaire) fail("Sampler::run: a light instance has no luminaire");
   auto& q = rt_.queue();
   const int L = lanes(s);
@@ -346,11 +402,16 @@ void Sampler::launch_instance(const LightInstance& li, std::size_t li_index, con
     p.group_mul = group_multiplier(global[0] / local_range(k.get())[0]);
     set_common(k, p, li, surfaces);
     k.bind_at<lf_kernels::kCommon>(*out.a, *out.rgb, *out.k);
-    const int mode =
-        bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count, lum.num_images(), use_cache);
-    st.cache_reads += mode == kCacheRead ? 1 : 0;
-    st.cache_writes += mode == kCacheWrite ? 1 : 0;
-    if (mean_direction_) k.bind_at<lf_kernels::kCommon + 6>(*out.dir);
+    if (list) {
+      k.bind_at<lf_kernels::kCommon + 3>(list->am, kCachePixel, list->stride, list->generation, *list->pixels,
+                                         list->base);
+    } else {
+      const int mode =
+          bind_cache(k, li_index, cache_key(view_version, count, li, opts, s), count, lum.num_images(), use_cache);
+      st.cache_reads += mode == kCacheRead ? 1 : 0;
+      st.cache_writes += mode == kCacheWrite ? 1 : 0;
+    }
+    if (mean_direction_) k.bind_at<lf_kernels::kCommon + 9>(*out.dir);
     ev.step2.push_back(rt_.launch(k.get(), global, local_range(k.get())));
     return;
   }
@@ -397,7 +458,7 @@ FrameStats Sampler::run(const ::cl::Buffer& surfaces, int count, std::span<const
   s.validate();
   if (count < 0) fail(fmt::format("Sampler::run: negative surface count {}", count));
   if (selects_instances(s.light_selection, lights.size(), farfield_ ? farfield_->size() : 0))
-    return run_selected(surfaces, count, lights, s);
+    return run_selected(surfaces, count, lights, s, view_version);
   sel_.valid = false;
   Timer timer;
   ensure(count);

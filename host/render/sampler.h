@@ -106,6 +106,9 @@ class Sampler {
   FrameStats run(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
                  const SamplingSettings& settings, std::uint64_t view_version);
   std::size_t cache_bytes() const;  // device bytes the pixel cache holds
+  // Light selection's pixel cache of instance i (tests): per image pixel, 1 where its A_m(p) are current
+  // (written in the cache's present generation), else 0; empty when that cache is not in use.
+  std::vector<std::uint8_t> read_cache_current(std::size_t i);
 
   // Debug (tests): `n` samples of image m for one surface as the kernels draw them (sample index
   // k = 0..n-1 of the chosen sequence), with the search's evaluation counts.
@@ -179,13 +182,25 @@ class Sampler {
   struct Events {
     std::vector<::cl::Event> clears, step1, step2;
   };
-  // Enqueues Steps 1-2 of instance `li_index` for `count` surfaces into `out` (adding to it).
+  // Light selection's pixel cache for one compact list (docs/sampling.md "Pixel cache with light
+  // selection"): the instance's cache indexed by image pixel, the lists' pixels (idx entries) and where
+  // this list starts in them, the generation that marks current entries, the row stride (the image's
+  // pixel count, aligned).
+  struct ListCache {
+    ::cl::Buffer am;  // a handle (the instance's cache entry may move while lists are bound)
+    const ::cl::Buffer* pixels;
+    int base;
+    cl_uint generation;
+    int stride;
+  };
+  // Enqueues Steps 1-2 of instance `li_index` for `count` surfaces into `out` (adding to it). `list`:
+  // the surfaces are a compact list with that pixel cache (light selection); use_cache is then ignored.
   void launch_instance(const LightInstance& li, std::size_t li_index, const ::cl::Buffer& surfaces, int count,
                        const Outputs& out, const SamplingSettings& s, std::uint64_t view_version, bool use_cache,
-                       FrameStats& st, Events& ev);
+                       FrameStats& st, Events& ev, const ListCache* list = nullptr);
   // run() with light selection (host/render/sampler_select.cpp).
   FrameStats run_selected(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
-                          const SamplingSettings& s);
+                          const SamplingSettings& s, std::uint64_t view_version);
   ::cl::NDRange local_range(::cl::Kernel& k) const;
 
   cl::Runtime& rt_;
@@ -213,6 +228,9 @@ class Sampler {
     std::size_t bytes = 0;
     std::optional<PixelCacheKey> key;      // what the stored A_m(p) were computed for; none: nothing stored
     std::optional<PixelCacheKey> pending;  // the key of a write in flight, valid once the frame has finished
+    bool by_pixel = false;                 // light selection's layout: rows by image pixel, then a row of generations
+    bool live = false;                     // by_pixel: in use (from a view's second frame on)
+    cl_uint generation = 0;                // by_pixel: entries whose generation is this one are current
   };
   std::vector<PixelCache> cache_;  // one per light instance
   ::cl::Buffer no_cache_;
@@ -225,7 +243,13 @@ class Sampler {
   const FarfieldSelect* farfield_ = nullptr;
   // Sets the pixel-cache arguments of lf_fused for instance i; returns the mode (kernels/lightfield.cl).
   int bind_cache(lf_kernels::Fused& k, std::size_t i, const PixelCacheKey& key, int count, int images, bool enabled);
+  // Light selection: prepares instance i's by-pixel cache for this frame and returns its binding for the
+  // instance's lists; none on the first frame of a view (`key` changed).
+  std::optional<ListCache> list_cache(std::size_t i, const PixelCacheKey& key, int count, int images);
 };
+
+// The pixel cache's row stride for `count` surfaces: a multiple of the widest lane count.
+int cache_stride(int count);
 
 // Uploads surfaces into a new read-only device buffer.
 ::cl::Buffer upload_surfaces(cl::Runtime& rt, const std::vector<NfSurface>& surfaces);

@@ -62,10 +62,9 @@ std::vector<float> Sampler::read_selection_weight() {
 }
 
 FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::span<const LightInstance> lights,
-                                 const SamplingSettings& s) {
+                                 const SamplingSettings& s, std::uint64_t view_version) {
   Timer timer;
   ensure(count);
-  cache_.clear();  // the compact lists change every frame: no pixel cache
   FrameStats st;
   sel_.valid = false;
   if (count == 0) return st;
@@ -216,6 +215,34 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
     kv.bind(*li.visibility, sel_.idx, static_cast<int>(base[k]), static_cast<int>(cnt[k]), li.vis_words, sel_.vis);
     ev.clears.push_back(rt_.launch(kv.get(), range1(cnt[k]), ::cl::NDRange(kGroup)));
   }
+  // The pixel cache by image pixel (docs/sampling.md "Pixel cache with light selection"): the lists
+  // change every frame, so each instance's A_m(p) are kept per image pixel and marked current per
+  // pixel; every instance's cache or none, within pixel_cache MiB, for luminaires whose weights the
+  // fused kernel keeps in private memory (up to NF_FUSED_CACHE images).
+  SamplingSettings sl = s;
+  sl.image_width = 0;  // the lists are compact lists, not an image
+  std::vector<std::optional<ListCache>> lists_cache;
+  {
+    bool cacheable = view_version != 0 && s.structure == Structure::fused;
+    std::size_t need = 0;
+    for (const LightInstance& li : lights) {
+      const int images = li.luminaire->num_images();
+      cacheable = cacheable && images <= NF_FUSED_CACHE;
+      need += static_cast<std::size_t>(images + 1) * static_cast<std::size_t>(cache_stride(count)) * sizeof(float);
+    }
+    if (cacheable && need <= static_cast<std::size_t>(s.pixel_cache_mib) << 20) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const LightInstance& li = lights[i];
+        const bool vis = li.visibility != nullptr && li.vis_words > 0;
+        const std::string opts = build_options(sl, li.luminaire->has_chroma(), vis, lanes(sl)) +
+                                 (mean_direction_ ? " -DNF_MEAN_DIRECTION=1" : "");
+        lists_cache.push_back(
+            list_cache(i, cache_key(view_version, count, li, opts, sl), count, li.luminaire->num_images()));
+      }
+    } else {
+      cache_.clear();
+    }
+  }
   // sub-buffers (views into the gathered lists) live until the queue is done
   std::vector<std::array<::cl::Buffer, 6>> views(keys);
   for (std::size_t k = 0; k < keys; ++k) {
@@ -237,11 +264,17 @@ FrameStats Sampler::run_selected(const ::cl::Buffer& surfaces, int count, std::s
     if (mean_direction_) v[4] = sub(sel_.dir, b0 * 16, c * 16);
     const Outputs out{&v[1], &v[2], &v[3], mean_direction_ ? &v[4] : nullptr, false};
     // this list's share of K; its own seed, so lists of one instance do not repeat each other's numbers
-    SamplingSettings sk = s;
-    sk.image_width = 0;  // a compact list, not an image
+    SamplingSettings sk = sl;
     sk.spp = std::max(1, (picked * s.spp + M / 2) / M);
     sk.seed = s.seed + 0x9e3779b9U * static_cast<std::uint32_t>(picked - 1);
-    launch_instance(li, i, v[0], static_cast<int>(c), out, sk, 0, false, st, ev);
+    if (lists_cache.empty() || !lists_cache[i]) {
+      launch_instance(li, i, v[0], static_cast<int>(c), out, sk, 0, false, st, ev);
+    } else {
+      ListCache lc = *lists_cache[i];
+      lc.pixels = &sel_.idx;  // the list's image pixels from b0 on
+      lc.base = static_cast<int>(b0);
+      launch_instance(li, i, v[0], static_cast<int>(c), out, sk, 0, false, st, ev, &lc);
+    }
   }
   // 4. back to the pixels: the sum of their picks, weighted c / (M q), one pass per rank (a surface
   // has at most one entry of each rank, so no pass writes a surface twice)

@@ -6,6 +6,12 @@
 #include "shared/types.h"
 
 /* Methods (docs/sampling.md), selected at build time with -DNF_METHOD=... */
+/* The fused kernel keeps A_m(p) of up to this many images of a luminaire in private memory between its
+   loops (kernels/lightfield.cl); light selection's pixel cache serves only such luminaires (host). */
+#ifndef NF_FUSED_CACHE
+#define NF_FUSED_CACHE 128
+#endif
+
 #define NF_METHOD_OURS 0    /* restricted exact CDFs, balanced K_m */
 #define NF_METHOD_PAPER 1   /* as ours with the precomputed full-column marginal (biased) */
 #define NF_METHOD_UNIFORM 2 /* same K_m, uniform on B_m(p) */
