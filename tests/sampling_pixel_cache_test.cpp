@@ -36,6 +36,14 @@ std::vector<NfSurface> scattered_surfaces(int count) {
   return surf;
 }
 
+// A small luminaire of 3 x 2 images with random light.
+lum::Luminaire six_images(std::uint32_t seed) {
+  auto l =
+      make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, 3, 2, 10, 8, 0.1, 0.02, 0.24, false);
+  fill_random(l, seed);
+  return l;
+}
+
 struct Frame {
   std::vector<glm::vec4> rgb;
   std::vector<float> a;
@@ -140,10 +148,7 @@ TEST_P(PixelCache, IdenticalFramesAndExactInvalidation) {
 
 TEST(PixelCacheBudget, AboveTheBudgetItRecomputes) {
   nf::cl::Runtime rt;
-  auto l =
-      make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, 3, 2, 10, 8, 0.1, 0.02, 0.24, false);
-  fill_random(l, 3);
-  const auto pc = lum::precompute(l, 1);
+  const auto pc = lum::precompute(six_images(3), 1);
   DeviceLuminaire dl(rt, pc);
   // 6 images x 262144 surfaces x 4 bytes = 6 MiB: over a 5 MiB budget, under a 7 MiB one.
   const int count = 262144;
@@ -176,10 +181,7 @@ TEST(PixelCacheBudget, AboveTheBudgetItRecomputes) {
 // (read back), and a new view or a moved instance makes none current.
 TEST(PixelCacheSelection, IdenticalFramesAndPerPixelEntries) {
   nf::cl::Runtime rt;
-  auto l =
-      make_luminaire(lum::BasisKind::quadratic2, lum::Reconstruction::radiance, 3, 2, 10, 8, 0.1, 0.02, 0.24, false);
-  fill_random(l, 5);
-  const auto pc = lum::precompute(l, 1);
+  const auto pc = lum::precompute(six_images(5), 1);
   DeviceLuminaire dl(rt, pc);
   const auto surf = scattered_surfaces(301);
   const int count = static_cast<int>(surf.size());
