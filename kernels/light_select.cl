@@ -94,11 +94,7 @@ __kernel void ls_pick(__global const NfSurface* surfaces, const int count, __glo
   }
 }
 
-/* The compact lists' entries: idx[k] = surface g | rank << NF_LS_RANK_SHIFT, rank = the pick's slot
-   j (0..picks-1) at g, so that the weights are w[g * picks + j] and one scatter pass per rank never
-   writes a surface twice; NF_LS_NONE: padding. */
-#define NF_LS_RANK_SHIFT 28
-#define NF_LS_SURFACE(e) ((e) & ((1U << NF_LS_RANK_SHIFT) - 1U))
+/* The compact lists' entries: NF_LS_RANK_SHIFT, NF_LS_SURFACE (shared/light_select.h). */
 
 /* out[k] = surfaces[idx[k]] (NF_LS_NONE: a background surface that the kernels skip). */
 __kernel void ls_gather(__global const NfSurface* surfaces, __global const uint* idx, const int total,

@@ -20,6 +20,7 @@
 
    Exactness (docs/sampling.md): every mass is a non-negative weighted sum of exact int64 differences
    of SAT entries converted to float; no fp64 is needed. */
+#include "shared/light_select.h"
 #include "shared/luminaire.h"
 #include "shared/sampling.h"
 #include "shared/surface.h"
@@ -1004,7 +1005,7 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
    across progressive frames of the same view and instance. OFF: not used; WRITE: computed and
    stored; READ: loaded instead of computed (the same floats, so the frame is bit-identical).
    PIXEL (light selection's compact lists, "Pixel cache with light selection"): the surfaces are a list,
-   surface g is image pixel cache_pix[cache_base + g] & NF_CACHE_PIX_MASK, the cache is indexed by that pixel, and
+   surface g is image pixel NF_LS_SURFACE(cache_pix[cache_base + g]), the cache is indexed by that pixel, and
    row M holds the generation (cache_gen) each pixel's entries were written in: lanes whose pixel holds
    the current generation load, the others compute (their SAT reads only) and write theirs (a pixel is
    in at most one list of an instance per frame, so no two work-items write one pixel). */
@@ -1012,7 +1013,6 @@ __kernel void lf_step2_image(NF_KERNEL_ARGS, __global const float* A_in, __globa
 #define NF_CACHE_WRITE 1
 #define NF_CACHE_READ 2
 #define NF_CACHE_PIXEL 3
-#define NF_CACHE_PIX_MASK 0x0fffffffU
 
 /* Fused pass: per pixel, loop 1 over the images accumulates A(p) (Step 1), loop 2 balances,
    draws and shades (Step 2). A_m(p) of up to NF_FUSED_CACHE images stays in private memory, so
@@ -1040,7 +1040,7 @@ __kernel void lf_fused(NF_KERNEL_ARGS, __global float* A_out, __global float4* r
     uint g[NF_LANES];
     VSTORE(c.pix, g);
     for (int l = 0; l < NF_LANES; ++l) {
-      cpix[l] = g[l] < (uint)P.count ? (int)(cache_pix[(size_t)cache_base + g[l]] & NF_CACHE_PIX_MASK) : -1;
+      cpix[l] = g[l] < (uint)P.count ? (int)NF_LS_SURFACE(cache_pix[(size_t)cache_base + g[l]]) : -1;
       miss[l] = cpix[l] >= 0 && tag[cpix[l]] != cache_gen ? -1 : 0;
     }
   }

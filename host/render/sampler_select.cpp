@@ -39,7 +39,7 @@ constexpr int kGroup = 64;
 using lf_kernels::Pick;
 using lf_kernels::ScatterDirRank;
 using lf_kernels::ScatterRank;
-constexpr int kRankShift = 28;  // idx entries: surface | rank << 28 (kernels/light_select.cl)
+constexpr int kRankShift = NF_LS_RANK_SHIFT;  // idx entries: surface | rank << shift (kernels/shared/light_select.h)
 
 }  // namespace
 

@@ -83,6 +83,13 @@ typedef struct {
 #define NF_LS_NONE 0xffffffffU
 #define NF_LS_COUNT_BITS 4
 
+/* The compact lists' entries (host/render/sampler_select.cpp): idx[k] = surface g | rank <<
+   NF_LS_RANK_SHIFT, rank = the pick's slot j (0..picks-1) at g, so that the weights are
+   w[g * picks + j] and one scatter pass per rank never writes a surface twice; NF_LS_NONE: padding.
+   The light-field kernels' pixel cache reads an entry's surface (kernels/lightfield.cl, NF_CACHE_PIXEL). */
+#define NF_LS_RANK_SHIFT 28
+#define NF_LS_SURFACE(e) ((e) & ((1U << NF_LS_RANK_SHIFT) - 1U))
+
 #define NF_SELECT_FF_C 16
 #define NF_SELECT_FF_G 36
 
